@@ -1,0 +1,76 @@
+// Keyword-style text input shared by the port configuration, the FE keyword
+// deck and the TLM host model: `$` comment lines, blocks opened by `*KEYWORD`
+// (LS-DYNA style) or `$FMU_...` (the thesis' port-file style), and cards of
+// comma-separated or fixed-width fields. Every error names file:line.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace config {
+
+struct SourceLocation {
+  std::string file;
+  int line = 0;
+  std::string str() const { return file + ":" + std::to_string(line); }
+};
+
+// A user-facing input error: "file:line: message".
+class InputError : public std::runtime_error {
+ public:
+  InputError(const SourceLocation& where, const std::string& message)
+      : std::runtime_error(where.str() + ": " + message), where_(where) {}
+  const SourceLocation& where() const { return where_; }
+
+ private:
+  SourceLocation where_;
+};
+
+// One data line of a block. If the line has a comma, `fields` holds the
+// comma-separated fields, trimmed; otherwise the card is fixed-width and the
+// reader of that keyword splits `text` with split_fixed().
+struct Card {
+  SourceLocation where;
+  std::string text;
+  std::vector<std::string> fields;
+  bool comma_separated = false;
+
+  size_t size() const { return fields.size(); }
+  // Field i; `name` is used in the error message ("field 2 (mass)").
+  const std::string& field(size_t i, const char* name) const;
+  double real(size_t i, const char* name) const;
+  // Field i as a number, or `fallback` when the field is absent or blank.
+  double real_or(size_t i, const char* name, double fallback) const;
+  long integer(size_t i, const char* name) const;
+  long integer_or(size_t i, const char* name, long fallback) const;
+  [[noreturn]] void fail(const std::string& message) const { throw InputError(where, message); }
+};
+
+struct Block {
+  SourceLocation where;
+  std::string keyword;  // upper case, with its leading '*' or '$'
+  std::vector<Card> cards;
+  [[noreturn]] void fail(const std::string& message) const { throw InputError(where, message); }
+};
+
+// Parse text that came from `name` (used in messages). If `follow_includes`
+// is set, `*INCLUDE` blocks are replaced by the blocks of the named files,
+// resolved relative to the including file.
+std::vector<Block> parse_keyword_text(const std::string& text, const std::string& name,
+                                      bool follow_includes = false);
+std::vector<Block> read_keyword_file(const std::string& path, bool follow_includes = false);
+
+// Split a fixed-width card into fields of the given widths, trimmed; the last
+// width repeats until the line ends.
+std::vector<std::string> split_fixed(const std::string& line, const std::vector<int>& widths);
+
+// Number parsing with a message that names what was expected.
+double parse_real(const std::string& text, const SourceLocation& where, const std::string& what);
+long parse_integer(const std::string& text, const SourceLocation& where, const std::string& what);
+
+std::string trim(const std::string& s);
+std::string to_upper(std::string s);
+std::string to_lower(std::string s);
+
+}  // namespace config

@@ -1,0 +1,99 @@
+// The typed port table: what the co-simulation exchanges, read from the
+// keyword-style port configuration (ports.cfg). It is described once here;
+// the FMU's variables and value references (fmu_variables), the HELLO hash
+// and the FE server's port map all derive from it.
+//
+//   $FMU_SETTINGS        key, value   (model, server, timestep, mode, subcycles, timeout)
+//   $FMU_HOPSAN_PORTS    id, label, type          (Hydraulic | Mechanic | Signal)
+//   $FMU_HOPSAN_SEND     port id, quantity, scale (host → FE)
+//   $FMU_HOPSAN_RECEIVE  port id, quantity, scale (FE → host)
+//
+// Scale factors: the FMU multiplies every value it sends and receives by its
+// scale, so a half or quarter FE model is seen by the host as the whole one.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "config/keyword_reader.hpp"
+
+namespace config {
+
+enum class PortType { Hydraulic, Mechanic, Signal };
+enum class Quantity { Pressure, Flow, Wave, Impedance, Displacement, Velocity, Force, Signal };
+enum class CouplingMode { Pressure, Tlm };
+
+const char* to_string(PortType t);
+const char* to_string(CouplingMode m);
+const char* symbol(Quantity q);  // "p", "q", "c", "Zc", "x", "v", "F", "y"
+const char* unit(Quantity q);    // SI unit
+const char* long_name(Quantity q);
+
+struct Port {
+  int id = 0;
+  std::string label;
+  PortType type = PortType::Hydraulic;
+  SourceLocation where;
+};
+
+struct Variable {
+  int port_id = 0;
+  std::string port_label;
+  Quantity quantity = Quantity::Pressure;
+  double scale = 1.0;
+  SourceLocation where;
+  std::string name() const { return port_label + "." + symbol(quantity); }
+};
+
+struct PortTable {
+  std::string source;  // file it was read from
+  std::string model_name;
+  std::string server;  // default HOST:PORT of fe_server
+  double dt = 0.0;     // coupling time step, s
+  CouplingMode mode = CouplingMode::Pressure;
+  int subcycles = 1;     // FE steps per coupling step
+  double timeout = 60.0; // per-step receive deadline, s
+  std::vector<Port> ports;
+  std::vector<Variable> to_fe;    // host → FE, in wire order
+  std::vector<Variable> to_host;  // FE → host, in wire order
+
+  const Port* find_port(int id) const;
+  // FNV-1a 64 of the canonical table (model, dt, mode, subcycles, ports,
+  // variables with scales); the server address and time-out are not part of
+  // it, since they differ between a cluster run and a local one.
+  uint64_t hash() const;
+  std::string canonical() const;
+};
+
+PortTable parse_port_table(const std::string& text, const std::string& name);
+PortTable read_port_table(const std::string& path);
+
+// ---- the FMU's variables, derived from the table (value references too) ----
+enum class FmuCausality { Input, Output, Parameter };
+enum class FmuType { Real, Integer, String };
+
+struct FmuVariable {
+  std::string name;
+  unsigned value_reference = 0;
+  FmuCausality causality = FmuCausality::Input;
+  FmuType type = FmuType::Real;
+  std::string start;  // empty: no start attribute
+  std::string unit;
+  std::string description;
+  int wire_index = -1;  // index into to_fe (inputs) or to_host (outputs)
+};
+
+// Value references of the fixed parameters; port variables count from 0.
+constexpr unsigned kVrServerHost = 1000000;
+constexpr unsigned kVrServerPort = 1000001;
+constexpr unsigned kVrServerToken = 1000002;
+constexpr unsigned kVrTimeout = 1000003;
+
+std::vector<FmuVariable> fmu_variables(const PortTable& table);
+
+// "pcs-" + 16 hex digits of the hash: the FMU's GUID, tying
+// modelDescription.xml to the resources/ports.cfg it was made from.
+std::string fmu_guid(const PortTable& table);
+
+}  // namespace config

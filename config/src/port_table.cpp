@@ -1,0 +1,278 @@
+#include "config/port_table.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace config {
+
+const char* to_string(PortType t) {
+  switch (t) {
+    case PortType::Hydraulic: return "Hydraulic";
+    case PortType::Mechanic: return "Mechanic";
+    case PortType::Signal: return "Signal";
+  }
+  return "?";
+}
+
+const char* to_string(CouplingMode m) { return m == CouplingMode::Pressure ? "pressure" : "tlm"; }
+
+namespace {
+struct QuantityInfo {
+  Quantity q;
+  const char* symbol;
+  const char* long_name;
+  const char* unit;
+};
+constexpr QuantityInfo kQuantities[] = {
+    {Quantity::Pressure, "p", "pressure", "Pa"},
+    {Quantity::Flow, "q", "flow", "m3/s"},
+    {Quantity::Wave, "c", "wave", "Pa"},
+    {Quantity::Impedance, "Zc", "impedance", "Pa.s/m3"},
+    {Quantity::Displacement, "x", "displacement", "m"},
+    {Quantity::Velocity, "v", "velocity", "m/s"},
+    {Quantity::Force, "F", "force", "N"},
+    {Quantity::Signal, "y", "signal", "1"},
+};
+const QuantityInfo& info(Quantity q) {
+  for (const auto& i : kQuantities)
+    if (i.q == q) return i;
+  return kQuantities[0];
+}
+}  // namespace
+
+const char* symbol(Quantity q) { return info(q).symbol; }
+const char* unit(Quantity q) { return info(q).unit; }
+const char* long_name(Quantity q) { return info(q).long_name; }
+
+const Port* PortTable::find_port(int id) const {
+  for (const auto& p : ports)
+    if (p.id == id) return &p;
+  return nullptr;
+}
+
+std::string PortTable::canonical() const {
+  char num[64];
+  std::string s = "pcs-port-table-v1|model=" + model_name;
+  std::snprintf(num, sizeof num, "|dt=%.17g", dt);
+  s += num;
+  s += std::string("|mode=") + to_string(mode) + "|subcycles=" + std::to_string(subcycles);
+  for (const auto& p : ports)
+    s += "|port:" + std::to_string(p.id) + "," + p.label + "," + to_string(p.type);
+  auto vars = [&](const char* dir, const std::vector<Variable>& vs) {
+    for (const auto& v : vs) {
+      std::snprintf(num, sizeof num, "%.17g", v.scale);
+      s += std::string("|") + dir + ":" + std::to_string(v.port_id) + "," + symbol(v.quantity) +
+           "," + num;
+    }
+  };
+  vars("to_fe", to_fe);
+  vars("to_host", to_host);
+  return s;
+}
+
+uint64_t PortTable::hash() const {
+  // FNV-1a, 64 bit (offset basis and prime from Fowler/Noll/Vo).
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : canonical()) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+static PortType parse_port_type(const Card& c, size_t i) {
+  std::string t = to_lower(c.field(i, "type"));
+  if (t == "hydraulic") return PortType::Hydraulic;
+  if (t == "mechanic" || t == "mechanical") return PortType::Mechanic;
+  if (t == "signal") return PortType::Signal;
+  c.fail("port type '" + c.fields[i] + "': expected Hydraulic, Mechanic or Signal");
+}
+
+static Quantity parse_quantity(const Card& c, size_t i) {
+  const std::string& t = c.field(i, "quantity");
+  for (const auto& q : kQuantities)
+    if (t == q.symbol || to_lower(t) == q.long_name) return q.q;
+  c.fail("quantity '" + t +
+         "': expected one of pressure (p), flow (q), wave (c), impedance (Zc), displacement (x), "
+         "velocity (v), force (F), signal (y)");
+}
+
+// Which quantities may cross in which direction for a port type.
+static bool allowed(PortType t, Quantity q, bool to_fe) {
+  using Q = Quantity;
+  switch (t) {
+    case PortType::Hydraulic:
+      return to_fe ? (q == Q::Pressure || q == Q::Wave || q == Q::Impedance)
+                   : (q == Q::Flow || q == Q::Displacement || q == Q::Velocity || q == Q::Pressure);
+    case PortType::Mechanic:
+      return q == Q::Force || q == Q::Displacement || q == Q::Velocity;
+    case PortType::Signal:
+      return q == Q::Signal;
+  }
+  return false;
+}
+
+static void read_variables(const Block& b, PortTable& t, std::vector<Variable>& out, bool to_fe) {
+  for (const auto& c : b.cards) {
+    Variable v;
+    v.where = c.where;
+    v.port_id = static_cast<int>(c.integer(0, "port id"));
+    v.quantity = parse_quantity(c, 1);
+    v.scale = c.real_or(2, "scale", 1.0);
+    if (!std::isfinite(v.scale) || v.scale == 0.0) c.fail("scale factor must be finite and non-zero");
+    const Port* p = t.find_port(v.port_id);
+    if (!p)
+      c.fail("port id " + std::to_string(v.port_id) +
+             " is not listed in $FMU_HOPSAN_PORTS (define the port before its variables)");
+    if (!allowed(p->type, v.quantity, to_fe))
+      c.fail(std::string("a ") + to_string(p->type) + " port cannot " +
+             (to_fe ? "send " : "receive ") + long_name(v.quantity) +
+             (to_fe ? " to the FE side" : " from the FE side"));
+    v.port_label = p->label;
+    for (const auto& other : t.to_fe)
+      if (other.name() == v.name() && to_fe) c.fail("variable " + v.name() + " is listed twice");
+    for (const auto& other : t.to_host)
+      if (other.name() == v.name() && !to_fe) c.fail("variable " + v.name() + " is listed twice");
+    out.push_back(v);
+  }
+}
+
+static bool has(const std::vector<Variable>& vs, int port, Quantity q) {
+  for (const auto& v : vs)
+    if (v.port_id == port && v.quantity == q) return true;
+  return false;
+}
+
+PortTable parse_port_table(const std::string& text, const std::string& name) {
+  PortTable t;
+  t.source = name;
+  bool have_dt = false;
+  SourceLocation top{name, 1};
+  for (const auto& b : parse_keyword_text(text, name)) {
+    if (b.keyword == "$FMU_SETTINGS") {
+      for (const auto& c : b.cards) {
+        std::string key = to_lower(c.field(0, "key"));
+        const std::string& val = c.field(1, "value");
+        if (key == "model") {
+          t.model_name = val;
+        } else if (key == "server") {
+          t.server = val;
+        } else if (key == "timestep") {
+          t.dt = c.real(1, "timestep");
+          if (!(t.dt > 0.0) || !std::isfinite(t.dt)) c.fail("timestep must be positive");
+          have_dt = true;
+        } else if (key == "mode") {
+          std::string m = to_lower(val);
+          if (m == "pressure") t.mode = CouplingMode::Pressure;
+          else if (m == "tlm") t.mode = CouplingMode::Tlm;
+          else c.fail("mode '" + val + "': expected pressure or tlm");
+        } else if (key == "subcycles") {
+          long k = c.integer(1, "subcycles");
+          if (k < 1 || k > 100000) c.fail("subcycles must be between 1 and 100000");
+          t.subcycles = static_cast<int>(k);
+        } else if (key == "timeout") {
+          t.timeout = c.real(1, "timeout");
+          if (!(t.timeout > 0.0)) c.fail("timeout must be positive (seconds)");
+        } else {
+          c.fail("unknown setting '" + c.fields[0] +
+                 "': expected model, server, timestep, mode, subcycles or timeout");
+        }
+      }
+    } else if (b.keyword == "$FMU_HOPSAN_PORTS") {
+      for (const auto& c : b.cards) {
+        Port p;
+        p.where = c.where;
+        p.id = static_cast<int>(c.integer(0, "id"));
+        p.label = c.field(1, "label");
+        p.type = parse_port_type(c, 2);
+        if (p.label.empty() || p.label.find_first_of(" .\"<>&'") != std::string::npos)
+          c.fail("port label '" + p.label + "' must be non-empty without spaces, dots or quotes");
+        for (const auto& o : t.ports) {
+          if (o.id == p.id) c.fail("port id " + std::to_string(p.id) + " already used at " + o.where.str());
+          if (o.label == p.label) c.fail("port label '" + p.label + "' already used at " + o.where.str());
+        }
+        t.ports.push_back(p);
+      }
+    } else if (b.keyword == "$FMU_HOPSAN_SEND") {
+      read_variables(b, t, t.to_fe, true);
+    } else if (b.keyword == "$FMU_HOPSAN_RECEIVE") {
+      read_variables(b, t, t.to_host, false);
+    } else {
+      b.fail("unknown block '" + b.keyword +
+             "': expected $FMU_SETTINGS, $FMU_HOPSAN_PORTS, $FMU_HOPSAN_SEND or $FMU_HOPSAN_RECEIVE");
+    }
+  }
+  if (t.model_name.empty()) throw InputError(top, "$FMU_SETTINGS needs 'model, NAME'");
+  for (char ch : t.model_name)
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'))
+      throw InputError(top, "model name '" + t.model_name +
+                                "' must contain only letters, digits and '_' (it names the FMU binary)");
+  if (!have_dt) throw InputError(top, "$FMU_SETTINGS needs 'timestep, SECONDS'");
+  if (t.ports.empty()) throw InputError(top, "no ports: $FMU_HOPSAN_PORTS is missing or empty");
+  // Each hydraulic port must carry what its coupling mode exchanges.
+  for (const auto& p : t.ports) {
+    if (p.type != PortType::Hydraulic) continue;
+    bool ok = t.mode == CouplingMode::Pressure
+                  ? has(t.to_fe, p.id, Quantity::Pressure)
+                  : has(t.to_fe, p.id, Quantity::Wave) && has(t.to_fe, p.id, Quantity::Impedance);
+    if (!ok)
+      throw InputError(p.where, "hydraulic port '" + p.label + "' in " + to_string(t.mode) +
+                                    " mode must send " +
+                                    (t.mode == CouplingMode::Pressure ? "pressure" : "wave and impedance"));
+    if (!has(t.to_host, p.id, Quantity::Flow))
+      throw InputError(p.where, "hydraulic port '" + p.label + "' must receive flow");
+  }
+  return t;
+}
+
+PortTable read_port_table(const std::string& path) {
+  auto blocks_text = [&]() {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot open port configuration '" + path + "'");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  return parse_port_table(blocks_text(), path);
+}
+
+std::vector<FmuVariable> fmu_variables(const PortTable& t) {
+  std::vector<FmuVariable> out;
+  unsigned vr = 0;
+  for (size_t i = 0; i < t.to_fe.size(); ++i) {
+    const auto& v = t.to_fe[i];
+    out.push_back({v.name(), vr++, FmuCausality::Input, FmuType::Real, "0", unit(v.quantity),
+                   std::string(long_name(v.quantity)) + " sent to the FE model at port " + v.port_label,
+                   static_cast<int>(i)});
+  }
+  for (size_t i = 0; i < t.to_host.size(); ++i) {
+    const auto& v = t.to_host[i];
+    out.push_back({v.name(), vr++, FmuCausality::Output, FmuType::Real, "", unit(v.quantity),
+                   std::string(long_name(v.quantity)) + " returned by the FE model at port " +
+                       v.port_label,
+                   static_cast<int>(i)});
+  }
+  out.push_back({"server.host", kVrServerHost, FmuCausality::Parameter, FmuType::String, "", "",
+                 "fe_server host; empty: $PCS_SERVER_HOST, else the port configuration", -1});
+  out.push_back({"server.port", kVrServerPort, FmuCausality::Parameter, FmuType::Integer, "0", "",
+                 "fe_server port; 0: $PCS_SERVER_PORT, else the port configuration", -1});
+  out.push_back({"server.token", kVrServerToken, FmuCausality::Parameter, FmuType::String, "", "",
+                 "session token; empty: $PCS_TOKEN", -1});
+  char num[64];
+  std::snprintf(num, sizeof num, "%.17g", t.timeout);
+  out.push_back({"server.timeout", kVrTimeout, FmuCausality::Parameter, FmuType::Real, num, "s",
+                 "deadline for connect, handshake and each step's result", -1});
+  return out;
+}
+
+std::string fmu_guid(const PortTable& t) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "pcs-%016llx", static_cast<unsigned long long>(t.hash()));
+  return buf;
+}
+
+}  // namespace config

@@ -1,0 +1,130 @@
+#include "coupling_client.hpp"
+
+#include <cmath>
+#include <cstring>
+
+namespace pcs_fmu {
+
+std::string describe_link_error(int code, const sl_socket& s) {
+  std::string m = std::string(sl_err_name(code)) + ": " + sl_strerror(code);
+  if (code == SL_ESYSTEM && s.sys_errno) m += std::string(" (") + std::strerror(s.sys_errno) + ")";
+  return m;
+}
+
+static int64_t deadline_after(double seconds) {
+  return sl_now_ms() + static_cast<int64_t>(std::ceil(seconds * 1000.0));
+}
+
+CouplingClient::CouplingClient(const config::PortTable& table) : table_(table) {
+  size_t n = std::max(table.to_fe.size(), table.to_host.size());
+  buf_.resize(std::max<size_t>(pcs_values_size(static_cast<uint32_t>(n)), PCS_MAX_REASON + 64));
+}
+
+CouplingClient::~CouplingClient() { sl_close(&sock_); }
+
+void CouplingClient::fail(int code, const std::string& what) {
+  std::string msg = what + ": " + describe_link_error(code, sock_);
+  sl_close(&sock_);
+  throw LinkError(code, msg);
+}
+
+void CouplingClient::connect(const std::string& host, int port, const std::string& token,
+                             double timeout_s) {
+  timeout_s_ = timeout_s;
+  const int64_t deadline = deadline_after(timeout_s);
+  std::string where = "fe_server at " + host + ":" + std::to_string(port);
+  int rc = sl_connect(host.c_str(), port, deadline, &sock_);
+  if (rc != SL_OK) fail(rc, "cannot connect to " + where);
+
+  pcs_hello hello{};
+  hello.protocol_version = PCS_PROTOCOL_VERSION;
+  hello.table_hash = table_.hash();
+  hello.dt = table_.dt;
+  hello.subcycles = static_cast<uint32_t>(table_.subcycles);
+  if (token.size() >= sizeof hello.token) fail(SL_EINVAL, "token longer than 255 characters");
+  std::memcpy(hello.token, token.c_str(), token.size() + 1);
+  int n = pcs_encode_hello(&hello, buf_.data(), static_cast<uint32_t>(buf_.size()));
+  if (n < 0) fail(n, "cannot encode HELLO");
+  rc = pcs_send_frame(&sock_, PCS_MSG_HELLO, 0, buf_.data(), static_cast<uint32_t>(n), deadline);
+  if (rc != SL_OK) fail(rc, "cannot send HELLO to " + where);
+
+  pcs_header h{};
+  rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline);
+  if (h.type == PCS_MSG_ABORT && (rc == SL_OK || rc == SL_EVERSION)) {
+    pcs_abort a{};
+    pcs_decode_abort(buf_.data(), h.payload_size, &a);
+    sl_close(&sock_);
+    throw LinkError(SL_EREFUSED_BY_PEER, where + " refused the session: " + a.reason);
+  }
+  if (rc == SL_EVERSION) {
+    pcs_send_abort(&sock_, 0, SL_EVERSION,
+                   ("protocol version mismatch: client speaks " + std::to_string(PCS_PROTOCOL_VERSION) +
+                    ", server " + std::to_string(h.version)).c_str(),
+                   deadline);
+    fail(rc, "protocol version mismatch (client " + std::to_string(PCS_PROTOCOL_VERSION) +
+                 ", server " + std::to_string(h.version) + ")");
+  }
+  if (rc != SL_OK) fail(rc, "no handshake answer from " + where);
+  if (h.type != PCS_MSG_HELLO_ACK)
+    fail(SL_EUNEXPECTED, std::string("expected HELLO_ACK, got ") + pcs_msg_name(h.type));
+  pcs_hello_ack ack{};
+  rc = pcs_decode_hello_ack(buf_.data(), h.payload_size, &ack);
+  if (rc != SL_OK) fail(rc, "malformed HELLO_ACK");
+  // The server checked the same things; checking again here means a faulty
+  // or foreign server cannot make us exchange values that mean something else.
+  if (ack.table_hash != table_.hash() || ack.dt != table_.dt ||
+      ack.subcycles != static_cast<uint32_t>(table_.subcycles)) {
+    std::string reason = "server's port table differs from ours (" + table_.source + ")";
+    pcs_send_abort(&sock_, 0, SL_EREFUSED_BY_PEER, reason.c_str(), deadline);
+    fail(SL_EREFUSED_BY_PEER, reason);
+  }
+}
+
+void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<double>& inputs,
+                          std::vector<double>& outputs) {
+  if (!connected()) throw LinkError(SL_EINVAL, "not connected to fe_server");
+  const int64_t deadline = deadline_after(timeout_s_);
+  int n = pcs_encode_values(time, dt, inputs.data(), static_cast<uint32_t>(inputs.size()),
+                            buf_.data(), static_cast<uint32_t>(buf_.size()));
+  if (n < 0) fail(n, "cannot encode STEP");
+  int rc = pcs_send_frame(&sock_, PCS_MSG_STEP, k, buf_.data(), static_cast<uint32_t>(n), deadline);
+  std::string at = " at step " + std::to_string(k) + " (t = " + std::to_string(time) + " s)";
+  if (rc != SL_OK) fail(rc, "cannot send STEP" + at);
+  pcs_header h{};
+  rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline);
+  if (rc == SL_OK && h.type == PCS_MSG_ABORT) {
+    pcs_abort a{};
+    pcs_decode_abort(buf_.data(), h.payload_size, &a);
+    sl_close(&sock_);
+    throw LinkError(SL_EREFUSED_BY_PEER, "fe_server aborted" + at + ": " + a.reason);
+  }
+  if (rc != SL_OK) fail(rc, "no RESULT" + at);
+  if (h.type != PCS_MSG_RESULT || h.step != k) {
+    std::string what = std::string("expected RESULT ") + std::to_string(k) + ", got " +
+                       pcs_msg_name(h.type) + " " + std::to_string(h.step);
+    pcs_send_abort(&sock_, k, SL_EUNEXPECTED, what.c_str(), deadline);
+    fail(SL_EUNEXPECTED, what);
+  }
+  double t_back = 0, dt_back = 0;
+  uint32_t count = 0;
+  outputs.resize(table_.to_host.size());
+  rc = pcs_decode_values(buf_.data(), h.payload_size, &t_back, &dt_back, outputs.data(),
+                         static_cast<uint32_t>(outputs.size()), &count);
+  if (rc != SL_OK || count != outputs.size())
+    fail(SL_EMALFORMED, "RESULT" + at + " carries " + std::to_string(count) + " values, expected " +
+                            std::to_string(outputs.size()));
+}
+
+void CouplingClient::bye() {
+  if (!connected()) return;
+  (void)pcs_send_frame(&sock_, PCS_MSG_BYE, 0, nullptr, 0, deadline_after(timeout_s_));
+  sl_close(&sock_);
+}
+
+void CouplingClient::abort(const std::string& reason) {
+  if (!connected()) return;
+  pcs_send_abort(&sock_, 0, SL_EREFUSED_BY_PEER, reason.c_str(), deadline_after(1.0));
+  sl_close(&sock_);
+}
+
+}  // namespace pcs_fmu

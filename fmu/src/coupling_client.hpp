@@ -1,0 +1,57 @@
+// Client side of the coupling protocol: connect with a deadline, HELLO
+// handshake, one STEP/RESULT exchange per coupling step, BYE or ABORT.
+// Values cross in wire units (already scaled); the FMU instance scales them.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "config/port_table.hpp"
+#include "socketlib/protocol.h"
+
+namespace pcs_fmu {
+
+// A link failure with a message that names the cause; `code` is an sl_error.
+class LinkError : public std::runtime_error {
+ public:
+  LinkError(int code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  int code() const { return code_; }
+
+ private:
+  int code_;
+};
+
+class CouplingClient {
+ public:
+  explicit CouplingClient(const config::PortTable& table);
+  ~CouplingClient();
+  CouplingClient(const CouplingClient&) = delete;
+  CouplingClient& operator=(const CouplingClient&) = delete;
+
+  // Connect (retrying while refused) and shake hands, all before
+  // now + timeout_s. Throws LinkError, e.g. when the server refuses the token.
+  void connect(const std::string& host, int port, const std::string& token, double timeout_s);
+  // Send STEP k with `inputs` and wait up to timeout_s for RESULT k.
+  // Throws LinkError (timed out, peer closed, ABORT with its reason, ...).
+  void step(uint64_t k, double time, double dt, const std::vector<double>& inputs,
+            std::vector<double>& outputs);
+  // Clean end of the session (best effort).
+  void bye();
+  // Tell the peer why we stop (best effort), then close.
+  void abort(const std::string& reason);
+  bool connected() const { return sock_.fd >= 0; }
+
+ private:
+  [[noreturn]] void fail(int code, const std::string& what);
+  const config::PortTable& table_;
+  sl_socket sock_ = SL_SOCKET_INIT;
+  double timeout_s_ = 60.0;
+  std::vector<uint8_t> buf_;
+};
+
+// The one-line reason for a link error code ("timed out: ...").
+std::string describe_link_error(int code, const sl_socket& s);
+
+}  // namespace pcs_fmu

@@ -1,0 +1,279 @@
+// The exported FMI 2.0 functions. Each is a shell: it checks that the call is
+// legal in the instance's current state (naming the call that was out of
+// sequence), runs the work, and turns every failure into an fmi2Status with a
+// message through the importer's logger. No exception crosses this boundary;
+// nothing here exits or prints.
+#include <cstring>
+#include <new>
+
+#include "fmi2/fmi2.h"
+#include "instance.hpp"
+
+using pcs_fmu::FmuError;
+using pcs_fmu::Instance;
+using pcs_fmu::State;
+
+namespace {
+
+constexpr unsigned bit(State s) { return static_cast<unsigned>(s); }
+constexpr unsigned kAnyButFatal = bit(State::Instantiated) | bit(State::InitializationMode) |
+                                  bit(State::StepComplete) | bit(State::StepFailed) |
+                                  bit(State::Terminated) | bit(State::Error);
+// Which states each call is legal in (FMI 2.0 co-simulation state table, spec. 4.2.4).
+constexpr unsigned kSetupExperiment = bit(State::Instantiated);
+constexpr unsigned kEnterInit = bit(State::Instantiated);
+constexpr unsigned kExitInit = bit(State::InitializationMode);
+constexpr unsigned kTerminate = bit(State::StepComplete) | bit(State::StepFailed);
+constexpr unsigned kGet = bit(State::InitializationMode) | bit(State::StepComplete) |
+                          bit(State::StepFailed) | bit(State::Terminated) | bit(State::Error);
+constexpr unsigned kSet = bit(State::Instantiated) | bit(State::InitializationMode) |
+                          bit(State::StepComplete);
+constexpr unsigned kDoStep = bit(State::StepComplete);
+constexpr unsigned kStatus = bit(State::StepComplete) | bit(State::StepFailed) |
+                             bit(State::Terminated);
+
+// Run `work` on instance c if `allowed` contains its state.
+template <class F>
+fmi2Status guarded(fmi2Component c, const char* fn, unsigned allowed, F&& work) {
+  if (!c) return fmi2Error;
+  auto* inst = static_cast<Instance*>(c);
+  if (!(bit(inst->state()) & allowed)) {
+    inst->log(fmi2Error, "logStatusError",
+              std::string(fn) + " is not allowed in state " + pcs_fmu::to_string(inst->state()));
+    return fmi2Error;
+  }
+  try {
+    work(*inst);
+    return fmi2OK;
+  } catch (const FmuError& e) {
+    inst->log(e.status(), "logStatusError", std::string(fn) + ": " + e.what());
+    if (e.status() == fmi2Error) {
+      inst->abort_link(std::string(fn) + " failed: " + e.what());
+      inst->set_state(State::Error);
+    }
+    if (e.status() == fmi2Fatal) inst->set_state(State::Fatal);
+    return e.status();
+  } catch (const std::bad_alloc&) {
+    inst->log(fmi2Fatal, "logStatusFatal", std::string(fn) + ": out of memory");
+    inst->set_state(State::Fatal);
+    return fmi2Fatal;
+  } catch (const std::exception& e) {
+    inst->log(fmi2Error, "logStatusError", std::string(fn) + ": " + e.what());
+    inst->set_state(State::Error);
+    return fmi2Error;
+  }
+}
+
+fmi2Status unsupported(fmi2Component c, const char* fn, const char* capability) {
+  return guarded(c, fn, kAnyButFatal, [&](Instance&) {
+    throw FmuError(fmi2Error, std::string("not supported (") + capability +
+                                  " is false in modelDescription.xml)");
+  });
+}
+
+}  // namespace
+
+extern "C" {
+
+const char* fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
+const char* fmi2GetVersion(void) { return fmi2Version; }
+
+fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t, const fmi2String[]) {
+  return guarded(c, "fmi2SetDebugLogging", kAnyButFatal,
+                 [&](Instance& i) { i.set_logging(loggingOn != fmi2False); });
+}
+
+fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+                              fmi2String fmuResourceLocation, const fmi2CallbackFunctions* functions,
+                              fmi2Boolean, fmi2Boolean loggingOn) {
+  auto complain = [&](const std::string& msg) {
+    if (functions && functions->logger)
+      functions->logger(functions->componentEnvironment, instanceName ? instanceName : "?",
+                        fmi2Error, "logStatusError", "%s", msg.c_str());
+  };
+  if (!instanceName || !*instanceName) {
+    complain("fmi2Instantiate: instanceName is empty");
+    return nullptr;
+  }
+  if (fmuType != fmi2CoSimulation) {
+    complain("fmi2Instantiate: this FMU supports co-simulation only");
+    return nullptr;
+  }
+  if (!fmuGUID || !fmuResourceLocation) {
+    complain("fmi2Instantiate: fmuGUID and fmuResourceLocation are required");
+    return nullptr;
+  }
+  try {
+    return new Instance(instanceName, fmuGUID, fmuResourceLocation, functions, loggingOn != fmi2False);
+  } catch (const std::exception& e) {
+    complain(std::string("fmi2Instantiate: ") + e.what());
+    return nullptr;
+  }
+}
+
+void fmi2FreeInstance(fmi2Component c) {
+  if (!c) return;
+  auto* inst = static_cast<Instance*>(c);
+  try {
+    inst->abort_link("the importer freed the FMU instance");
+  } catch (...) {
+  }
+  delete inst;
+}
+
+fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean, fmi2Real, fmi2Real startTime,
+                               fmi2Boolean, fmi2Real) {
+  return guarded(c, "fmi2SetupExperiment", kSetupExperiment, [&](Instance&) {
+    if (startTime != 0.0)
+      throw FmuError(fmi2Error, "startTime must be 0: the FE model starts from its initial state");
+  });
+}
+
+fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
+  return guarded(c, "fmi2EnterInitializationMode", kEnterInit,
+                 [](Instance& i) { i.enter_initialization(); });
+}
+
+fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
+  return guarded(c, "fmi2ExitInitializationMode", kExitInit,
+                 [](Instance& i) { i.exit_initialization(); });
+}
+
+fmi2Status fmi2Terminate(fmi2Component c) {
+  return guarded(c, "fmi2Terminate", kTerminate, [](Instance& i) { i.terminate(); });
+}
+
+fmi2Status fmi2Reset(fmi2Component c) {
+  return guarded(c, "fmi2Reset", kAnyButFatal, [](Instance& i) { i.reset(); });
+}
+
+fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
+  return guarded(c, "fmi2GetReal", kGet, [&](Instance& i) {
+    for (size_t k = 0; k < nvr; ++k) value[k] = i.get_real(vr[k]);
+  });
+}
+
+fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                          fmi2Integer value[]) {
+  return guarded(c, "fmi2GetInteger", kGet, [&](Instance& i) {
+    for (size_t k = 0; k < nvr; ++k) value[k] = i.get_integer(vr[k]);
+  });
+}
+
+fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference[], size_t nvr, fmi2Boolean[]) {
+  return guarded(c, "fmi2GetBoolean", kGet, [&](Instance&) {
+    if (nvr) throw FmuError(fmi2Error, "this FMU has no Boolean variables");
+  });
+}
+
+fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                         fmi2String value[]) {
+  return guarded(c, "fmi2GetString", kGet, [&](Instance& i) {
+    for (size_t k = 0; k < nvr; ++k) value[k] = i.get_string(vr[k]);
+  });
+}
+
+fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                       const fmi2Real value[]) {
+  return guarded(c, "fmi2SetReal", kSet, [&](Instance& i) {
+    for (size_t k = 0; k < nvr; ++k) i.set_real(vr[k], value[k]);
+  });
+}
+
+fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                          const fmi2Integer value[]) {
+  return guarded(c, "fmi2SetInteger", kSet, [&](Instance& i) {
+    for (size_t k = 0; k < nvr; ++k) i.set_integer(vr[k], value[k]);
+  });
+}
+
+fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference[], size_t nvr, const fmi2Boolean[]) {
+  return guarded(c, "fmi2SetBoolean", kSet, [&](Instance&) {
+    if (nvr) throw FmuError(fmi2Error, "this FMU has no Boolean variables");
+  });
+}
+
+fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                         const fmi2String value[]) {
+  return guarded(c, "fmi2SetString", kSet, [&](Instance& i) {
+    for (size_t k = 0; k < nvr; ++k) i.set_string(vr[k], value[k]);
+  });
+}
+
+// The FE model's state lives in another process: it cannot be saved or restored here.
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate*) {
+  return unsupported(c, "fmi2GetFMUstate", "canGetAndSetFMUstate");
+}
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate) {
+  return unsupported(c, "fmi2SetFMUstate", "canGetAndSetFMUstate");
+}
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate*) {
+  return unsupported(c, "fmi2FreeFMUstate", "canGetAndSetFMUstate");
+}
+fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate, size_t*) {
+  return unsupported(c, "fmi2SerializedFMUstateSize", "canSerializeFMUstate");
+}
+fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate, fmi2Byte[], size_t) {
+  return unsupported(c, "fmi2SerializeFMUstate", "canSerializeFMUstate");
+}
+fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte[], size_t, fmi2FMUstate*) {
+  return unsupported(c, "fmi2DeSerializeFMUstate", "canSerializeFMUstate");
+}
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference[], size_t,
+                                        const fmi2ValueReference[], size_t, const fmi2Real[],
+                                        fmi2Real[]) {
+  return unsupported(c, "fmi2GetDirectionalDerivative", "providesDirectionalDerivative");
+}
+fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference[], size_t,
+                                       const fmi2Integer[], const fmi2Real[]) {
+  return unsupported(c, "fmi2SetRealInputDerivatives", "canInterpolateInputs");
+}
+fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference[], size_t,
+                                        const fmi2Integer[], fmi2Real[]) {
+  return unsupported(c, "fmi2GetRealOutputDerivatives", "maxOutputDerivativeOrder > 0");
+}
+
+fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
+                      fmi2Real communicationStepSize, fmi2Boolean) {
+  return guarded(c, "fmi2DoStep", kDoStep,
+                 [&](Instance& i) { i.do_step(currentCommunicationPoint, communicationStepSize); });
+}
+
+fmi2Status fmi2CancelStep(fmi2Component c) {
+  return guarded(c, "fmi2CancelStep", kAnyButFatal, [](Instance&) {
+    throw FmuError(fmi2Error, "no step in progress: fmi2DoStep is synchronous and never returns fmi2Pending");
+  });
+}
+
+fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind, fmi2Status*) {
+  return guarded(c, "fmi2GetStatus", kStatus, [](Instance&) {
+    throw FmuError(fmi2Discard, "no asynchronous step: fmi2DoStep never returns fmi2Pending");
+  });
+}
+
+fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real* value) {
+  return guarded(c, "fmi2GetRealStatus", kStatus, [&](Instance& i) {
+    if (s != fmi2LastSuccessfulTime)
+      throw FmuError(fmi2Discard, "only fmi2LastSuccessfulTime is a Real status");
+    *value = i.last_successful_time();
+  });
+}
+
+fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind, fmi2Integer*) {
+  return guarded(c, "fmi2GetIntegerStatus", kStatus,
+                 [](Instance&) { throw FmuError(fmi2Discard, "no Integer status is defined"); });
+}
+
+fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean* value) {
+  return guarded(c, "fmi2GetBooleanStatus", kStatus, [&](Instance& i) {
+    if (s != fmi2Terminated) throw FmuError(fmi2Discard, "only fmi2Terminated is a Boolean status");
+    *value = i.state() == State::Terminated ? fmi2True : fmi2False;
+  });
+}
+
+fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind, fmi2String*) {
+  return guarded(c, "fmi2GetStringStatus", kStatus,
+                 [](Instance&) { throw FmuError(fmi2Discard, "no String status is defined"); });
+}
+
+}  // extern "C"

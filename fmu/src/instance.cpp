@@ -1,0 +1,225 @@
+#include "instance.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+#include "socketlib/socketlib.h"
+
+namespace pcs_fmu {
+
+const char* to_string(State s) {
+  switch (s) {
+    case State::Instantiated: return "instantiated";
+    case State::InitializationMode: return "initializationMode";
+    case State::StepComplete: return "stepComplete";
+    case State::StepFailed: return "stepFailed";
+    case State::Terminated: return "terminated";
+    case State::Error: return "error";
+    case State::Fatal: return "fatal";
+  }
+  return "?";
+}
+
+std::string path_from_file_uri(const std::string& uri) {
+  std::string rest;
+  if (uri.rfind("file://localhost/", 0) == 0) rest = uri.substr(16);
+  else if (uri.rfind("file:///", 0) == 0) rest = uri.substr(7);
+  else if (uri.rfind("file:/", 0) == 0) rest = uri.substr(5);
+  else throw FmuError(fmi2Error, "fmuResourceLocation '" + uri + "' is not a file: URI");
+  std::string out;
+  for (size_t i = 0; i < rest.size(); ++i) {
+    if (rest[i] == '%' && i + 2 < rest.size()) {
+      out += static_cast<char>(std::strtol(rest.substr(i + 1, 2).c_str(), nullptr, 16));
+      i += 2;
+    } else {
+      out += rest[i];
+    }
+  }
+  while (out.size() > 1 && out.back() == '/') out.pop_back();
+  return out;
+}
+
+Instance::Instance(std::string name, const std::string& guid, const std::string& resource_location,
+                   const fmi2CallbackFunctions* callbacks, bool logging_on)
+    : name_(std::move(name)), logging_on_(logging_on) {
+  if (callbacks) {
+    logger_ = callbacks->logger;
+    env_ = callbacks->componentEnvironment;
+  }
+  // The configuration comes from the FMU's own resources, never the working directory.
+  std::string dir = path_from_file_uri(resource_location);
+  try {
+    table_ = config::read_port_table(dir + "/ports.cfg");
+  } catch (const std::exception& e) {
+    throw FmuError(fmi2Error, std::string("cannot read the port table: ") + e.what());
+  }
+  if (guid != config::fmu_guid(table_))
+    throw FmuError(fmi2Error, "GUID '" + guid + "' does not match resources/ports.cfg (" +
+                                  config::fmu_guid(table_) +
+                                  "): modelDescription.xml and the resources come from different fmugen runs");
+  vars_ = config::fmu_variables(table_);
+  inputs_.assign(table_.to_fe.size(), 0.0);
+  outputs_.assign(table_.to_host.size(), 0.0);
+  timeout_ = table_.timeout;
+}
+
+void Instance::log(fmi2Status status, const char* category, const std::string& message) const {
+  bool always = status == fmi2Error || status == fmi2Fatal || status == fmi2Warning;
+  if (!logger_ || !(always || logging_on_)) return;
+  // The message is passed as an argument, never as the format string.
+  logger_(env_, name_.c_str(), status, category, "%s", message.c_str());
+}
+
+const config::FmuVariable& Instance::variable(fmi2ValueReference vr) const {
+  for (const auto& v : vars_)
+    if (v.value_reference == vr) return v;
+  throw FmuError(fmi2Error, "unknown value reference " + std::to_string(vr));
+}
+
+double Instance::get_real(fmi2ValueReference vr) const {
+  const auto& v = variable(vr);
+  if (v.type != config::FmuType::Real) throw FmuError(fmi2Error, v.name + " is not a Real");
+  if (v.causality == config::FmuCausality::Input) return inputs_[static_cast<size_t>(v.wire_index)];
+  if (v.causality == config::FmuCausality::Output) return outputs_[static_cast<size_t>(v.wire_index)];
+  return timeout_;
+}
+
+void Instance::set_real(fmi2ValueReference vr, double value) {
+  const auto& v = variable(vr);
+  if (v.type != config::FmuType::Real) throw FmuError(fmi2Error, v.name + " is not a Real");
+  if (v.causality == config::FmuCausality::Output)
+    throw FmuError(fmi2Error, "cannot set output " + v.name);
+  if (!std::isfinite(value))
+    throw FmuError(fmi2Error, v.name + " set to a non-finite value at step " + std::to_string(step_));
+  if (v.causality == config::FmuCausality::Input) {
+    inputs_[static_cast<size_t>(v.wire_index)] = value;
+    return;
+  }
+  if (state_ != State::Instantiated && state_ != State::InitializationMode)
+    throw FmuError(fmi2Error, "parameter " + v.name + " can only be set before initialization ends");
+  if (!(value > 0.0)) throw FmuError(fmi2Error, "server.timeout must be positive");
+  timeout_ = value;
+}
+
+int Instance::get_integer(fmi2ValueReference vr) const {
+  const auto& v = variable(vr);
+  if (v.type != config::FmuType::Integer) throw FmuError(fmi2Error, v.name + " is not an Integer");
+  return port_;
+}
+
+void Instance::set_integer(fmi2ValueReference vr, int value) {
+  const auto& v = variable(vr);
+  if (v.type != config::FmuType::Integer) throw FmuError(fmi2Error, v.name + " is not an Integer");
+  if (state_ != State::Instantiated && state_ != State::InitializationMode)
+    throw FmuError(fmi2Error, "parameter " + v.name + " can only be set before initialization ends");
+  if (value < 0 || value > 65535) throw FmuError(fmi2Error, "server.port must be 0..65535");
+  port_ = value;
+}
+
+const char* Instance::get_string(fmi2ValueReference vr) const {
+  const auto& v = variable(vr);
+  if (v.type != config::FmuType::String) throw FmuError(fmi2Error, v.name + " is not a String");
+  return vr == config::kVrServerHost ? host_.c_str() : token_.c_str();
+}
+
+void Instance::set_string(fmi2ValueReference vr, const char* value) {
+  const auto& v = variable(vr);
+  if (v.type != config::FmuType::String) throw FmuError(fmi2Error, v.name + " is not a String");
+  if (state_ != State::Instantiated && state_ != State::InitializationMode)
+    throw FmuError(fmi2Error, "parameter " + v.name + " can only be set before initialization ends");
+  (vr == config::kVrServerHost ? host_ : token_) = value ? value : "";
+}
+
+void Instance::resolve_endpoint(std::string& host, int& port, std::string& token) const {
+  // Parameter first, then environment, then the port configuration.
+  host = host_;
+  port = port_;
+  token = token_;
+  if (host.empty())
+    if (const char* e = std::getenv("PCS_SERVER_HOST")) host = e;
+  if (port == 0)
+    if (const char* e = std::getenv("PCS_SERVER_PORT")) port = std::atoi(e);
+  if (token.empty())
+    if (const char* e = std::getenv("PCS_TOKEN")) token = e;
+  if ((host.empty() || port == 0) && !table_.server.empty()) {
+    char h[256];
+    int p = 0;
+    if (sl_parse_endpoint(table_.server.c_str(), h, sizeof h, &p) != SL_OK)
+      throw FmuError(fmi2Error, "server '" + table_.server + "' in " + table_.source +
+                                    " is not HOST:PORT");
+    if (host.empty()) host = h;
+    if (port == 0) port = p;
+  }
+  if (host.empty() || port <= 0 || port > 65535)
+    throw FmuError(fmi2Error,
+                   "no fe_server address: set server.host and server.port, or PCS_SERVER_HOST "
+                   "and PCS_SERVER_PORT, or 'server, HOST:PORT' in ports.cfg");
+}
+
+void Instance::enter_initialization() { state_ = State::InitializationMode; }
+
+void Instance::exit_initialization() {
+  std::string host, token;
+  int port = 0;
+  resolve_endpoint(host, port, token);
+  client_ = std::make_unique<CouplingClient>(table_);
+  try {
+    client_->connect(host, port, token, timeout_);
+  } catch (const LinkError& e) {
+    throw FmuError(fmi2Error, e.what());
+  }
+  log(fmi2OK, "logCoupling", "connected to fe_server at " + host + ":" + std::to_string(port));
+  step_ = 0;
+  state_ = State::StepComplete;
+}
+
+void Instance::do_step(double t, double h) {
+  // The FE side advances exactly the port table's step; another step size
+  // would silently desynchronise the two clocks.
+  if (std::fabs(h - table_.dt) > 1e-9 * table_.dt)
+    throw FmuError(fmi2Error, "communicationStepSize " + std::to_string(h) +
+                                  " s differs from the port table's timestep " +
+                                  std::to_string(table_.dt) + " s (" + table_.source + ")");
+  wire_in_.resize(inputs_.size());
+  for (size_t i = 0; i < inputs_.size(); ++i) wire_in_[i] = inputs_[i] * table_.to_fe[i].scale;
+  try {
+    client_->step(step_, t, h, wire_in_, wire_out_);
+  } catch (const LinkError& e) {
+    state_ = State::StepFailed;
+    throw FmuError(fmi2Error, e.what());
+  }
+  for (size_t i = 0; i < outputs_.size(); ++i) {
+    if (!std::isfinite(wire_out_[i])) {
+      std::string what = table_.to_host[i].name() + " from fe_server is not finite at step " +
+                         std::to_string(step_);
+      client_->abort(what);
+      state_ = State::StepFailed;
+      throw FmuError(fmi2Error, what);
+    }
+    outputs_[i] = wire_out_[i] * table_.to_host[i].scale;
+  }
+  ++step_;
+  time_ = t + h;
+}
+
+void Instance::terminate() {
+  if (client_) client_->bye();
+  state_ = State::Terminated;
+}
+
+void Instance::abort_link(const std::string& reason) {
+  if (client_) client_->abort(reason);
+}
+
+void Instance::reset() {
+  if (client_) client_->bye();
+  client_.reset();
+  std::fill(inputs_.begin(), inputs_.end(), 0.0);
+  std::fill(outputs_.begin(), outputs_.end(), 0.0);
+  step_ = 0;
+  time_ = 0.0;
+  state_ = State::Instantiated;
+}
+
+}  // namespace pcs_fmu

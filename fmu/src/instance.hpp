@@ -1,0 +1,97 @@
+// One FMU instance: the FMI 2.0 co-simulation state machine, the variables
+// derived from the port table, and the coupling client. No global state, so
+// any number of instances live in one process.
+#pragma once
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "config/port_table.hpp"
+#include "coupling_client.hpp"
+#include "fmi2/fmi2.h"
+
+namespace pcs_fmu {
+
+// The instance states of FMI 2.0 co-simulation (spec. 4.2.4) that a
+// synchronous FMU can be in.
+enum class State : unsigned {
+  Instantiated = 1u << 0,
+  InitializationMode = 1u << 1,
+  StepComplete = 1u << 2,
+  StepFailed = 1u << 3,
+  Terminated = 1u << 4,
+  Error = 1u << 5,
+  Fatal = 1u << 6,
+};
+const char* to_string(State s);
+
+// A failure inside an fmi2 call: becomes `status` at the C boundary.
+class FmuError : public std::runtime_error {
+ public:
+  FmuError(fmi2Status status, const std::string& message)
+      : std::runtime_error(message), status_(status) {}
+  fmi2Status status() const { return status_; }
+
+ private:
+  fmi2Status status_;
+};
+
+class Instance {
+ public:
+  Instance(std::string name, const std::string& guid, const std::string& resource_location,
+           const fmi2CallbackFunctions* callbacks, bool logging_on);
+
+  const std::string& name() const { return name_; }
+  State state() const { return state_; }
+  void set_state(State s) { state_ = s; }
+  void set_logging(bool on) { logging_on_ = on; }
+  // Log through the importer's callback. Errors and warnings always go out;
+  // other categories only while logging is on.
+  void log(fmi2Status status, const char* category, const std::string& message) const;
+
+  void enter_initialization();
+  void exit_initialization();  // connects and shakes hands
+  void do_step(double t, double h);
+  void terminate();
+  void reset();
+  // The link is told why (ABORT) before an instance goes to its error state.
+  void abort_link(const std::string& reason);
+
+  double get_real(fmi2ValueReference vr) const;
+  void set_real(fmi2ValueReference vr, double v);
+  int get_integer(fmi2ValueReference vr) const;
+  void set_integer(fmi2ValueReference vr, int v);
+  const char* get_string(fmi2ValueReference vr) const;
+  void set_string(fmi2ValueReference vr, const char* v);
+  double last_successful_time() const { return time_; }
+
+ private:
+  const config::FmuVariable& variable(fmi2ValueReference vr) const;
+  void resolve_endpoint(std::string& host, int& port, std::string& token) const;
+
+  std::string name_;
+  fmi2CallbackLogger logger_ = nullptr;
+  fmi2ComponentEnvironment env_ = nullptr;
+  bool logging_on_ = false;
+  State state_ = State::Instantiated;
+
+  config::PortTable table_;
+  std::vector<config::FmuVariable> vars_;
+  std::vector<double> inputs_;   // host units, to_fe order
+  std::vector<double> outputs_;  // host units, to_host order
+  std::vector<double> wire_in_, wire_out_;
+  std::string host_, token_;
+  int port_ = 0;
+  double timeout_ = 60.0;
+  uint64_t step_ = 0;
+  double time_ = 0.0;
+  std::unique_ptr<CouplingClient> client_;
+};
+
+// Path of a "file:" URI (file:///a/b, file:/a/b, file://localhost/a/b), with
+// %XX escapes decoded. Throws FmuError for anything else.
+std::string path_from_file_uri(const std::string& uri);
+
+}  // namespace pcs_fmu

@@ -1,0 +1,103 @@
+// fmugen: port configuration → FMI 2.0 co-simulation FMU.
+//
+//   fmugen ports.cfg -o scene.fmu [--binary pcs_fmu.so] [--description TEXT]
+//
+// The .fmu holds modelDescription.xml, binaries/linux64/<model>.so (the
+// generic coupling FMU), resources/ports.cfg and documentation/.
+#include <zip.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "config/port_table.hpp"
+#include "model_description.hpp"
+
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void add_entry(zip_t* z, const std::string& name, const std::string& data, const std::string& out) {
+  // libzip copies the buffer only at zip_close; `data` must outlive it, so the
+  // source is told to free a heap copy.
+  void* copy = std::malloc(data.size() ? data.size() : 1);
+  if (!copy) throw std::runtime_error("out of memory");
+  std::memcpy(copy, data.data(), data.size());
+  zip_source_t* src = zip_source_buffer(z, copy, data.size(), 1);
+  if (!src || zip_file_add(z, name.c_str(), src, ZIP_FL_OVERWRITE | ZIP_FL_ENC_UTF_8) < 0) {
+    if (src) zip_source_free(src);
+    throw std::runtime_error("cannot add " + name + " to " + out + ": " + zip_strerror(z));
+  }
+}
+
+int usage(std::ostream& os, int rc) {
+  os << "usage: fmugen PORTS.cfg -o OUT.fmu [--binary FMU_LIBRARY.so] [--description TEXT]\n"
+        "Generates an FMI 2.0 co-simulation FMU that couples to fe_server.\n";
+  return rc;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string ports, out, description = "Co-simulation of a hydraulic percussion unit with fe_server";
+  std::string binary = PCS_FMU_BINARY;  // the pcs_fmu module of this build
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    auto value = [&](const char* opt) -> std::string {
+      if (i + 1 >= argc) throw std::runtime_error(std::string(opt) + " needs a value");
+      return argv[++i];
+    };
+    try {
+      if (a == "-o" || a == "--output") out = value("-o");
+      else if (a == "--binary") binary = value("--binary");
+      else if (a == "--description") description = value("--description");
+      else if (a == "-h" || a == "--help") return usage(std::cout, 0);
+      else if (!a.empty() && a[0] == '-') {
+        std::cerr << "fmugen: unknown option " << a << "\n";
+        return usage(std::cerr, 2);
+      } else if (ports.empty()) ports = a;
+      else return usage(std::cerr, 2);
+    } catch (const std::exception& e) {
+      std::cerr << "fmugen: " << e.what() << "\n";
+      return 2;
+    }
+  }
+  if (ports.empty() || out.empty()) return usage(std::cerr, 2);
+  try {
+    config::PortTable table = config::read_port_table(ports);
+    std::string so = slurp(binary);
+    std::remove(out.c_str());
+    int err = 0;
+    zip_t* z = zip_open(out.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
+    if (!z) throw std::runtime_error("cannot create " + out + " (libzip error " + std::to_string(err) + ")");
+    try {
+      add_entry(z, "modelDescription.xml", fmugen::model_description_xml(table, description), out);
+      add_entry(z, "binaries/linux64/" + table.model_name + ".so", so, out);
+      add_entry(z, "resources/ports.cfg", slurp(ports), out);
+      add_entry(z, "documentation/externalDependencies.txt",
+                fmugen::external_dependencies_text(table), out);
+    } catch (...) {
+      zip_discard(z);
+      throw;
+    }
+    if (zip_close(z) < 0) throw std::runtime_error("cannot write " + out + ": " + zip_strerror(z));
+    std::cout << "fmugen: wrote " << out << " (model " << table.model_name << ", "
+              << table.to_fe.size() << " inputs, " << table.to_host.size() << " outputs, guid "
+              << config::fmu_guid(table) << ")\n";
+  } catch (const std::exception& e) {
+    std::cerr << "fmugen: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,143 @@
+#include "h5io/timeseries.hpp"
+
+#include <cstdio>
+#include <stdexcept>
+
+namespace h5io {
+
+namespace {
+[[noreturn]] void fail(const std::string& what, const std::string& path) {
+  throw std::runtime_error("HDF5: " + what + " (" + path + ")");
+}
+void put_string_attribute(hid_t obj, const std::string& name, const std::string& value,
+                          const std::string& path) {
+  hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.empty() ? 1 : value.size());
+  H5Tset_strpad(type, H5T_STR_NULLTERM);
+  hid_t space = H5Screate(H5S_SCALAR);
+  if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
+  hid_t attr = H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  herr_t rc = attr < 0 ? -1 : H5Awrite(attr, type, value.empty() ? "" : value.c_str());
+  if (attr >= 0) H5Aclose(attr);
+  H5Sclose(space);
+  H5Tclose(type);
+  if (rc < 0) fail("cannot write attribute " + name, path);
+}
+}  // namespace
+
+TimeSeriesWriter::TimeSeriesWriter(const std::string& path, size_t rows_per_chunk)
+    : path_(path), chunk_(rows_per_chunk ? rows_per_chunk : 1) {
+  file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file_ < 0) fail("cannot create file", path);
+}
+
+TimeSeriesWriter::~TimeSeriesWriter() {
+  try {
+    flush();
+  } catch (...) {
+    // A destructor must not throw; flush() already reported nothing else can be done.
+  }
+  for (hid_t d : series_) H5Dclose(d);
+  if (file_ >= 0) H5Fclose(file_);
+}
+
+size_t TimeSeriesWriter::add_series(const std::string& name, const std::string& unit) {
+  if (rows() > 0) fail("series '" + name + "' declared after the first row", path_);
+  hsize_t dims[1] = {0}, maxdims[1] = {H5S_UNLIMITED}, chunk[1] = {chunk_};
+  hid_t space = H5Screate_simple(1, dims, maxdims);
+  hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_chunk(dcpl, 1, chunk);
+  hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  hid_t d = H5Dcreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, lcpl, dcpl, H5P_DEFAULT);
+  H5Pclose(lcpl);
+  H5Pclose(dcpl);
+  H5Sclose(space);
+  if (d < 0) fail("cannot create dataset '" + name + "'", path_);
+  put_string_attribute(d, "unit", unit, path_);
+  series_.push_back(d);
+  buffer_.assign(series_.size() * chunk_, 0.0);
+  return series_.size() - 1;
+}
+
+void TimeSeriesWriter::set_attribute(const std::string& name, const std::string& value) {
+  put_string_attribute(file_, name, value, path_);
+}
+
+void TimeSeriesWriter::set_attribute(const std::string& name, double value) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", value);
+  put_string_attribute(file_, name, buf, path_);
+}
+
+void TimeSeriesWriter::append(const double* row) {
+  for (size_t c = 0; c < series_.size(); ++c) buffer_[c * chunk_ + buffered_] = row[c];
+  if (++buffered_ == chunk_) write_buffer();
+}
+
+void TimeSeriesWriter::write_buffer() {
+  if (buffered_ == 0) return;
+  hsize_t start[1] = {rows_written_}, count[1] = {buffered_};
+  hsize_t new_size[1] = {rows_written_ + buffered_};
+  for (size_t c = 0; c < series_.size(); ++c) {
+    hid_t d = series_[c];
+    if (H5Dset_extent(d, new_size) < 0) fail("cannot extend a dataset", path_);
+    hid_t file_space = H5Dget_space(d);
+    H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+    hid_t mem_space = H5Screate_simple(1, count, nullptr);
+    herr_t rc = H5Dwrite(d, H5T_NATIVE_DOUBLE, mem_space, file_space, H5P_DEFAULT,
+                         buffer_.data() + c * chunk_);
+    H5Sclose(mem_space);
+    H5Sclose(file_space);
+    if (rc < 0) fail("cannot write rows", path_);
+  }
+  rows_written_ += buffered_;
+  buffered_ = 0;
+}
+
+void TimeSeriesWriter::flush() {
+  if (file_ < 0) return;
+  write_buffer();
+  if (H5Fflush(file_, H5F_SCOPE_GLOBAL) < 0) fail("cannot flush", path_);
+}
+
+std::vector<double> read_series(const std::string& file, const std::string& dataset) {
+  hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) fail("cannot open file", file);
+  hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
+  if (d < 0) {
+    H5Fclose(f);
+    fail("no dataset '" + dataset + "'", file);
+  }
+  hid_t space = H5Dget_space(d);
+  hssize_t n = H5Sget_simple_extent_npoints(space);
+  std::vector<double> out(static_cast<size_t>(n > 0 ? n : 0));
+  herr_t rc = out.empty() ? 0 : H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+  if (rc < 0) fail("cannot read '" + dataset + "'", file);
+  return out;
+}
+
+std::string read_attribute(const std::string& file, const std::string& name) {
+  hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) fail("cannot open file", file);
+  std::string out;
+  if (H5Aexists(f, name.c_str()) > 0) {
+    hid_t a = H5Aopen(f, name.c_str(), H5P_DEFAULT);
+    hid_t type = H5Aget_type(a);
+    size_t size = H5Tget_size(type);
+    std::string buf(size + 1, '\0');
+    hid_t mem = H5Tcopy(H5T_C_S1);
+    H5Tset_size(mem, size + 1);
+    if (H5Aread(a, mem, &buf[0]) >= 0) out = buf.c_str();
+    H5Tclose(mem);
+    H5Tclose(type);
+    H5Aclose(a);
+  }
+  H5Fclose(f);
+  return out;
+}
+
+}  // namespace h5io

@@ -1,0 +1,148 @@
+/*
+ * The co-simulation wire protocol, all of it: magic, version, message types,
+ * the fixed frame header and the payload codecs. Explicit little-endian,
+ * length-prefixed frames; never raw structs on the wire.
+ *
+ * Frame = header (24 bytes) + payload (payload_size bytes):
+ *   off size field
+ *    0   4   magic         PCS_MAGIC ("PCSC" as bytes 50 43 53 43)
+ *    4   2   version       PCS_PROTOCOL_VERSION of the sender
+ *    6   2   type          pcs_msg_type
+ *    8   8   step          coupling step index (0 for handshake messages)
+ *   16   4   payload_size  bytes that follow, at most PCS_MAX_PAYLOAD
+ *   20   4   reserved      0
+ * The header layout never changes between versions, so a peer of another
+ * version can still read an ABORT that says why it was refused.
+ *
+ * Handshake: client sends HELLO, server answers HELLO_ACK or ABORT(reason).
+ * Each coupling step: client sends STEP k, server answers RESULT k.
+ * Either side may send ABORT(reason) at any time; BYE ends a session cleanly.
+ */
+#ifndef SOCKETLIB_PROTOCOL_H
+#define SOCKETLIB_PROTOCOL_H
+
+#include "socketlib/socketlib.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PCS_MAGIC 0x43534350u /* bytes 'P','C','S','C' in little-endian order */
+#define PCS_PROTOCOL_VERSION 1u
+#define PCS_HEADER_SIZE 24u
+#define PCS_MAX_PAYLOAD (16u * 1024u * 1024u)
+#define PCS_MAX_TOKEN 256u
+#define PCS_MAX_REASON 1024u
+
+typedef enum {
+  PCS_MSG_HELLO = 1,     /* client → server: version, port-table hash, dt, subcycles, token */
+  PCS_MSG_HELLO_ACK = 2, /* server → client: port-table hash, dt, subcycles */
+  PCS_MSG_STEP = 3,      /* client → server: time, dt, input values */
+  PCS_MSG_RESULT = 4,    /* server → client: time, output values */
+  PCS_MSG_ABORT = 5,     /* either way: error code and reason text */
+  PCS_MSG_BYE = 6        /* client → server: session ends cleanly */
+} pcs_msg_type;
+
+/* Name of a message type ("HELLO", ...), "UNKNOWN" otherwise. */
+const char *pcs_msg_name(uint32_t type);
+
+typedef struct {
+  uint32_t magic;
+  uint16_t version;
+  uint16_t type;
+  uint64_t step;
+  uint32_t payload_size;
+} pcs_header;
+
+void pcs_encode_header(const pcs_header *h, uint8_t out[PCS_HEADER_SIZE]);
+void pcs_decode_header(const uint8_t in[PCS_HEADER_SIZE], pcs_header *h);
+
+/* Build header + payload in one buffer and send it with one write. */
+int pcs_send_frame(sl_socket *s, uint16_t type, uint64_t step, const uint8_t *payload,
+                   uint32_t payload_size, int64_t deadline_ms);
+
+/* Receive one frame. The payload goes to buf (capacity cap). Checks, in order:
+ * magic (SL_EBADMAGIC), length against PCS_MAX_PAYLOAD and cap (SL_EOVERSIZE).
+ * A frame of another protocol version is returned whole with SL_EVERSION so
+ * the caller can still read an ABORT from it or answer with one. */
+int pcs_recv_frame(sl_socket *s, pcs_header *h, uint8_t *buf, uint32_t cap, int64_t deadline_ms);
+
+/* ---- payload writer/reader: bounds-checked, little-endian ---- */
+typedef struct {
+  uint8_t *data;
+  uint32_t cap;
+  uint32_t len;
+  int overflow; /* set when a put did not fit; the buffer is then unusable */
+} pcs_writer;
+
+void pcs_put_u16(pcs_writer *w, uint16_t v);
+void pcs_put_u32(pcs_writer *w, uint32_t v);
+void pcs_put_u64(pcs_writer *w, uint64_t v);
+void pcs_put_f64(pcs_writer *w, double v);
+void pcs_put_str(pcs_writer *w, const char *s); /* u32 length + bytes, no NUL */
+
+typedef struct {
+  const uint8_t *data;
+  uint32_t len;
+  uint32_t pos;
+  int error; /* set when a get ran past the end; values read after are 0 */
+} pcs_reader;
+
+uint16_t pcs_get_u16(pcs_reader *r);
+uint32_t pcs_get_u32(pcs_reader *r);
+uint64_t pcs_get_u64(pcs_reader *r);
+double pcs_get_f64(pcs_reader *r);
+/* Copies at most cap-1 bytes and NUL-terminates; longer strings set error. */
+void pcs_get_str(pcs_reader *r, char *out, uint32_t cap);
+
+/* ---- typed messages ---- */
+typedef struct {
+  uint16_t protocol_version;
+  uint64_t table_hash; /* config::PortTable::hash() of the sender's port table */
+  double dt;           /* coupling time step, s */
+  uint32_t subcycles;  /* FE steps per coupling step */
+  char token[PCS_MAX_TOKEN];
+} pcs_hello;
+
+typedef struct {
+  uint64_t table_hash;
+  double dt;
+  uint32_t subcycles;
+} pcs_hello_ack;
+
+typedef struct {
+  uint32_t code; /* an sl_error or an application exit code */
+  char reason[PCS_MAX_REASON];
+} pcs_abort;
+
+/* Encoders return the payload length, or SL_EOVERSIZE if cap is too small. */
+int pcs_encode_hello(const pcs_hello *m, uint8_t *buf, uint32_t cap);
+int pcs_decode_hello(const uint8_t *buf, uint32_t len, pcs_hello *m);
+int pcs_encode_hello_ack(const pcs_hello_ack *m, uint8_t *buf, uint32_t cap);
+int pcs_decode_hello_ack(const uint8_t *buf, uint32_t len, pcs_hello_ack *m);
+int pcs_encode_abort(const pcs_abort *m, uint8_t *buf, uint32_t cap);
+int pcs_decode_abort(const uint8_t *buf, uint32_t len, pcs_abort *m);
+
+/* STEP and RESULT share one layout: time, dt, count, values[count]. */
+int pcs_encode_values(double time, double dt, const double *values, uint32_t count, uint8_t *buf,
+                      uint32_t cap);
+/* Decodes into values (capacity max_count); *count receives the number sent.
+ * SL_EMALFORMED if the count disagrees with the length or exceeds max_count. */
+int pcs_decode_values(const uint8_t *buf, uint32_t len, double *time, double *dt, double *values,
+                      uint32_t max_count, uint32_t *count);
+
+/* Bytes needed for a values payload of count values. */
+uint32_t pcs_values_size(uint32_t count);
+
+/* Send an ABORT with a formatted reason; ignores send errors (best effort,
+ * the link may already be gone). */
+void pcs_send_abort(sl_socket *s, uint64_t step, uint32_t code, const char *reason,
+                    int64_t deadline_ms);
+
+/* Compare two NUL-terminated tokens in time independent of where they differ. */
+int pcs_token_equal(const char *a, const char *b);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

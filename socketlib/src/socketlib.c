@@ -1,0 +1,304 @@
+/* TCP with deadlines. See socketlib.h for the contract of each call. */
+#define _GNU_SOURCE /* accept4, SOCK_CLOEXEC */
+#include "socketlib/socketlib.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+/* Pause between connection attempts while the server is not yet listening. */
+#define SL__CONNECT_RETRY_MS 50
+
+const char *sl_strerror(int code) {
+  switch (code) {
+    case SL_OK:
+      return "success";
+#define SL__MSG(name, value, msg) \
+  case value:                     \
+    return msg;
+    SL_ERRNO_MAP(SL__MSG)
+#undef SL__MSG
+  }
+  return "unknown socketlib error";
+}
+
+const char *sl_err_name(int code) {
+  switch (code) {
+    case SL_OK:
+      return "SL_OK";
+#define SL__NAME(name, value, msg) \
+  case value:                      \
+    return "SL_E" #name;
+    SL_ERRNO_MAP(SL__NAME)
+#undef SL__NAME
+  }
+  return "SL_E?";
+}
+
+int64_t sl_now_ms(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
+
+static int sl__sys(sl_socket *s, int err) {
+  if (s) s->sys_errno = err;
+  return SL_ESYSTEM;
+}
+
+/* Milliseconds left until the deadline, clamped to poll()'s range. */
+static int sl__remaining(int64_t deadline_ms) {
+  int64_t left = deadline_ms - sl_now_ms();
+  if (left <= 0) return 0;
+  if (left > 1000000000) return 1000000000;
+  return (int)left;
+}
+
+/* Wait until fd is ready for events or the deadline passes.
+ * Returns 1 ready, 0 timed out, <0 error. */
+static int sl__wait(sl_socket *s, short events, int64_t deadline_ms) {
+  for (;;) {
+    struct pollfd p;
+    p.fd = s->fd;
+    p.events = events;
+    p.revents = 0;
+    int r = poll(&p, 1, sl__remaining(deadline_ms));
+    if (r > 0) return 1;
+    if (r == 0) {
+      if (sl__remaining(deadline_ms) > 0) continue; /* woke a little early */
+      return 0;
+    }
+    if (errno == EINTR) continue;
+    return sl__sys(s, errno);
+  }
+}
+
+static int sl__set_nonblocking(int fd) {
+  int flags = fcntl(fd, F_GETFL, 0);
+  if (flags < 0) return -1;
+  return fcntl(fd, F_SETFL, flags | O_NONBLOCK);
+}
+
+int sl_parse_endpoint(const char *endpoint, char *host_out, size_t host_cap, int *port_out) {
+  if (!endpoint || !host_out || host_cap == 0 || !port_out) return SL_EINVAL;
+  const char *colon;
+  const char *host_begin = endpoint;
+  size_t host_len;
+  if (endpoint[0] == '[') { /* [IPv6]:port */
+    const char *close = strchr(endpoint, ']');
+    if (!close || close[1] != ':') return SL_EADDRESS;
+    host_begin = endpoint + 1;
+    host_len = (size_t)(close - host_begin);
+    colon = close + 1;
+  } else {
+    colon = strrchr(endpoint, ':');
+    if (!colon) return SL_EADDRESS;
+    host_len = (size_t)(colon - endpoint);
+  }
+  if (host_len == 0 || host_len >= host_cap) return SL_EADDRESS;
+  char *end = NULL;
+  errno = 0;
+  long port = strtol(colon + 1, &end, 10);
+  if (errno != 0 || end == colon + 1 || *end != '\0' || port < 0 || port > 65535)
+    return SL_EADDRESS;
+  memcpy(host_out, host_begin, host_len);
+  host_out[host_len] = '\0';
+  *port_out = (int)port;
+  return SL_OK;
+}
+
+static int sl__resolve(const char *host, int port, int passive, struct addrinfo **out) {
+  char service[16];
+  snprintf(service, sizeof service, "%d", port);
+  struct addrinfo hints;
+  memset(&hints, 0, sizeof hints);
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_NUMERICSERV | (passive ? AI_PASSIVE : 0);
+  return getaddrinfo(host, service, &hints, out) == 0 ? SL_OK : SL_EADDRESS;
+}
+
+static void sl__tune(int fd) {
+  int one = 1;
+  setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+#ifdef SO_NOSIGPIPE
+  setsockopt(fd, SOL_SOCKET, SO_NOSIGPIPE, &one, sizeof one);
+#endif
+}
+
+int sl_listen(const char *host, int port, sl_socket *out) {
+  if (!host || !out || port < 0 || port > 65535) return SL_EINVAL;
+  out->fd = -1;
+  out->sys_errno = 0;
+  struct addrinfo *ai = NULL;
+  int rc = sl__resolve(host, port, 1, &ai);
+  if (rc != SL_OK) return rc;
+  rc = SL_EADDRESS;
+  for (struct addrinfo *a = ai; a; a = a->ai_next) {
+    int fd = socket(a->ai_family, a->ai_socktype | SOCK_CLOEXEC, a->ai_protocol);
+    if (fd < 0) {
+      rc = sl__sys(out, errno);
+      continue;
+    }
+    int one = 1;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    if (bind(fd, a->ai_addr, a->ai_addrlen) == 0 && listen(fd, 4) == 0 &&
+        sl__set_nonblocking(fd) == 0) {
+      out->fd = fd;
+      rc = SL_OK;
+      break;
+    }
+    rc = sl__sys(out, errno);
+    close(fd);
+  }
+  freeaddrinfo(ai);
+  return rc;
+}
+
+int sl_local_port(const sl_socket *s) {
+  struct sockaddr_storage ss;
+  socklen_t len = sizeof ss;
+  if (!s || s->fd < 0 || getsockname(s->fd, (struct sockaddr *)&ss, &len) != 0) return SL_EINVAL;
+  if (ss.ss_family == AF_INET) return ntohs(((struct sockaddr_in *)&ss)->sin_port);
+  if (ss.ss_family == AF_INET6) return ntohs(((struct sockaddr_in6 *)&ss)->sin6_port);
+  return SL_EINVAL;
+}
+
+int sl_accept(sl_socket *listener, int64_t deadline_ms, sl_socket *out) {
+  if (!listener || listener->fd < 0 || !out) return SL_EINVAL;
+  out->fd = -1;
+  out->sys_errno = 0;
+  for (;;) {
+    int w = sl__wait(listener, POLLIN, deadline_ms);
+    if (w < 0) return w;
+    if (w == 0) return SL_ETIMEDOUT;
+    int fd = accept4(listener->fd, NULL, NULL, SOCK_CLOEXEC | SOCK_NONBLOCK);
+    if (fd >= 0) {
+      sl__tune(fd);
+      out->fd = fd;
+      return SL_OK;
+    }
+    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR || errno == ECONNABORTED)
+      continue;
+    return sl__sys(listener, errno);
+  }
+}
+
+/* One connection attempt. SL_OK, SL_EREFUSED (try again), SL_ETIMEDOUT or error. */
+static int sl__connect_once(const struct addrinfo *a, int64_t deadline_ms, sl_socket *out) {
+  int fd = socket(a->ai_family, a->ai_socktype | SOCK_CLOEXEC | SOCK_NONBLOCK, a->ai_protocol);
+  if (fd < 0) return sl__sys(out, errno);
+  out->fd = fd;
+  int rc;
+  if (connect(fd, a->ai_addr, a->ai_addrlen) == 0) {
+    rc = SL_OK;
+  } else if (errno == EINPROGRESS) {
+    int w = sl__wait(out, POLLOUT, deadline_ms);
+    if (w < 0) {
+      rc = w;
+    } else if (w == 0) {
+      rc = SL_ETIMEDOUT;
+    } else {
+      int err = 0;
+      socklen_t len = sizeof err;
+      getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &len);
+      rc = err == 0 ? SL_OK : (err == ECONNREFUSED ? SL_EREFUSED : sl__sys(out, err));
+    }
+  } else {
+    rc = errno == ECONNREFUSED ? SL_EREFUSED : sl__sys(out, errno);
+  }
+  if (rc != SL_OK) {
+    close(fd);
+    out->fd = -1;
+  }
+  return rc;
+}
+
+int sl_connect(const char *host, int port, int64_t deadline_ms, sl_socket *out) {
+  if (!host || !out || port <= 0 || port > 65535) return SL_EINVAL;
+  out->fd = -1;
+  out->sys_errno = 0;
+  struct addrinfo *ai = NULL;
+  int rc = sl__resolve(host, port, 0, &ai);
+  if (rc != SL_OK) return rc;
+  for (;;) {
+    for (struct addrinfo *a = ai; a; a = a->ai_next) {
+      rc = sl__connect_once(a, deadline_ms, out);
+      if (rc == SL_OK) {
+        sl__tune(out->fd);
+        freeaddrinfo(ai);
+        return SL_OK;
+      }
+    }
+    if (rc != SL_EREFUSED) break;
+    int left = sl__remaining(deadline_ms);
+    if (left <= 0) break;
+    struct timespec pause = {0, (long)(left < SL__CONNECT_RETRY_MS ? left : SL__CONNECT_RETRY_MS) * 1000000L};
+    nanosleep(&pause, NULL);
+  }
+  freeaddrinfo(ai);
+  return rc;
+}
+
+int sl_send_all(sl_socket *s, const void *buf, size_t len, int64_t deadline_ms) {
+  if (!s || s->fd < 0 || (!buf && len)) return SL_EINVAL;
+  const uint8_t *p = (const uint8_t *)buf;
+  while (len > 0) {
+    ssize_t n = send(s->fd, p, len, MSG_NOSIGNAL);
+    if (n > 0) {
+      p += n;
+      len -= (size_t)n;
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+      int w = sl__wait(s, POLLOUT, deadline_ms);
+      if (w < 0) return w;
+      if (w == 0) return SL_ETIMEDOUT;
+      continue;
+    }
+    if (n < 0 && (errno == EPIPE || errno == ECONNRESET)) return SL_ECLOSED;
+    return sl__sys(s, errno);
+  }
+  return SL_OK;
+}
+
+int sl_recv_all(sl_socket *s, void *buf, size_t len, int64_t deadline_ms) {
+  if (!s || s->fd < 0 || (!buf && len)) return SL_EINVAL;
+  uint8_t *p = (uint8_t *)buf;
+  size_t got = 0;
+  while (got < len) {
+    ssize_t n = recv(s->fd, p + got, len - got, 0);
+    if (n > 0) {
+      got += (size_t)n;
+      continue;
+    }
+    if (n == 0) return got == 0 ? SL_ECLOSED : SL_ETRUNCATED;
+    if (errno == EINTR) continue;
+    if (errno == EAGAIN || errno == EWOULDBLOCK) {
+      int w = sl__wait(s, POLLIN, deadline_ms);
+      if (w < 0) return w;
+      if (w == 0) return SL_ETIMEDOUT;
+      continue;
+    }
+    if (errno == ECONNRESET) return got == 0 ? SL_ECLOSED : SL_ETRUNCATED;
+    return sl__sys(s, errno);
+  }
+  return SL_OK;
+}
+
+void sl_close(sl_socket *s) {
+  if (s && s->fd >= 0) {
+    close(s->fd);
+    s->fd = -1;
+  }
+}

@@ -1,0 +1,57 @@
+// The co-simulation user load: each hydraulic port's pressure acts on its
+// segment set (*USER_LOADING_SET); each port reports the volume rate its
+// surface displaces, from the same area vectors the load used, so the
+// hydraulic power p·q equals the power the pressure does on the structure.
+//
+// Sign convention (LS-DYNA's): a segment's normal follows its node order by
+// the right-hand rule and points out of the body into the cavity; a positive
+// pressure pushes against the normal. The flow q = Σ A·n·v is positive when
+// the surface moves into the cavity, i.e. it pushes oil out of the cavity into
+// the hydraulic node: the host's convention for flow leaving a Q component.
+#pragma once
+
+#include <vector>
+
+#include "config/port_table.hpp"
+#include "user_load.hpp"
+
+namespace fe {
+
+class CavityPressureLoad : public UserLoad {
+ public:
+  // One slot per hydraulic port of the table; every hydraulic port needs a
+  // *USER_LOADING_SET in the deck (an InputError names the port otherwise).
+  CavityPressureLoad(const Model& model, const config::PortTable& table);
+
+  int slot_of_port(int port_id) const;  // -1 if the port is not hydraulic
+  void set_pressure(int slot, double p) { pressure_[static_cast<size_t>(slot)] = p; }
+  double pressure(int slot) const { return pressure_[static_cast<size_t>(slot)]; }
+
+  void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+             std::vector<Vec3>& f_ext) override;
+
+  // Volume rate displaced into the cavity by the port's surface, m³/s.
+  double flow(int slot, const std::vector<Vec3>& v) const;
+  // Mean displacement of the surface along its normal, m.
+  double displacement(int slot, const std::vector<Vec3>& x) const;
+  // Wetted area the last apply() used, m².
+  double area(int slot) const { return area_vector_[static_cast<size_t>(slot)].norm(); }
+
+ private:
+  struct PortSurface {
+    int port_id = 0;
+    std::vector<Segment> segments;
+    std::vector<int> nodes;  // unique nodes of the set
+    std::vector<Vec3> segment_area;  // area vectors of the last apply()
+    Vec3 normal0 = Vec3::UnitZ();    // unit normal of the whole set at t = 0
+  };
+  const Model& model_;
+  std::vector<PortSurface> surfaces_;
+  std::vector<double> pressure_;
+  std::vector<Vec3> area_vector_;
+};
+
+// Area vector of a segment (|A| = area, direction = normal by node order).
+Vec3 segment_area_vector(const Segment& s, const std::vector<Vec3>& x);
+
+}  // namespace fe

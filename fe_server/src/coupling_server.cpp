@@ -1,0 +1,221 @@
+#include "coupling_server.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "socketlib/protocol.h"
+
+namespace fe {
+
+using config::Quantity;
+
+static int64_t deadline_after(double seconds) {
+  return sl_now_ms() + static_cast<int64_t>(std::ceil(seconds * 1000.0));
+}
+
+static std::string link_error(int rc, const sl_socket& s) {
+  std::string m = std::string(sl_err_name(rc)) + ": " + sl_strerror(rc);
+  if (rc == SL_ESYSTEM && s.sys_errno) m += std::string(" (") + std::strerror(s.sys_errno) + ")";
+  return m;
+}
+
+PortMap::PortMap(const config::PortTable& table, CavityPressureLoad& load) : table_(table), load_(load) {
+  for (const auto& v : table.to_fe) {
+    int slot = load.slot_of_port(v.port_id);
+    if (v.quantity != Quantity::Pressure || slot < 0)
+      throw config::InputError(v.where, std::string("fe_server cannot apply ") + config::long_name(v.quantity) +
+                                            " at port " + v.port_label +
+                                            " yet: this version applies pressure on hydraulic ports");
+    in_slot_.push_back(slot);
+  }
+  for (const auto& v : table.to_host) {
+    int slot = load.slot_of_port(v.port_id);
+    bool ok = slot >= 0 && (v.quantity == Quantity::Flow || v.quantity == Quantity::Displacement ||
+                            v.quantity == Quantity::Velocity);
+    if (!ok)
+      throw config::InputError(v.where, std::string("fe_server cannot return ") + config::long_name(v.quantity) +
+                                            " at port " + v.port_label +
+                                            " yet: hydraulic ports return flow, displacement and velocity");
+    out_slot_.push_back(slot);
+  }
+}
+
+void PortMap::apply_inputs(const std::vector<double>& in) {
+  for (size_t i = 0; i < in.size(); ++i) load_.set_pressure(in_slot_[i], in[i]);
+}
+
+void PortMap::measure_outputs(const Solver& s, std::vector<double>& out) const {
+  out.resize(table_.to_host.size());
+  for (size_t i = 0; i < out.size(); ++i) {
+    const int slot = out_slot_[i];
+    switch (table_.to_host[i].quantity) {
+      case Quantity::Flow: out[i] = load_.flow(slot, s.v()); break;
+      case Quantity::Displacement: out[i] = load_.displacement(slot, s.x()); break;
+      case Quantity::Velocity: {
+        double a = load_.area(slot);
+        out[i] = a > 0.0 ? load_.flow(slot, s.v()) / a : 0.0;
+        break;
+      }
+      default: out[i] = 0.0;
+    }
+  }
+}
+
+CouplingServer::CouplingServer(const ServerOptions& opt, const config::PortTable& table)
+    : opt_(opt), table_(table) {
+  size_t n = std::max(table.to_fe.size(), table.to_host.size());
+  buf_.resize(std::max<size_t>(pcs_values_size(static_cast<uint32_t>(n)), PCS_MAX_REASON + PCS_MAX_TOKEN + 64));
+}
+
+CouplingServer::~CouplingServer() {
+  sl_close(&conn_);
+  sl_close(&listener_);
+}
+
+void CouplingServer::bind() {
+  int rc = sl_listen(opt_.listen_host.c_str(), opt_.listen_port, &listener_);
+  if (rc != SL_OK)
+    throw std::runtime_error("cannot listen on " + opt_.listen_host + ":" + std::to_string(opt_.listen_port) +
+                             ": " + link_error(rc, listener_));
+  port_ = sl_local_port(&listener_);
+  if (!opt_.port_file.empty()) {
+    // Written to a temporary name and renamed, so a reader never sees half a number.
+    std::string tmp = opt_.port_file + ".tmp";
+    {
+      std::ofstream f(tmp);
+      f << port_ << "\n";
+    }
+    std::rename(tmp.c_str(), opt_.port_file.c_str());
+  }
+}
+
+ExitCode CouplingServer::handshake(std::string& message) {
+  const double timeout = opt_.step_timeout > 0 ? opt_.step_timeout : table_.timeout;
+  const int64_t deadline = deadline_after(timeout);
+  pcs_header h{};
+  int rc = pcs_recv_frame(&conn_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline);
+  auto refuse = [&](const std::string& reason) {
+    pcs_send_abort(&conn_, 0, SL_EREFUSED_BY_PEER, reason.c_str(), deadline_after(1.0));
+    message = "session refused: " + reason;
+    return kExitHandshake;
+  };
+  if (rc == SL_EVERSION)
+    return refuse("protocol version mismatch: server speaks " + std::to_string(PCS_PROTOCOL_VERSION) +
+                  ", client " + std::to_string(h.version));
+  if (rc != SL_OK) {
+    message = "no valid HELLO from the host: " + link_error(rc, conn_);
+    return rc == SL_EBADMAGIC ? kExitHandshake : kExitLinkLost;
+  }
+  if (h.type != PCS_MSG_HELLO) return refuse(std::string("expected HELLO, got ") + pcs_msg_name(h.type));
+  pcs_hello hello{};
+  if (pcs_decode_hello(buf_.data(), h.payload_size, &hello) != SL_OK) return refuse("malformed HELLO");
+  if (hello.table_hash != table_.hash()) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, " (server %016llx, host %016llx)",
+                  static_cast<unsigned long long>(table_.hash()),
+                  static_cast<unsigned long long>(hello.table_hash));
+    return refuse("port table mismatch" + std::string(buf) + ": host and server must use the same ports.cfg; server has " +
+                  table_.source);
+  }
+  if (hello.dt != table_.dt || hello.subcycles != static_cast<uint32_t>(table_.subcycles))
+    return refuse("time step or subcycles differ between host and server");
+  if (!pcs_token_equal(hello.token, opt_.token.c_str()))
+    return refuse(opt_.token.empty() ? "this server expects no token" : "wrong or missing token");
+  pcs_hello_ack ack{table_.hash(), table_.dt, static_cast<uint32_t>(table_.subcycles)};
+  int n = pcs_encode_hello_ack(&ack, buf_.data(), static_cast<uint32_t>(buf_.size()));
+  rc = pcs_send_frame(&conn_, PCS_MSG_HELLO_ACK, 0, buf_.data(), static_cast<uint32_t>(n), deadline);
+  if (rc != SL_OK) {
+    message = "cannot send HELLO_ACK: " + link_error(rc, conn_);
+    return kExitLinkLost;
+  }
+  return kExitOk;
+}
+
+ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, std::string& message) {
+  if (listener_.fd < 0) bind();
+  int rc = sl_accept(&listener_, deadline_after(opt_.accept_timeout), &conn_);
+  if (rc != SL_OK) {
+    message = "no host connected within " + std::to_string(opt_.accept_timeout) + " s: " + link_error(rc, listener_);
+    return rc == SL_ETIMEDOUT ? kExitAcceptTimeout : kExitLinkLost;
+  }
+  sl_close(&listener_);  // one session per run
+  ExitCode code = handshake(message);
+  if (code != kExitOk) return code;
+  if (!opt_.quiet) std::cout << "fe_server: session accepted" << std::endl;
+
+  const double timeout = opt_.step_timeout > 0 ? opt_.step_timeout : table_.timeout;
+  std::vector<double> in(table_.to_fe.size()), out(table_.to_host.size());
+  uint64_t expected = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (;;) {
+    pcs_header h{};
+    rc = pcs_recv_frame(&conn_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout));
+    if (rc != SL_OK) {
+      message = "link lost waiting for STEP " + std::to_string(expected) + ": " + link_error(rc, conn_);
+      if (rc == SL_EBADMAGIC || rc == SL_EOVERSIZE || rc == SL_EVERSION)
+        pcs_send_abort(&conn_, expected, static_cast<uint32_t>(-rc), message.c_str(), deadline_after(1.0));
+      return kExitLinkLost;
+    }
+    if (h.type == PCS_MSG_BYE) break;
+    if (h.type == PCS_MSG_ABORT) {
+      pcs_abort a{};
+      pcs_decode_abort(buf_.data(), h.payload_size, &a);
+      message = "host aborted at step " + std::to_string(expected) + ": " + a.reason;
+      return kExitPeerAbort;
+    }
+    auto reject = [&](const std::string& why, ExitCode c) {
+      pcs_send_abort(&conn_, h.step, SL_EUNEXPECTED, why.c_str(), deadline_after(1.0));
+      message = why;
+      return c;
+    };
+    if (h.type != PCS_MSG_STEP) return reject(std::string("expected STEP, got ") + pcs_msg_name(h.type), kExitLinkLost);
+    if (h.step != expected)
+      return reject("step index out of order: expected " + std::to_string(expected) + ", got " + std::to_string(h.step),
+                    kExitLinkLost);
+    double t = 0, dt = 0;
+    uint32_t count = 0;
+    if (pcs_decode_values(buf_.data(), h.payload_size, &t, &dt, in.data(), static_cast<uint32_t>(in.size()), &count) !=
+            SL_OK ||
+        count != in.size())
+      return reject("STEP " + std::to_string(h.step) + " carries " + std::to_string(count) + " values, expected " +
+                        std::to_string(in.size()),
+                    kExitLinkLost);
+    for (size_t i = 0; i < in.size(); ++i)
+      if (!std::isfinite(in[i]))
+        return reject(table_.to_fe[i].name() + " is not finite at step " + std::to_string(h.step), kExitNumerical);
+
+    ports.apply_inputs(in);
+    for (int s = 0; s < table_.subcycles; ++s) solver.step();
+    ports.measure_outputs(solver, out);
+    for (size_t i = 0; i < out.size(); ++i)
+      if (!std::isfinite(out[i])) {
+        history.record(solver, in, out);
+        return reject(table_.to_host[i].name() + " became non-finite at step " + std::to_string(h.step) +
+                          " (FE instability?)",
+                      kExitNumerical);
+      }
+    history.record(solver, in, out);
+
+    int n = pcs_encode_values(solver.time(), table_.dt, out.data(), static_cast<uint32_t>(out.size()), buf_.data(),
+                              static_cast<uint32_t>(buf_.size()));
+    rc = pcs_send_frame(&conn_, PCS_MSG_RESULT, h.step, buf_.data(), static_cast<uint32_t>(n), deadline_after(timeout));
+    if (rc != SL_OK) {
+      message = "cannot send RESULT " + std::to_string(h.step) + ": " + link_error(rc, conn_);
+      return kExitLinkLost;
+    }
+    ++expected;
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::ostringstream s;
+  s << "session ended by the host after " << expected << " coupling steps (t = " << solver.time() << " s), "
+    << wall << " s wall, " << (expected ? 1e6 * wall / static_cast<double>(expected) : 0.0) << " us per step";
+  message = s.str();
+  return kExitOk;
+}
+
+}  // namespace fe

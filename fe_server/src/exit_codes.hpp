@@ -1,0 +1,19 @@
+// fe_server's exit codes, distinct per cause so scripts and tests can tell
+// them apart. Documented in the README.
+#pragma once
+
+namespace fe {
+
+enum ExitCode : int {
+  kExitOk = 0,             // session ended with BYE (or a standalone run finished)
+  kExitUsage = 2,          // bad command line
+  kExitInput = 3,          // deck or port configuration rejected (file:line in the message)
+  kExitAcceptTimeout = 4,  // no host connected before --accept-timeout
+  kExitHandshake = 5,      // session refused: version, port table, time step or token
+  kExitLinkLost = 6,       // peer closed, stalled past the step deadline, or sent garbage
+  kExitPeerAbort = 7,      // the host sent ABORT
+  kExitNumerical = 8,      // NaN/Inf in an input or in the FE state
+  kExitInternal = 9,       // anything else (a bug: please report)
+};
+
+}  // namespace fe

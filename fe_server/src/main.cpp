@@ -1,0 +1,175 @@
+// fe_server: the explicit FE side of the co-simulation.
+//
+//   fe_server --model DECK.k --ports ports.cfg [--listen HOST:PORT] [--token T]
+//             [--port-file F] [--out results.h5] [--accept-timeout S] [--step-timeout S]
+//   fe_server --model DECK.k --out results.h5           (standalone, no host)
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "cavity_load.hpp"
+#include "config/port_table.hpp"
+#include "coupling_server.hpp"
+#include "deck_reader.hpp"
+#include "exit_codes.hpp"
+#include "history.hpp"
+#include "socketlib/socketlib.h"
+#include "solver.hpp"
+
+namespace {
+
+int usage(std::ostream& os, int rc) {
+  os << "usage: fe_server --model DECK.k [--ports ports.cfg] [options]\n"
+        "  --model FILE          keyword deck of the structure\n"
+        "  --ports FILE          port configuration; without it the deck runs standalone\n"
+        "  --listen HOST:PORT    where to wait for tlm_host (default 127.0.0.1:0 = any free port)\n"
+        "  --token TOKEN         session token the host must present (required off loopback;\n"
+        "                        generated and printed once when not given)\n"
+        "  --port-file FILE      write the bound port number to FILE\n"
+        "  --out FILE            HDF5 time histories (default fe_results.h5)\n"
+        "  --accept-timeout S    give up if no host connects within S seconds (default 300)\n"
+        "  --step-timeout S      per-step receive deadline (default: the port table's timeout)\n"
+        "  --quiet               no progress output\n"
+        "Exit codes: 0 ok, 2 usage, 3 input rejected, 4 no host, 5 session refused,\n"
+        "            6 link lost, 7 host aborted, 8 non-finite values, 9 internal error.\n";
+  return rc;
+}
+
+bool is_loopback(const std::string& host) {
+  return host == "localhost" || host.rfind("127.", 0) == 0 || host == "::1";
+}
+
+std::string random_token() {
+  std::ifstream u("/dev/urandom", std::ios::binary);
+  unsigned char b[16] = {};
+  u.read(reinterpret_cast<char*>(b), sizeof b);
+  if (!u) throw std::runtime_error("cannot read /dev/urandom to make a token");
+  char hex[33];
+  for (int i = 0; i < 16; ++i) std::snprintf(hex + 2 * i, 3, "%02x", b[i]);
+  return hex;
+}
+
+int run_standalone(const fe::Model& model, const std::string& out, bool quiet) {
+  if (!(model.end_time > 0.0)) {
+    std::cerr << "fe_server: " << model.source
+              << ": a standalone run needs *CONTROL_TERMINATION with ENDTIM > 0\n";
+    return fe::kExitInput;
+  }
+  std::string limit;
+  double dt = model.dt_scale * fe::Solver::stable_dt(model, &limit);
+  if (!std::isfinite(dt)) {
+    std::cerr << "fe_server: the model has no element that limits the time step\n";
+    return fe::kExitInput;
+  }
+  fe::Solver solver(model, dt);
+  fe::History history(out, model, nullptr);
+  const long steps = static_cast<long>(std::ceil(model.end_time / dt));
+  for (long k = 0; k < steps; ++k) {
+    solver.step();
+    history.record(solver, {}, {});
+  }
+  history.flush();
+  if (!quiet)
+    std::cout << "fe_server: standalone run, " << steps << " steps of " << dt << " s (limited by " << limit
+              << "), energy balance error " << solver.energies().balance_error << " J\n";
+  return fe::kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);
+  std::string deck, ports_path, listen = "127.0.0.1:0", out = "fe_results.h5";
+  fe::ServerOptions opt;
+  bool token_given = false;
+  try {
+    for (int i = 1; i < argc; ++i) {
+      std::string a = argv[i];
+      auto value = [&]() -> std::string {
+        if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+        return argv[++i];
+      };
+      if (a == "--model") deck = value();
+      else if (a == "--ports") ports_path = value();
+      else if (a == "--listen") listen = value();
+      else if (a == "--token") {
+        opt.token = value();
+        token_given = true;
+      } else if (a == "--port-file") opt.port_file = value();
+      else if (a == "--out") out = value();
+      else if (a == "--accept-timeout") opt.accept_timeout = std::stod(value());
+      else if (a == "--step-timeout") opt.step_timeout = std::stod(value());
+      else if (a == "--quiet") opt.quiet = true;
+      else if (a == "-h" || a == "--help") return usage(std::cout, fe::kExitOk);
+      else throw std::invalid_argument("unknown argument " + a);
+    }
+    if (deck.empty()) throw std::invalid_argument("--model is required");
+    char host[256];
+    if (sl_parse_endpoint(listen.c_str(), host, sizeof host, &opt.listen_port) != SL_OK)
+      throw std::invalid_argument("--listen '" + listen + "' is not HOST:PORT");
+    opt.listen_host = host;
+  } catch (const std::exception& e) {
+    std::cerr << "fe_server: " << e.what() << "\n";
+    return usage(std::cerr, fe::kExitUsage);
+  }
+
+  fe::Model model;
+  config::PortTable table;
+  try {
+    fe::DeckWarnings warnings;
+    model = fe::read_deck(deck, &warnings);
+    for (const auto& w : warnings.messages) std::cerr << w << "\n";
+    if (ports_path.empty()) return run_standalone(model, out, opt.quiet);
+    table = config::read_port_table(ports_path);
+  } catch (const std::exception& e) {
+    std::cerr << "fe_server: " << e.what() << "\n";
+    return fe::kExitInput;
+  }
+
+  if (!is_loopback(opt.listen_host) && !token_given) {
+    opt.token = random_token();
+    std::cout << "fe_server: listening off loopback needs a token; generated one (shown once): " << opt.token
+              << std::endl;
+  }
+
+  std::unique_ptr<fe::History> history;
+  try {
+    fe::CavityPressureLoad load(model, table);
+    fe::PortMap ports(table, load);
+    fe::Solver solver(model, table.dt / table.subcycles);
+    solver.set_user_load(&load);
+    history = std::make_unique<fe::History>(out, model, &table);
+    fe::CouplingServer server(opt, table);
+    server.bind();
+    if (!opt.quiet)
+      std::cout << "fe_server: listening on " << opt.listen_host << ":" << server.port() << " (model "
+                << table.model_name << ", " << model.node_ids.size() << " nodes, dt " << table.dt / table.subcycles
+                << " s × " << table.subcycles << " per coupling step)" << std::endl;
+    std::string message;
+    fe::ExitCode code = server.run(solver, ports, *history, message);
+    history->flush();
+    if (code == fe::kExitOk) {
+      if (!opt.quiet) {
+        std::cout << "fe_server: " << message << "\n"
+                  << "fe_server: energy balance error " << solver.energies().balance_error << " J; history ("
+                  << history->rows() << " rows) in " << out << std::endl;
+      }
+    } else {
+      std::cerr << "fe_server: " << message << "; history up to the last completed step (" << history->rows()
+                << " rows) kept in " << out << std::endl;
+    }
+    return code;
+  } catch (const config::InputError& e) {
+    std::cerr << "fe_server: " << e.what() << "\n";
+    return fe::kExitInput;
+  } catch (const std::exception& e) {
+    if (history) history->flush();
+    std::cerr << "fe_server: " << e.what() << "\n";
+    return fe::kExitInput;
+  }
+}

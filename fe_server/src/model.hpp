@@ -1,0 +1,71 @@
+// The structural model as read from a keyword deck: nodal arrays per
+// quantity, discrete springs/dampers, nodal rigid bodies, segment sets and the
+// co-simulation loading sets. SI units throughout.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "config/keyword_reader.hpp"
+
+namespace fe {
+
+using Vec3 = Eigen::Vector3d;
+
+struct DiscreteElement {
+  int id = 0;
+  int n1 = 0, n2 = 0;     // node indices (not ids)
+  double k = 0.0;         // spring stiffness, N/m (0: none)
+  double c = 0.0;         // damping, N·s/m (0: none)
+  double offset = 0.0;    // initial offset, m: positive gives tension at t = 0
+  double length0 = 0.0;   // initial length, m
+  config::SourceLocation where;
+};
+
+// Nodes that move together. Translation only in this version: the one-DOF
+// scenes load bodies through their axis; rotational inertia comes with *MAT_RIGID.
+struct RigidBody {
+  int id = 0;
+  std::vector<int> nodes;  // node indices
+  double mass = 0.0;
+  config::SourceLocation where;
+};
+
+struct Segment {
+  int n[4] = {0, 0, 0, 0};  // node indices; n[3] == n[2] for a triangle
+};
+
+// A co-simulation port acting on a segment set (*USER_LOADING_SET).
+struct LoadingSet {
+  int port_id = 0;
+  int segment_set = 0;
+  config::SourceLocation where;
+};
+
+struct Model {
+  std::string title;
+  std::string source;
+  // Per node, indexed 0..N-1; node_ids maps back to the deck's ids.
+  std::vector<int> node_ids;
+  std::map<int, int> node_index;
+  std::vector<Vec3> x0;          // initial coordinates
+  std::vector<Vec3> v0;          // initial velocities
+  std::vector<double> mass;      // lumped nodal mass
+  std::vector<Eigen::Matrix<bool, 3, 1>> fixed;  // translational SPCs
+  std::vector<DiscreteElement> discretes;
+  std::vector<RigidBody> rigid_bodies;
+  std::map<int, std::vector<Segment>> segment_sets;
+  std::map<int, std::vector<int>> node_sets;
+  std::vector<LoadingSet> loading_sets;
+  std::vector<int> history_nodes;  // node indices
+  double end_time = 0.0;           // *CONTROL_TERMINATION (0: not given)
+  double dt_scale = 0.9;           // *CONTROL_TIMESTEP TSSFAC
+
+  int index_of(int node_id, const config::SourceLocation& where) const;
+  double total_mass() const;
+};
+
+}  // namespace fe

@@ -1,0 +1,54 @@
+#include "component.hpp"
+
+namespace tlm {
+
+void ParameterSet::set(const std::string& key, const std::string& value, const config::SourceLocation& where) {
+  values_[key] = Entry{value, where, false};
+}
+
+double ParameterSet::real(const std::string& key, double fallback) {
+  auto it = values_.find(key);
+  if (it == values_.end()) return fallback;
+  it->second.used = true;
+  return config::parse_real(it->second.value, it->second.where, "parameter " + key);
+}
+
+double ParameterSet::real(const std::string& key) {
+  if (!has(key)) throw config::InputError(where_, "parameter " + key + " is required");
+  return real(key, 0.0);
+}
+
+double ParameterSet::positive(const std::string& key, double fallback) {
+  double v = real(key, fallback);
+  if (!(v > 0.0)) {
+    auto it = values_.find(key);
+    throw config::InputError(it != values_.end() ? it->second.where : where_,
+                             "parameter " + key + " must be positive, got " + std::to_string(v));
+  }
+  return v;
+}
+
+std::string ParameterSet::text(const std::string& key, const std::string& fallback) {
+  auto it = values_.find(key);
+  if (it == values_.end()) return fallback;
+  it->second.used = true;
+  return it->second.value;
+}
+
+void ParameterSet::check_all_used(const std::string& component) const {
+  for (const auto& [key, e] : values_)
+    if (!e.used) throw config::InputError(e.where, "component " + component + " has no parameter '" + key + "'");
+}
+
+Port* Component::port(const std::string& port_name) {
+  for (auto& p : ports_)
+    if (p.name == port_name) return &p;
+  return nullptr;
+}
+
+Port& Component::add_port(const std::string& port_name, Kind side) {
+  ports_.push_back(Port{port_name, side, nullptr});
+  return ports_.back();
+}
+
+}  // namespace tlm

@@ -1,0 +1,86 @@
+// The component interface of the TLM host. Life cycle, as in Hopsan:
+// configure (parameters) → initialize (time step known) → simulate_one_step
+// (once per step, in the loop order signal → C → Q) → finalize.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "config/keyword_reader.hpp"
+#include "node.hpp"
+
+namespace tlm {
+
+enum class Kind { Signal, C, Q };
+
+struct Port {
+  std::string name;
+  Kind side = Kind::C;  // which side of the node this port is on
+  HydraulicNode* node = nullptr;
+};
+
+// A value to log each step: a name below the component and where to read it.
+struct LogVariable {
+  std::string name;
+  std::string unit;
+  const double* value;
+};
+
+// Parameters as written in the model (name=value), with their location.
+// Every parameter must be used by the component; a leftover one is an error,
+// so a typo is not silently ignored.
+class ParameterSet {
+ public:
+  void set(const std::string& key, const std::string& value, const config::SourceLocation& where);
+  bool has(const std::string& key) const { return values_.count(key) != 0; }
+  double real(const std::string& key, double fallback);
+  double real(const std::string& key);  // required
+  double positive(const std::string& key, double fallback);
+  std::string text(const std::string& key, const std::string& fallback);
+  void check_all_used(const std::string& component) const;
+  const config::SourceLocation& where() const { return where_; }
+  void set_where(const config::SourceLocation& w) { where_ = w; }
+
+ private:
+  struct Entry {
+    std::string value;
+    config::SourceLocation where;
+    bool used = false;
+  };
+  std::map<std::string, Entry> values_;
+  config::SourceLocation where_;
+};
+
+class Component {
+ public:
+  explicit Component(std::string name) : name_(std::move(name)) {}
+  virtual ~Component() = default;
+  virtual Kind kind() const = 0;
+  virtual const char* type_name() const = 0;
+  // Read parameters; create ports. Throws config::InputError on bad values.
+  virtual void configure(ParameterSet& p) = 0;
+  // The time step is known and every port is connected.
+  virtual void initialize(double dt) = 0;
+  // Advance from t to t + dt.
+  virtual void simulate_one_step(double t) = 0;
+  virtual void finalize() {}
+  virtual void log_variables(std::vector<LogVariable>&) {}
+
+  const std::string& name() const { return name_; }
+  std::vector<Port>& ports() { return ports_; }
+  Port* port(const std::string& name);
+
+ protected:
+  Port& add_port(const std::string& port_name, Kind side);
+  std::string name_;
+  std::vector<Port> ports_;
+};
+
+using ComponentFactory = std::function<std::unique_ptr<Component>(const std::string& name)>;
+// Registered component types, by type name (e.g. "HydraulicVolumeC").
+const std::map<std::string, ComponentFactory>& component_types();
+
+}  // namespace tlm

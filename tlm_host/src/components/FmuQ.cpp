@@ -1,0 +1,105 @@
+#include "FmuQ.hpp"
+
+#include "socketlib/socketlib.h"
+
+namespace tlm {
+
+static bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() > suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+void FmuQ::configure(ParameterSet& prm) {
+  std::string path = prm.text("fmu", "");
+  server_ = prm.text("server", "");
+  token_ = prm.text("token", "");
+  verbose_ = prm.real("verbose", 0.0) != 0.0;
+  if (path.empty())
+    throw config::InputError(prm.where(), name_ + ": no FMU given (parameter fmu=PATH or --fmu PATH)");
+  try {
+    archive_ = std::make_shared<FmuArchive>(path);
+  } catch (const std::exception& e) {
+    throw config::InputError(prm.where(), name_ + ": " + e.what());
+  }
+  fmu_ = std::make_unique<FmuInstance>(archive_, name_, verbose_);
+  const auto& md = archive_->description();
+  for (const auto& v : md.variables) {
+    if (v.causality != "output" || !ends_with(v.name, ".q")) continue;
+    const std::string label = v.name.substr(0, v.name.size() - 2);
+    HydraulicPort hp;
+    hp.vr_q = v.value_reference;
+    const FmuScalar* p = md.find(label + ".p");
+    const FmuScalar* c = md.find(label + ".c");
+    const FmuScalar* zc = md.find(label + ".Zc");
+    if (c && zc && c->causality == "input" && zc->causality == "input") {
+      hp.tlm = true;
+      hp.vr_c = c->value_reference;
+      hp.vr_Zc = zc->value_reference;
+    } else if (p && p->causality == "input") {
+      hp.vr_p = p->value_reference;
+    } else {
+      throw config::InputError(prm.where(), name_ + ": FMU output " + v.name + " has neither the input " + label +
+                                                ".p nor the inputs " + label + ".c and " + label + ".Zc");
+    }
+    hp.port = ports_.size();
+    add_port(label, Kind::Q);
+    hports_.push_back(hp);
+  }
+  if (hports_.empty()) throw config::InputError(prm.where(), name_ + ": the FMU has no hydraulic port (no output named L.q)");
+  for (const auto& v : md.variables)
+    if (v.causality == "output" && v.type == "Real") outputs_.push_back({v.name, v.value_reference, 0.0});
+}
+
+void FmuQ::initialize(double dt) {
+  dt_ = dt;
+  if (!server_.empty()) {
+    char host[256];
+    int port = 0;
+    if (sl_parse_endpoint(server_.c_str(), host, sizeof host, &port) != SL_OK)
+      throw FmuError(name_ + ": server '" + server_ + "' is not HOST:PORT");
+    fmu_->set_string(fmu_->vr("server.host"), host);
+    fmu_->set_integer(fmu_->vr("server.port"), port);
+  }
+  if (!token_.empty()) fmu_->set_string(fmu_->vr("server.token"), token_);
+  fmu_->setup_experiment(0.0, 0.0);
+  fmu_->enter_initialization();
+  for (auto& hp : hports_) {
+    const HydraulicNode& n = *ports_[hp.port].node;
+    if (hp.tlm) {
+      fmu_->set_real(hp.vr_c, n.c);
+      fmu_->set_real(hp.vr_Zc, n.Zc);
+    } else {
+      fmu_->set_real(hp.vr_p, n.c);
+    }
+  }
+  fmu_->exit_initialization();  // connects to fe_server
+}
+
+void FmuQ::simulate_one_step(double t) {
+  for (auto& hp : hports_) {
+    const HydraulicNode& n = *ports_[hp.port].node;
+    if (hp.tlm) {
+      fmu_->set_real(hp.vr_c, n.c);
+      fmu_->set_real(hp.vr_Zc, n.Zc);
+    } else {
+      fmu_->set_real(hp.vr_p, n.c + n.Zc * hp.q);
+    }
+  }
+  fmu_->do_step(t, dt_);
+  for (auto& hp : hports_) {
+    HydraulicNode& n = *ports_[hp.port].node;
+    hp.q = fmu_->get_real(hp.vr_q);
+    n.q = hp.q;
+    n.p = n.c + n.Zc * hp.q;
+  }
+  for (auto& o : outputs_) o.value = fmu_->get_real(o.vr);
+}
+
+void FmuQ::finalize() {
+  if (fmu_) fmu_->terminate();
+}
+
+void FmuQ::log_variables(std::vector<LogVariable>& out) {
+  for (const auto& o : outputs_) out.push_back({o.name, "", &o.value});
+}
+
+}  // namespace tlm

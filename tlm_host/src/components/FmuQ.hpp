@@ -1,0 +1,51 @@
+// An FMI 2.0 co-simulation FMU as a Q-type component. Its hydraulic ports
+// come from the FMU's variable names: a port L has the output L.q (flow out
+// of the FMU into the node) and either the input L.p (pressure coupling) or
+// the inputs L.c and L.Zc (TLM coupling).
+//
+// Pressure coupling (one step delay): the FMU is sent p = c + Zc·q_prev,
+// returns the flow q it produced over the step, and the node gets q and
+// p = c + Zc·q. TLM coupling: the FMU is sent c and Zc and solves
+// p = c + Zc·q itself, exactly like a Q component.
+#pragma once
+
+#include <memory>
+
+#include "component.hpp"
+#include "fmu_importer.hpp"
+
+namespace tlm {
+
+class FmuQ : public Component {
+ public:
+  using Component::Component;
+  Kind kind() const override { return Kind::Q; }
+  const char* type_name() const override { return "FmuQ"; }
+  void configure(ParameterSet& prm) override;
+  void initialize(double dt) override;
+  void simulate_one_step(double t) override;
+  void finalize() override;
+  void log_variables(std::vector<LogVariable>& out) override;
+
+ private:
+  struct HydraulicPort {
+    size_t port = 0;  // index into ports_
+    bool tlm = false;
+    unsigned vr_p = 0, vr_c = 0, vr_Zc = 0, vr_q = 0;
+    double q = 0.0;
+  };
+  struct Output {
+    std::string name;
+    unsigned vr = 0;
+    double value = 0.0;
+  };
+  std::shared_ptr<FmuArchive> archive_;
+  std::unique_ptr<FmuInstance> fmu_;
+  std::vector<HydraulicPort> hports_;
+  std::vector<Output> outputs_;
+  std::string server_, token_;
+  double dt_ = 0.0;
+  bool verbose_ = false;
+};
+
+}  // namespace tlm

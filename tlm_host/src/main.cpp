@@ -1,0 +1,84 @@
+// tlm_host: the TLM system simulator of the hydraulic circuit.
+//
+//   tlm_host MODEL [--fmu FILE.fmu] [--server HOST:PORT] [--token T]
+//            [--out results.h5] [--set comp.param=value ...] [--quiet]
+#include <csignal>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "model.hpp"
+
+namespace {
+
+int usage(std::ostream& os, int rc) {
+  os << "usage: tlm_host MODEL [options]\n"
+        "  --fmu FILE          FMU for every FmuQ component that names none\n"
+        "  --server HOST:PORT  fe_server address for every FmuQ component\n"
+        "  --token TOKEN       session token for fe_server\n"
+        "  --out FILE          HDF5 results (default results.h5)\n"
+        "  --set C.P=VALUE     override parameter P of component C (repeatable);\n"
+        "                      simulation.timestep / stoptime / log_every too\n"
+        "  --quiet             no progress line\n"
+        "Exit codes: 0 ok, 2 usage, 3 model rejected, 4 simulation failed.\n";
+  return rc;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);
+  std::string model_path, fmu, server, token, out = "results.h5";
+  std::vector<std::string> overrides;
+  bool quiet = false;
+  try {
+    for (int i = 1; i < argc; ++i) {
+      std::string a = argv[i];
+      auto value = [&]() -> std::string {
+        if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+        return argv[++i];
+      };
+      if (a == "--fmu") fmu = value();
+      else if (a == "--server") server = value();
+      else if (a == "--token") token = value();
+      else if (a == "--out") out = value();
+      else if (a == "--set") overrides.push_back(value());
+      else if (a == "--quiet") quiet = true;
+      else if (a == "-h" || a == "--help") return usage(std::cout, 0);
+      else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
+      else if (model_path.empty()) model_path = a;
+      else throw std::invalid_argument("more than one model given");
+    }
+    if (model_path.empty()) throw std::invalid_argument("no model file given");
+  } catch (const std::exception& e) {
+    std::cerr << "tlm_host: " << e.what() << "\n";
+    return usage(std::cerr, 2);
+  }
+
+  std::unique_ptr<tlm::System> system;
+  try {
+    tlm::ModelSpec spec = tlm::read_model(model_path);
+    for (auto& c : spec.components) {
+      if (c.type != "FmuQ") continue;
+      config::SourceLocation cli{"command line", 0};
+      if (!fmu.empty() && !c.params.has("fmu")) c.params.set("fmu", fmu, cli);
+      if (!server.empty()) c.params.set("server", server, cli);
+      if (!token.empty()) c.params.set("token", token, cli);
+    }
+    for (const auto& o : overrides) spec.apply_override(o);
+    system = std::make_unique<tlm::System>(std::move(spec));
+  } catch (const std::exception& e) {
+    std::cerr << "tlm_host: " << e.what() << "\n";
+    return 3;
+  }
+  try {
+    system->run(out, !quiet);
+  } catch (const std::exception& e) {
+    std::cerr << "tlm_host: " << e.what() << "\n";
+    return 4;
+  }
+  if (!quiet)
+    std::cout << "tlm_host: " << system->steps_done() << " steps of " << system->spec().dt << " s done; results in "
+              << out << "\n";
+  return 0;
+}

@@ -1,0 +1,232 @@
+#include "model.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+#include <unistd.h>
+
+namespace tlm {
+
+using config::InputError;
+
+ComponentSpec* ModelSpec::find(const std::string& name) {
+  for (auto& c : components)
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
+void ModelSpec::apply_override(const std::string& assignment) {
+  size_t dot = assignment.find('.'), eq = assignment.find('=');
+  if (dot == std::string::npos || eq == std::string::npos || dot > eq)
+    throw std::invalid_argument("--set '" + assignment + "': expected COMPONENT.PARAMETER=VALUE");
+  std::string comp = assignment.substr(0, dot), key = assignment.substr(dot + 1, eq - dot - 1),
+              value = assignment.substr(eq + 1);
+  config::SourceLocation where{"--set " + assignment, 0};
+  if (comp == "simulation") {
+    if (key == "timestep") dt = config::parse_real(value, where, "timestep");
+    else if (key == "stoptime") stop_time = config::parse_real(value, where, "stoptime");
+    else if (key == "log_every") log_every = static_cast<int>(config::parse_integer(value, where, "log_every"));
+    else throw std::invalid_argument("--set: simulation has timestep, stoptime and log_every, not '" + key + "'");
+    return;
+  }
+  ComponentSpec* c = find(comp);
+  if (!c) throw std::invalid_argument("--set '" + assignment + "': no component named '" + comp + "' in " + source);
+  c->params.set(key, value, where);
+}
+
+static std::string directory_of(const std::string& path) {
+  size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+ModelSpec parse_model(const std::string& text, const std::string& name) {
+  ModelSpec m;
+  m.source = name;
+  for (const auto& b : config::parse_keyword_text(text, name)) {
+    if (b.keyword == "*SIMULATION") {
+      for (const auto& c : b.cards) {
+        std::string key = config::to_lower(c.field(0, "key"));
+        if (key == "timestep") m.dt = c.real(1, "timestep");
+        else if (key == "stoptime") m.stop_time = c.real(1, "stoptime");
+        else if (key == "log_every") m.log_every = static_cast<int>(c.integer(1, "log_every"));
+        else c.fail("unknown setting '" + c.fields[0] + "': expected timestep, stoptime or log_every");
+      }
+    } else if (b.keyword == "*COMPONENT") {
+      for (const auto& c : b.cards) {
+        ComponentSpec s;
+        s.where = c.where;
+        s.name = c.field(0, "name");
+        s.type = c.field(1, "type");
+        if (s.name.empty() || s.name.find_first_of(". /") != std::string::npos)
+          c.fail("component name '" + s.name + "' must be non-empty without dots, spaces or slashes");
+        if (m.find(s.name)) c.fail("component '" + s.name + "' is defined twice");
+        if (!component_types().count(s.type)) {
+          std::string known;
+          for (const auto& [t, f] : component_types()) known += (known.empty() ? "" : ", ") + t;
+          c.fail("unknown component type '" + s.type + "'; known types: " + known);
+        }
+        s.params.set_where(c.where);
+        for (size_t i = 2; i < c.fields.size(); ++i) {
+          const std::string& f = c.fields[i];
+          if (f.empty()) continue;
+          size_t eq = f.find('=');
+          if (eq == std::string::npos) c.fail("field " + std::to_string(i + 1) + " '" + f + "': expected key=value");
+          std::string key = config::trim(f.substr(0, eq)), value = config::trim(f.substr(eq + 1));
+          // File parameters are relative to the model file.
+          if (key == "fmu" && !value.empty() && value[0] != '/') value = directory_of(name) + value;
+          s.params.set(key, value, c.where);
+        }
+        m.components.push_back(std::move(s));
+      }
+    } else if (b.keyword == "*CONNECT") {
+      for (const auto& c : b.cards) m.connections.push_back({c.field(0, "port"), c.field(1, "port"), c.where});
+    } else {
+      b.fail("unknown keyword '" + b.keyword + "': expected *SIMULATION, *COMPONENT or *CONNECT");
+    }
+  }
+  config::SourceLocation top{name, 1};
+  if (!(m.dt > 0.0)) throw InputError(top, "*SIMULATION needs 'timestep, SECONDS' > 0");
+  if (!(m.stop_time > 0.0)) throw InputError(top, "*SIMULATION needs 'stoptime, SECONDS' > 0");
+  if (m.log_every < 1) throw InputError(top, "log_every must be at least 1");
+  return m;
+}
+
+ModelSpec read_model(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot open model '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_model(ss.str(), path);
+}
+
+System::System(ModelSpec spec) : spec_(std::move(spec)) {
+  for (auto& cs : spec_.components) {
+    auto comp = component_types().at(cs.type)(cs.name);
+    comp->configure(cs.params);
+    cs.params.check_all_used(cs.name);
+    switch (comp->kind()) {
+      case Kind::Signal: signal_.push_back(comp.get()); break;
+      case Kind::C: c_type_.push_back(comp.get()); break;
+      case Kind::Q: q_type_.push_back(comp.get()); break;
+    }
+    components_.push_back(std::move(comp));
+  }
+  auto resolve = [&](const std::string& ref, const config::SourceLocation& where) -> std::pair<Component*, Port*> {
+    size_t dot = ref.find('.');
+    if (dot == std::string::npos) throw InputError(where, "'" + ref + "': expected COMPONENT.PORT");
+    Component* c = find(ref.substr(0, dot));
+    if (!c) throw InputError(where, "no component named '" + ref.substr(0, dot) + "'");
+    Port* p = c->port(ref.substr(dot + 1));
+    if (!p) {
+      std::string names;
+      for (const auto& q : c->ports()) names += (names.empty() ? "" : ", ") + q.name;
+      throw InputError(where, c->name() + " (" + c->type_name() + ") has no port '" + ref.substr(dot + 1) +
+                                  "'; its ports: " + names);
+    }
+    if (p->node) throw InputError(where, "port " + ref + " is connected twice");
+    return {c, p};
+  };
+  for (const auto& con : spec_.connections) {
+    auto [ca, pa] = resolve(con.a, con.where);
+    auto [cb, pb] = resolve(con.b, con.where);
+    if (pa->side == pb->side)
+      throw InputError(con.where, "'" + con.a + "' and '" + con.b + "' are both " +
+                                      (pa->side == Kind::C ? "C-type (capacitive)" : "Q-type (resistive)") +
+                                      " ports: a TLM node joins one C and one Q port; put a " +
+                                      (pa->side == Kind::C ? "Q component (e.g. an orifice)" : "C component (e.g. a volume)") +
+                                      " between them");
+    auto node = std::make_unique<HydraulicNode>();
+    node->name = pa->side == Kind::C ? con.a : con.b;
+    pa->node = pb->node = node.get();
+    nodes_.push_back(std::move(node));
+  }
+  for (auto& c : components_)
+    for (auto& p : c->ports())
+      if (!p.node)
+        throw InputError(spec_.source.empty() ? config::SourceLocation{"model", 0} : config::SourceLocation{spec_.source, 1},
+                         "port " + c->name() + "." + p.name + " is not connected (add it to *CONNECT)");
+}
+
+System::~System() = default;
+
+Component* System::find(const std::string& name) {
+  for (auto& c : components_)
+    if (c->name() == name) return c.get();
+  return nullptr;
+}
+
+void System::run(const std::string& out_path, bool progress) {
+  const double dt = spec_.dt;
+  const long steps = std::lround(spec_.stop_time / dt);
+  for (auto& c : components_) c->initialize(dt);
+
+  h5io::TimeSeriesWriter out(out_path);
+  out.set_attribute("producer", "tlm_host");
+  out.set_attribute("model", spec_.source);
+  out.set_attribute("timestep", dt);
+  std::vector<const double*> sources;
+  double time = 0.0;
+  out.add_series("time", "s");
+  sources.push_back(&time);
+  for (const auto& n : nodes_) {
+    out.add_series("nodes/" + n->name + "/p", "Pa");
+    sources.push_back(&n->p);
+    out.add_series("nodes/" + n->name + "/q", "m3/s");
+    sources.push_back(&n->q);
+  }
+  for (auto& c : components_) {
+    std::vector<LogVariable> vars;
+    c->log_variables(vars);
+    for (const auto& v : vars) {
+      out.add_series("components/" + c->name() + "/" + v.name, v.unit);
+      sources.push_back(v.value);
+    }
+  }
+  std::vector<double> row(sources.size());
+  auto record = [&] {
+    for (size_t i = 0; i < sources.size(); ++i) row[i] = *sources[i];
+    out.append(row);
+  };
+  record();
+
+  const bool tty = isatty(STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  auto last_report = start;
+  long k = 0;
+  try {
+    for (; k < steps; ++k) {
+      const double t = static_cast<double>(k) * dt;
+      for (Component* c : signal_) c->simulate_one_step(t);
+      for (Component* c : c_type_) c->simulate_one_step(t);
+      for (Component* c : q_type_) c->simulate_one_step(t);
+      time = static_cast<double>(k + 1) * dt;
+      steps_done_ = k + 1;
+      if ((k + 1) % spec_.log_every == 0) record();
+      if (progress && (k & 1023) == 0) {
+        auto now = std::chrono::steady_clock::now();
+        if (now - last_report > std::chrono::seconds(tty ? 1 : 10)) {
+          last_report = now;
+          const double elapsed = std::chrono::duration<double>(now - start).count();
+          const double done = static_cast<double>(k + 1) / static_cast<double>(steps);
+          std::fprintf(stderr, "%st = %.4g of %.4g s (%.0f%%), %.1f s elapsed, about %.1f s left%s",
+                       tty ? "\r" : "", time, spec_.stop_time, 100.0 * done, elapsed,
+                       elapsed * (1.0 - done) / done, tty ? "   " : "\n");
+        }
+      }
+    }
+  } catch (const std::exception& e) {
+    out.flush();
+    std::ostringstream s;
+    s << "at step " << k << " (t = " << static_cast<double>(k) * dt << " s): " << e.what()
+      << "; results up to the last completed step kept in " << out_path;
+    throw std::runtime_error(s.str());
+  }
+  for (auto& c : components_) c->finalize();
+  out.flush();
+  if (progress && tty) std::fprintf(stderr, "\n");
+}
+
+}  // namespace tlm

@@ -1,0 +1,68 @@
+// The TLM host's model file (keyword style, the same reader as the port
+// configuration) and the system built from it.
+//
+//   *SIMULATION   key, value          timestep, stoptime, log_every
+//   *COMPONENT    name, Type, key=value, key=value, ...
+//   *CONNECT      comp.port, comp.port   (one C-type and one Q-type port)
+//
+// Every parameter can be overridden from the command line (--set comp.key=value).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "component.hpp"
+#include "h5io/timeseries.hpp"
+
+namespace tlm {
+
+struct ComponentSpec {
+  std::string name, type;
+  ParameterSet params;
+  config::SourceLocation where;
+};
+
+struct ConnectionSpec {
+  std::string a, b;
+  config::SourceLocation where;
+};
+
+struct ModelSpec {
+  std::string source;
+  double dt = 0.0;
+  double stop_time = 0.0;
+  int log_every = 1;
+  std::vector<ComponentSpec> components;
+  std::vector<ConnectionSpec> connections;
+
+  ComponentSpec* find(const std::string& name);
+  // "comp.key=value" (or "simulation.timestep=…"); throws on an unknown component.
+  void apply_override(const std::string& assignment);
+};
+
+ModelSpec parse_model(const std::string& text, const std::string& name);
+ModelSpec read_model(const std::string& path);
+
+class System {
+ public:
+  // Creates, configures and connects the components; checks that every port
+  // is connected and every node joins one C and one Q port.
+  explicit System(ModelSpec spec);
+  ~System();
+  // Run to the stop time, writing the HDF5 time series to out_path (flushed
+  // on every error, so what was computed is kept). Progress goes to stderr.
+  void run(const std::string& out_path, bool progress);
+  Component* find(const std::string& name);
+  const ModelSpec& spec() const { return spec_; }
+  long steps_done() const { return steps_done_; }
+
+ private:
+  ModelSpec spec_;
+  std::vector<std::unique_ptr<Component>> components_;
+  std::vector<std::unique_ptr<HydraulicNode>> nodes_;
+  std::vector<Component*> signal_, c_type_, q_type_;
+  long steps_done_ = 0;
+};
+
+}  // namespace tlm

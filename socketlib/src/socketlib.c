@@ -253,7 +253,7 @@ int sl_send_all(sl_socket *s, const void *buf, size_t len, int64_t deadline_ms) 
   if (!s || s->fd < 0 || (!buf && len)) return SL_EINVAL;
   const uint8_t *p = (const uint8_t *)buf;
   while (len > 0) {
-    ssize_t n = send(s->fd, p, len, MSG_NOSIGNAL);
+    ssize_t n = send(s->fd, p, len, MSG_NOSIGNAL | MSG_DONTWAIT);
     if (n > 0) {
       p += n;
       len -= (size_t)n;
@@ -277,7 +277,7 @@ int sl_recv_all(sl_socket *s, void *buf, size_t len, int64_t deadline_ms) {
   uint8_t *p = (uint8_t *)buf;
   size_t got = 0;
   while (got < len) {
-    ssize_t n = recv(s->fd, p + got, len - got, 0);
+    ssize_t n = recv(s->fd, p + got, len - got, MSG_DONTWAIT);
     if (n > 0) {
       got += (size_t)n;
       continue;

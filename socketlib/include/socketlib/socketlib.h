@@ -7,7 +7,8 @@
  * SL_ETIMEDOUT; a peer that closed cleanly gives SL_ECLOSED, one that closed
  * in the middle of a frame SL_ETRUNCATED. Errors are negative codes from the
  * one table below; sl_strerror() gives the message. For SL_ESYSTEM the errno
- * of the failing call is kept in sl_socket.sys_errno.
+ * of the failing call is kept in sl_socket.sys_errno. Reads and writes never
+ * block in the kernel (MSG_DONTWAIT + poll), whatever the descriptor's mode.
  */
 #ifndef SOCKETLIB_SOCKETLIB_H
 #define SOCKETLIB_SOCKETLIB_H

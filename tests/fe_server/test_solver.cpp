@@ -1,0 +1,169 @@
+// fe_server: deck reader, central-difference solver and the cavity-pressure hook.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "cavity_load.hpp"
+#include "config/port_table.hpp"
+#include "deck_reader.hpp"
+#include "solver.hpp"
+
+namespace {
+
+// A 2 kg mass on a 2e5 N/m spring to a fixed node, kicked with 0.5 m/s.
+const char* kOscillator = R"(*KEYWORD
+*NODE
+1, 0, 0, 0
+2, 0, 0, -0.1, 7
+*ELEMENT_MASS
+1, 1, 2.0
+*BOUNDARY_SPC_NODE
+1, 0, 1, 1, 0
+*PART
+spring
+1, 1, 1
+*SECTION_DISCRETE
+1, 0
+*MAT_SPRING_ELASTIC
+1, 2.0e5
+*ELEMENT_DISCRETE
+1, 1, 2, 1
+*INITIAL_VELOCITY_NODE
+1, 0, 0, 0.5
+*CONTROL_TERMINATION
+0.01
+*END
+)";
+
+std::string deck_error(const std::string& text) {
+  try {
+    fe::parse_deck(text, "deck.k");
+  } catch (const config::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(DeckReader, ReadsTheOscillator) {
+  fe::DeckWarnings w;
+  auto m = fe::parse_deck(kOscillator, "osc.k", &w);
+  EXPECT_TRUE(w.messages.empty());
+  ASSERT_EQ(m.node_ids.size(), 2u);
+  EXPECT_TRUE(m.fixed[1].all());
+  EXPECT_FALSE(m.fixed[0][2]);
+  ASSERT_EQ(m.discretes.size(), 1u);
+  EXPECT_DOUBLE_EQ(m.discretes[0].k, 2.0e5);
+  EXPECT_DOUBLE_EQ(m.end_time, 0.01);
+}
+
+TEST(DeckReader, FixedWidthCardsReadLikeCommaCards) {
+  std::string fixed = "*KEYWORD\n*NODE\n       1             0.0             0.0             0.0\n"
+                      "       2             0.0             0.0            -0.1       7\n"
+                      "*ELEMENT_MASS\n       1       1             2.0\n";
+  auto m = fe::parse_deck(fixed, "fixed.k");
+  EXPECT_DOUBLE_EQ(m.x0[1].z(), -0.1);
+  EXPECT_TRUE(m.fixed[1].all());
+  EXPECT_DOUBLE_EQ(m.mass[0], 2.0);
+}
+
+TEST(DeckReader, ErrorsAndWarningsNameTheLine) {
+  std::string bad = kOscillator;
+  bad.replace(bad.find("1, 1, 2, 1\n"), 11, "1, 1, 7, 1\n");
+  EXPECT_NE(deck_error(bad).find("deck.k:17: node 7 is not defined"), std::string::npos) << deck_error(bad);
+  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n*ELEMENT_SOLID\n1,1,1,1,1,1,1,1,1,1\n").find("change the physics"),
+            std::string::npos);
+  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n").find("has no mass"), std::string::npos);
+  fe::DeckWarnings w;
+  std::string unknown = std::string(kOscillator);
+  unknown.insert(unknown.find("*END"), "*DATABASE_BINARY_D3PLOT\n1e-4\n");
+  fe::parse_deck(unknown, "deck.k", &w);
+  ASSERT_EQ(w.messages.size(), 1u);
+  EXPECT_NE(w.messages[0].find("deck.k:22: warning: keyword *DATABASE_BINARY_D3PLOT"), std::string::npos)
+      << w.messages[0];
+}
+
+TEST(Solver, SpringMassFollowsTheAnalyticSolution) {
+  auto m = fe::parse_deck(kOscillator, "osc.k");
+  const double omega = std::sqrt(2.0e5 / 2.0), v0 = 0.5;
+  const double dt = 0.05 / omega;
+  fe::Solver s(m, dt);
+  const int steps = static_cast<int>(2.0 * 2.0 * M_PI / omega / dt);  // two periods
+  double worst = 0.0;
+  for (int k = 0; k < steps; ++k) {
+    s.step();
+    const double exact = v0 / omega * std::sin(omega * s.time());
+    worst = std::max(worst, std::fabs(s.x()[0].z() - exact));
+  }
+  // Central difference has a relative frequency error of (ω·Δt)²/24, so after
+  // ω·t = 4π radians the phase error is 4π·(ω·Δt)²/24 ≈ 1.3e-3 rad; allow twice that
+  // of the amplitude v0/ω.
+  const double phase_bound = 4.0 * M_PI * (omega * dt) * (omega * dt) / 24.0;
+  EXPECT_LT(worst, 2.0 * phase_bound * v0 / omega);
+  // A conservative system: the energy balance closes to round-off-level, bounded
+  // by the O((ω·Δt)²) oscillation of the discrete energy around its mean.
+  EXPECT_LT(std::fabs(s.energies().balance_error), (omega * dt) * (omega * dt) * 0.5 * 2.0 * v0 * v0);
+}
+
+TEST(Solver, RefusesATimeStepAboveTheStableLimitAndNamesTheElement) {
+  auto m = fe::parse_deck(kOscillator, "osc.k");
+  const double critical = 2.0 / std::sqrt(2.0e5 / 2.0);
+  EXPECT_NEAR(fe::Solver::stable_dt(m), critical, 1e-15);
+  try {
+    fe::Solver s(m, critical);  // above TSSFAC × critical
+    FAIL() << "an unstable step must be refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("discrete element 1 (osc.k:17"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(fe::Solver(m, 0.9 * critical));
+}
+
+TEST(CavityPressureLoad, LoadAndFlowUseTheSameAreaSoPowerBalances) {
+  // A 0.2 m × 0.1 m rigid plate pushed by a cavity on its +z side.
+  const char* plate = R"(*KEYWORD
+*NODE
+1, 0, 0, 0
+2, 0.2, 0, 0
+3, 0.2, 0.1, 0
+4, 0, 0.1, 0
+*ELEMENT_MASS
+1, 1, 1.0
+*SET_NODE_LIST
+1
+1, 2, 3, 4
+*CONSTRAINED_NODAL_RIGID_BODY
+1, 0, 1
+*SET_SEGMENT
+1
+1, 2, 3, 4
+*USER_LOADING_SET
+1, PRESSS, 1
+*INITIAL_VELOCITY_NODE
+1, 0, 0, 0.3
+2, 0, 0, 0.3
+3, 0, 0, 0.3
+4, 0, 0, 0.3
+)";
+  auto m = fe::parse_deck(plate, "plate.k");
+  auto t = config::parse_port_table(
+      "$FMU_SETTINGS\nmodel, p\ntimestep, 1e-4\n$FMU_HOPSAN_PORTS\n1, cav, Hydraulic\n"
+      "$FMU_HOPSAN_SEND\n1, p\n$FMU_HOPSAN_RECEIVE\n1, q\n",
+      "p.cfg");
+  fe::CavityPressureLoad load(m, t);
+  const int slot = load.slot_of_port(1);
+  ASSERT_EQ(slot, 0);
+  load.set_pressure(slot, 2.0e6);
+  std::vector<fe::Vec3> f(m.x0.size(), fe::Vec3::Zero());
+  load.apply(0.0, m.x0, m.v0, f);
+  fe::Vec3 total = fe::Vec3::Zero();
+  for (const auto& fi : f) total += fi;
+  EXPECT_NEAR(total.z(), -2.0e6 * 0.02, 1e-6);  // pushes against the normal (+z)
+  EXPECT_NEAR(load.area(slot), 0.02, 1e-15);
+  const double q = load.flow(slot, m.v0);
+  EXPECT_NEAR(q, 0.02 * 0.3, 1e-15);  // moving into the cavity displaces A·v
+  // Hydraulic power p·q equals the power the pressure takes from the structure.
+  double structural = 0.0;
+  for (size_t i = 0; i < f.size(); ++i) structural -= f[i].dot(m.v0[i]);
+  EXPECT_NEAR(2.0e6 * q, structural, 1e-9);
+}

@@ -1,0 +1,209 @@
+// The generated FMU at the C boundary: loaded from its .fmu by tlm_host's
+// importer, called through the raw fmi2 functions against an in-process
+// test peer.
+#include <dlfcn.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdarg>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "config/port_table.hpp"
+#include "fmi2/fmi2.h"
+#include "fmu_importer.hpp"
+#include "test_peer.hpp"
+
+using testing_support::TestPeer;
+
+namespace {
+
+struct Log {
+  std::vector<std::string> messages;
+  std::string all() const {
+    std::string s;
+    for (const auto& m : messages) s += m + "\n";
+    return s;
+  }
+};
+
+extern "C" void capture(fmi2ComponentEnvironment env, fmi2String, fmi2Status, fmi2String, fmi2String fmt, ...) {
+  char buf[2048];
+  va_list ap;
+  va_start(ap, fmt);
+  std::vsnprintf(buf, sizeof buf, fmt, ap);
+  va_end(ap);
+  static_cast<Log*>(env)->messages.push_back(buf);
+}
+
+// The FMU's functions, looked up by name in its library.
+struct Api {
+#define MEMBER(name) name##TYPE* name;
+  PCS_FMI2_FUNCTIONS(MEMBER)
+#undef MEMBER
+  explicit Api(void* lib) {
+#define LOAD(name) name = reinterpret_cast<name##TYPE*>(dlsym(lib, #name));
+    PCS_FMI2_FUNCTIONS(LOAD)
+#undef LOAD
+  }
+};
+
+class FmuTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    archive = std::make_shared<tlm::FmuArchive>(PCS_ONE_DOF_FMU);
+    api = std::make_unique<Api>(archive->library());
+    table = config::read_port_table(archive->dir() + "/resources/ports.cfg");
+  }
+  fmi2Component instantiate(const std::string& name, Log& log, const std::string& guid = "") {
+    callbacks.push_back(std::make_unique<fmi2CallbackFunctions>(
+        fmi2CallbackFunctions{capture, std::calloc, std::free, nullptr, &log}));
+    return api->fmi2Instantiate(name.c_str(), fmi2CoSimulation,
+                                guid.empty() ? archive->description().guid.c_str() : guid.c_str(),
+                                archive->resource_uri().c_str(), callbacks.back().get(), fmi2False, fmi2False);
+  }
+  void point_at(fmi2Component c, int port, double timeout = 5.0) {
+    fmi2ValueReference vr_host = config::kVrServerHost, vr_port = config::kVrServerPort, vr_to = config::kVrTimeout;
+    fmi2String host = "127.0.0.1";
+    ASSERT_EQ(api->fmi2SetString(c, &vr_host, 1, &host), fmi2OK);
+    ASSERT_EQ(api->fmi2SetInteger(c, &vr_port, 1, &port), fmi2OK);
+    ASSERT_EQ(api->fmi2SetReal(c, &vr_to, 1, &timeout), fmi2OK);
+  }
+  std::shared_ptr<tlm::FmuArchive> archive;
+  std::unique_ptr<Api> api;
+  config::PortTable table;
+  std::vector<std::unique_ptr<fmi2CallbackFunctions>> callbacks;
+};
+
+}  // namespace
+
+TEST_F(FmuTest, ExportsExactlyTheStandardFunctions) {
+  void* lib = archive->library();
+#define CHECK_EXPORTED(name) EXPECT_NE(dlsym(lib, #name), nullptr) << #name;
+  PCS_FMI2_FUNCTIONS(CHECK_EXPORTED)
+#undef CHECK_EXPORTED
+  // Our own code and the static libraries inside stay hidden.
+  EXPECT_EQ(dlsym(lib, "sl_connect"), nullptr);
+  EXPECT_EQ(dlsym(lib, "pcs_send_frame"), nullptr);
+  EXPECT_STREQ(api->fmi2GetVersion(), "2.0");
+  EXPECT_STREQ(api->fmi2GetTypesPlatform(), "default");
+}
+
+TEST_F(FmuTest, RefusesAWrongGuidOrModelExchange) {
+  Log log;
+  EXPECT_EQ(instantiate("bad", log, "pcs-0000000000000000"), nullptr);
+  EXPECT_NE(log.all().find("GUID"), std::string::npos) << log.all();
+  fmi2CallbackFunctions cb{capture, std::calloc, std::free, nullptr, &log};
+  EXPECT_EQ(api->fmi2Instantiate("me", fmi2ModelExchange, archive->description().guid.c_str(),
+                                 archive->resource_uri().c_str(), &cb, fmi2False, fmi2False),
+            nullptr);
+  EXPECT_EQ(api->fmi2Instantiate("nores", fmi2CoSimulation, archive->description().guid.c_str(),
+                                 "http://example/resources", &cb, fmi2False, fmi2False),
+            nullptr);
+  EXPECT_NE(log.all().find("not a file: URI"), std::string::npos) << log.all();
+}
+
+TEST_F(FmuTest, OutOfSequenceCallsAreRefusedWithTheirName) {
+  Log log;
+  fmi2Component c = instantiate("seq", log);
+  ASSERT_NE(c, nullptr);
+  EXPECT_EQ(api->fmi2DoStep(c, 0.0, table.dt, fmi2True), fmi2Error);
+  EXPECT_NE(log.all().find("fmi2DoStep is not allowed in state instantiated"), std::string::npos) << log.all();
+  EXPECT_EQ(api->fmi2ExitInitializationMode(c), fmi2Error);
+  EXPECT_EQ(api->fmi2Terminate(c), fmi2Error);
+  fmi2FMUstate s = nullptr;
+  EXPECT_EQ(api->fmi2GetFMUstate(c, &s), fmi2Error);
+  EXPECT_NE(log.all().find("canGetAndSetFMUstate"), std::string::npos);
+  api->fmi2FreeInstance(c);
+}
+
+TEST_F(FmuTest, StepsAgainstAPeerWithScalingAndTwoInstances) {
+  TestPeer peer1(table), peer2(table);
+  Log log1, log2;
+  fmi2Component a = instantiate("a", log1), b = instantiate("b", log2);
+  ASSERT_NE(a, nullptr);
+  ASSERT_NE(b, nullptr);
+  point_at(a, peer1.port());
+  point_at(b, peer2.port());
+  for (fmi2Component c : {a, b}) {
+    ASSERT_EQ(api->fmi2SetupExperiment(c, fmi2False, 0, 0, fmi2False, 0), fmi2OK);
+    ASSERT_EQ(api->fmi2EnterInitializationMode(c), fmi2OK);
+    ASSERT_EQ(api->fmi2ExitInitializationMode(c), fmi2OK) << log1.all() << log2.all();
+  }
+  // cavity.p (vr 0) in; cavity.q (vr 1), cavity.x (vr 2) out. The peer answers 2·Σin + i.
+  for (int k = 0; k < 3; ++k) {
+    fmi2ValueReference in = 0, out[2] = {1, 2};
+    double pa = 100.0 + k, pb = 7.0;
+    ASSERT_EQ(api->fmi2SetReal(a, &in, 1, &pa), fmi2OK);
+    ASSERT_EQ(api->fmi2SetReal(b, &in, 1, &pb), fmi2OK);
+    ASSERT_EQ(api->fmi2DoStep(a, k * table.dt, table.dt, fmi2True), fmi2OK) << log1.all();
+    ASSERT_EQ(api->fmi2DoStep(b, k * table.dt, table.dt, fmi2True), fmi2OK) << log2.all();
+    double ya[2], yb[2];
+    ASSERT_EQ(api->fmi2GetReal(a, out, 2, ya), fmi2OK);
+    ASSERT_EQ(api->fmi2GetReal(b, out, 2, yb), fmi2OK);
+    EXPECT_DOUBLE_EQ(ya[0], 2.0 * pa * table.to_fe[0].scale * table.to_host[0].scale);
+    EXPECT_DOUBLE_EQ(ya[1], (2.0 * pa + 1.0) * table.to_host[1].scale);
+    EXPECT_DOUBLE_EQ(yb[0], 2.0 * pb);
+  }
+  double last = 0;
+  EXPECT_EQ(api->fmi2GetRealStatus(a, fmi2LastSuccessfulTime, &last), fmi2OK);
+  EXPECT_DOUBLE_EQ(last, 3 * table.dt);
+  for (fmi2Component c : {a, b}) {
+    EXPECT_EQ(api->fmi2Terminate(c), fmi2OK);
+    api->fmi2FreeInstance(c);
+  }
+  peer1.join();
+  peer2.join();
+  EXPECT_EQ(peer1.steps(), 3);
+  EXPECT_EQ(peer2.steps(), 3);
+}
+
+TEST_F(FmuTest, WrongStepSizeIsAnErrorNotADesync) {
+  TestPeer peer(table);
+  Log log;
+  fmi2Component c = instantiate("dt", log);
+  point_at(c, peer.port());
+  ASSERT_EQ(api->fmi2EnterInitializationMode(c), fmi2OK);
+  ASSERT_EQ(api->fmi2ExitInitializationMode(c), fmi2OK);
+  EXPECT_EQ(api->fmi2DoStep(c, 0.0, 2 * table.dt, fmi2True), fmi2Error);
+  EXPECT_NE(log.all().find("communicationStepSize"), std::string::npos) << log.all();
+  api->fmi2FreeInstance(c);
+}
+
+TEST_F(FmuTest, NoServerFailsWithinTheDeadlineNeverHangs) {
+  sl_socket probe = SL_SOCKET_INIT;  // bind and close: a port nobody listens on
+  ASSERT_EQ(sl_listen("127.0.0.1", 0, &probe), SL_OK);
+  int port = sl_local_port(&probe);
+  sl_close(&probe);
+  Log log;
+  fmi2Component c = instantiate("noserver", log);
+  point_at(c, port, 0.3);
+  ASSERT_EQ(api->fmi2EnterInitializationMode(c), fmi2OK);
+  auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(api->fmi2ExitInitializationMode(c), fmi2Error);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+  EXPECT_NE(log.all().find("cannot connect"), std::string::npos) << log.all();
+  EXPECT_NE(log.all().find("SL_EREFUSED"), std::string::npos) << log.all();
+  api->fmi2FreeInstance(c);
+}
+
+TEST_F(FmuTest, StalledPeerTimesOutAndClosedPeerIsNamed) {
+  for (auto behaviour : {TestPeer::Behaviour::StallOnStep, TestPeer::Behaviour::CloseMidFrame,
+                         TestPeer::Behaviour::WrongStep}) {
+    TestPeer peer(table, behaviour);
+    Log log;
+    fmi2Component c = instantiate("fault", log);
+    point_at(c, peer.port(), 0.5);
+    ASSERT_EQ(api->fmi2EnterInitializationMode(c), fmi2OK);
+    ASSERT_EQ(api->fmi2ExitInitializationMode(c), fmi2OK);
+    EXPECT_EQ(api->fmi2DoStep(c, 0.0, table.dt, fmi2True), fmi2Error);
+    const std::string expected = behaviour == TestPeer::Behaviour::StallOnStep     ? "SL_ETIMEDOUT"
+                                 : behaviour == TestPeer::Behaviour::CloseMidFrame ? "SL_ETRUNCATED"
+                                                                                   : "expected RESULT 0";
+    EXPECT_NE(log.all().find(expected), std::string::npos) << log.all();
+    // After an error only reading, reset and freeing are allowed.
+    EXPECT_EQ(api->fmi2DoStep(c, 0.0, table.dt, fmi2True), fmi2Error);
+    api->fmi2FreeInstance(c);
+  }
+}

@@ -1,0 +1,202 @@
+// Socket-level integration: a real fe_server process on an ephemeral loopback
+// port under a hard time-out, and a client that behaves or misbehaves.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+
+#include "config/port_table.hpp"
+#include "coupling_client.hpp"
+#include "fmu_importer.hpp"
+#include "h5io/timeseries.hpp"
+#include "process.hpp"
+#include "socketlib/protocol.h"
+
+using testing_support::ChildProcess;
+using testing_support::TempDir;
+
+namespace {
+
+const std::string kScene = PCS_SCENES_DIR "/one_dof";
+constexpr double kHardTimeout = 20.0;  // no test waits longer for a child
+
+class Server {
+ public:
+  explicit Server(const TempDir& dir, std::vector<std::string> extra = {}) : out(dir.file("fe.h5")) {
+    std::vector<std::string> argv = {PCS_FE_SERVER_EXE, "--model",     kScene + "/piston.k", "--ports",
+                                     kScene + "/ports.cfg", "--listen", "127.0.0.1:0",      "--port-file",
+                                     dir.file("port"),      "--out",    out,                "--accept-timeout",
+                                     "10"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    child = std::make_unique<ChildProcess>(argv);
+    port = testing_support::read_port_file(dir.file("port"), 10.0);
+  }
+  std::unique_ptr<ChildProcess> child;
+  std::string out;
+  int port = -1;
+};
+
+config::PortTable scene_table() { return config::read_port_table(kScene + "/ports.cfg"); }
+
+// Raw HELLO with a chosen header version; returns the server's ABORT reason.
+std::string raw_hello_reason(int port, uint16_t version) {
+  sl_socket s = SL_SOCKET_INIT;
+  EXPECT_EQ(sl_connect("127.0.0.1", port, sl_now_ms() + 5000, &s), SL_OK);
+  config::PortTable t = scene_table();
+  pcs_hello hello{PCS_PROTOCOL_VERSION, t.hash(), t.dt, 1, ""};
+  uint8_t payload[512], frame[600];
+  int n = pcs_encode_hello(&hello, payload, sizeof payload);
+  pcs_header h{PCS_MAGIC, version, PCS_MSG_HELLO, 0, static_cast<uint32_t>(n)};
+  pcs_encode_header(&h, frame);
+  std::memcpy(frame + PCS_HEADER_SIZE, payload, static_cast<size_t>(n));
+  EXPECT_EQ(sl_send_all(&s, frame, PCS_HEADER_SIZE + static_cast<size_t>(n), sl_now_ms() + 5000), SL_OK);
+  uint8_t buf[2048];
+  int rc = pcs_recv_frame(&s, &h, buf, sizeof buf, sl_now_ms() + 5000);
+  sl_close(&s);
+  EXPECT_TRUE(rc == SL_OK || rc == SL_EVERSION) << sl_err_name(rc);
+  EXPECT_EQ(h.type, PCS_MSG_ABORT);
+  pcs_abort a{};
+  pcs_decode_abort(buf, h.payload_size, &a);
+  return a.reason;
+}
+
+}  // namespace
+
+TEST(Link, HandshakeAcceptedStepsAndCleanEnd) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0) << server.child->output();
+  config::PortTable t = scene_table();
+  pcs_fmu::CouplingClient client(t);
+  client.connect("127.0.0.1", server.port, "", 5.0);
+  std::vector<double> in = {1.0e7}, out;
+  for (uint64_t k = 0; k < 5; ++k) client.step(k, static_cast<double>(k) * t.dt, t.dt, in, out);
+  ASSERT_EQ(out.size(), 2u);
+  client.bye();
+  EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output();
+  EXPECT_EQ(h5io::read_series(server.out, "time").size(), 5u);
+}
+
+TEST(Link, VersionMismatchIsRefusedReadablyOnBothSides) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0);
+  std::string reason = raw_hello_reason(server.port, 99);
+  EXPECT_NE(reason.find("protocol version mismatch: server speaks 1, client 99"), std::string::npos) << reason;
+  EXPECT_EQ(server.child->wait(kHardTimeout), 5);
+  EXPECT_NE(server.child->output().find("protocol version mismatch"), std::string::npos) << server.child->output();
+}
+
+TEST(Link, PortTableMismatchIsRefusedReadablyOnBothSides) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0);
+  config::PortTable other = scene_table();
+  other.to_host[0].scale = 2.0;  // a different table: the meaning of q would differ
+  pcs_fmu::CouplingClient client(other);
+  try {
+    client.connect("127.0.0.1", server.port, "", 5.0);
+    FAIL() << "a mismatched port table must be refused";
+  } catch (const pcs_fmu::LinkError& e) {
+    EXPECT_NE(std::string(e.what()).find("port table mismatch"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(server.child->wait(kHardTimeout), 5);
+  EXPECT_NE(server.child->output().find("port table mismatch"), std::string::npos) << server.child->output();
+}
+
+TEST(Link, WrongTokenIsRefused) {
+  TempDir dir;
+  Server server(dir, {"--token", "correct-horse"});
+  ASSERT_GT(server.port, 0);
+  config::PortTable t = scene_table();
+  pcs_fmu::CouplingClient client(t);
+  try {
+    client.connect("127.0.0.1", server.port, "battery-staple", 5.0);
+    FAIL() << "a wrong token must be refused";
+  } catch (const pcs_fmu::LinkError& e) {
+    EXPECT_NE(std::string(e.what()).find("wrong or missing token"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(server.child->wait(kHardTimeout), 5);
+}
+
+TEST(Link, PeerClosedBetweenStepsStopsTheServerWithItsHistoryKept) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0);
+  config::PortTable t = scene_table();
+  {
+    pcs_fmu::CouplingClient client(t);
+    client.connect("127.0.0.1", server.port, "", 5.0);
+    std::vector<double> in = {1.0e7}, out;
+    client.step(0, 0.0, t.dt, in, out);
+    client.step(1, t.dt, t.dt, in, out);
+  }  // closes without BYE, like a killed host
+  EXPECT_EQ(server.child->wait(kHardTimeout), 6) << server.child->output();
+  EXPECT_NE(server.child->output().find("SL_ECLOSED"), std::string::npos) << server.child->output();
+  EXPECT_EQ(h5io::read_series(server.out, "time").size(), 2u) << "the steps done before the loss are kept";
+}
+
+TEST(Link, PeerClosingMidFrameIsTruncated) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0);
+  config::PortTable t = scene_table();
+  sl_socket s = SL_SOCKET_INIT;
+  ASSERT_EQ(sl_connect("127.0.0.1", server.port, sl_now_ms() + 5000, &s), SL_OK);
+  pcs_hello hello{PCS_PROTOCOL_VERSION, t.hash(), t.dt, 1, ""};
+  uint8_t buf[512];
+  int n = pcs_encode_hello(&hello, buf, sizeof buf);
+  ASSERT_EQ(pcs_send_frame(&s, PCS_MSG_HELLO, 0, buf, static_cast<uint32_t>(n), sl_now_ms() + 5000), SL_OK);
+  pcs_header h{};
+  ASSERT_EQ(pcs_recv_frame(&s, &h, buf, sizeof buf, sl_now_ms() + 5000), SL_OK);
+  ASSERT_EQ(h.type, PCS_MSG_HELLO_ACK);
+  uint8_t half[PCS_HEADER_SIZE / 2] = {'P', 'C', 'S', 'C'};
+  ASSERT_EQ(sl_send_all(&s, half, sizeof half, sl_now_ms() + 5000), SL_OK);
+  sl_close(&s);
+  EXPECT_EQ(server.child->wait(kHardTimeout), 6);
+  EXPECT_NE(server.child->output().find("SL_ETRUNCATED"), std::string::npos) << server.child->output();
+}
+
+TEST(Link, ServerReceiveDeadline) {
+  TempDir dir;
+  Server server(dir, {"--step-timeout", "0.5"});
+  ASSERT_GT(server.port, 0);
+  config::PortTable t = scene_table();
+  pcs_fmu::CouplingClient client(t);
+  client.connect("127.0.0.1", server.port, "", 5.0);
+  // Say nothing: the server must give up after its 0.5 s step deadline.
+  EXPECT_EQ(server.child->wait(kHardTimeout), 6);
+  EXPECT_NE(server.child->output().find("SL_ETIMEDOUT"), std::string::npos) << server.child->output();
+}
+
+TEST(Link, FmuThroughTheHostImporterAgainstALiveServer) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0);
+  auto archive = std::make_shared<tlm::FmuArchive>(PCS_ONE_DOF_FMU);
+  config::PortTable t = config::read_port_table(archive->dir() + "/resources/ports.cfg");
+  double x_last = 0.0, swept = 0.0;
+  {
+    tlm::FmuInstance fmu(archive, "piston", false);
+    fmu.set_string(fmu.vr("server.host"), "127.0.0.1");
+    fmu.set_integer(fmu.vr("server.port"), server.port);
+    fmu.setup_experiment(0.0, 0.0);
+    fmu.enter_initialization();
+    fmu.exit_initialization();
+    const unsigned p = fmu.vr("cavity.p"), q = fmu.vr("cavity.q"), x = fmu.vr("cavity.x");
+    for (int k = 0; k < 200; ++k) {
+      fmu.set_real(p, 1.0e7);  // the pressure the spring's preload balances
+      fmu.do_step(k * t.dt, t.dt);
+      swept += fmu.get_real(q) * t.dt;
+      x_last = fmu.get_real(x);
+    }
+    fmu.terminate();
+  }
+  EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output();
+  // The volume the face swept is the face's area times its displacement: q = A·v
+  // and x = Σ v·Δt come from the same velocities, so they agree to round-off.
+  const double area = 1.0e-3;
+  EXPECT_GT(x_last, 0.0) << "the 0.1 m/s kick moves the face into the cavity";
+  EXPECT_NEAR(swept, area * x_last, 1e-9 * area * std::fabs(x_last) + 1e-18);
+}

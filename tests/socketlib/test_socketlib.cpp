@@ -1,0 +1,233 @@
+// socketlib: deadlines, framing and the protocol codecs, over real loopback
+// sockets (socketpair() where no TCP address is needed).
+#include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+#include "socketlib/protocol.h"
+#include "socketlib/socketlib.h"
+
+namespace {
+
+struct Pair {
+  sl_socket a = SL_SOCKET_INIT, b = SL_SOCKET_INIT;
+  Pair() {
+    int fds[2];
+    EXPECT_EQ(socketpair(AF_UNIX, SOCK_STREAM, 0, fds), 0);
+    a.fd = fds[0];
+    b.fd = fds[1];
+  }
+  ~Pair() {
+    sl_close(&a);
+    sl_close(&b);
+  }
+};
+
+int64_t in_ms(int ms) { return sl_now_ms() + ms; }
+
+}  // namespace
+
+TEST(ErrorTable, EveryCodeHasADistinctNameAndMessage) {
+  EXPECT_STREQ(sl_err_name(SL_ETIMEDOUT), "SL_ETIMEDOUT");
+  EXPECT_STREQ(sl_err_name(SL_ECLOSED), "SL_ECLOSED");
+  EXPECT_STRNE(sl_strerror(SL_ETIMEDOUT), sl_strerror(SL_ECLOSED));
+  EXPECT_STRNE(sl_strerror(SL_ECLOSED), sl_strerror(SL_ETRUNCATED));
+  EXPECT_STREQ(sl_strerror(12345), "unknown socketlib error");
+}
+
+TEST(Endpoint, ParsesHostAndPort) {
+  char host[64];
+  int port = 0;
+  ASSERT_EQ(sl_parse_endpoint("127.0.0.1:4711", host, sizeof host, &port), SL_OK);
+  EXPECT_STREQ(host, "127.0.0.1");
+  EXPECT_EQ(port, 4711);
+  ASSERT_EQ(sl_parse_endpoint("[::1]:80", host, sizeof host, &port), SL_OK);
+  EXPECT_STREQ(host, "::1");
+  EXPECT_EQ(sl_parse_endpoint("localhost", host, sizeof host, &port), SL_EADDRESS);
+  EXPECT_EQ(sl_parse_endpoint("h:99999", host, sizeof host, &port), SL_EADDRESS);
+  EXPECT_EQ(sl_parse_endpoint("h:12x", host, sizeof host, &port), SL_EADDRESS);
+  EXPECT_EQ(sl_parse_endpoint(":12", host, sizeof host, &port), SL_EADDRESS);
+}
+
+TEST(Header, IsLittleEndianWithFixedOffsets) {
+  pcs_header h{PCS_MAGIC, 0x0102, 0x0304, 0x0807060504030201ull, 0x0d0c0b0a};
+  uint8_t raw[PCS_HEADER_SIZE];
+  pcs_encode_header(&h, raw);
+  const uint8_t expected[PCS_HEADER_SIZE] = {'P', 'C', 'S', 'C', 0x02, 0x01, 0x04, 0x03, 1, 2, 3, 4,
+                                             5,   6,   7,   8,   0x0a, 0x0b, 0x0c, 0x0d, 0, 0, 0, 0};
+  EXPECT_EQ(std::memcmp(raw, expected, sizeof raw), 0);
+  pcs_header back{};
+  pcs_decode_header(raw, &back);
+  EXPECT_EQ(back.step, h.step);
+  EXPECT_EQ(back.payload_size, h.payload_size);
+}
+
+TEST(Codecs, RoundTripEveryMessage) {
+  uint8_t buf[2048];
+  pcs_hello hello{PCS_PROTOCOL_VERSION, 0x1234567890abcdefull, 1e-6, 10, "secret"};
+  int n = pcs_encode_hello(&hello, buf, sizeof buf);
+  ASSERT_GT(n, 0);
+  pcs_hello h2{};
+  ASSERT_EQ(pcs_decode_hello(buf, static_cast<uint32_t>(n), &h2), SL_OK);
+  EXPECT_EQ(h2.table_hash, hello.table_hash);
+  EXPECT_EQ(h2.dt, 1e-6);
+  EXPECT_EQ(h2.subcycles, 10u);
+  EXPECT_STREQ(h2.token, "secret");
+  // One byte short or one too many: a layout mismatch, never a silent read.
+  EXPECT_EQ(pcs_decode_hello(buf, static_cast<uint32_t>(n - 1), &h2), SL_EMALFORMED);
+  EXPECT_EQ(pcs_decode_hello(buf, static_cast<uint32_t>(n + 1), &h2), SL_EMALFORMED);
+
+  const double v[3] = {1.5, -2.25, 1e300};
+  n = pcs_encode_values(0.5, 1e-5, v, 3, buf, sizeof buf);
+  ASSERT_EQ(n, static_cast<int>(pcs_values_size(3)));
+  double t = 0, dt = 0, out[3];
+  uint32_t count = 0;
+  ASSERT_EQ(pcs_decode_values(buf, static_cast<uint32_t>(n), &t, &dt, out, 3, &count), SL_OK);
+  EXPECT_EQ(count, 3u);
+  EXPECT_EQ(out[1], -2.25);
+  EXPECT_EQ(out[2], 1e300);
+  EXPECT_EQ(pcs_decode_values(buf, static_cast<uint32_t>(n), &t, &dt, out, 2, &count), SL_EMALFORMED);
+
+  pcs_abort a{7, "because"};
+  n = pcs_encode_abort(&a, buf, sizeof buf);
+  pcs_abort a2{};
+  ASSERT_EQ(pcs_decode_abort(buf, static_cast<uint32_t>(n), &a2), SL_OK);
+  EXPECT_STREQ(a2.reason, "because");
+  EXPECT_EQ(pcs_encode_abort(&a, buf, 6), SL_EOVERSIZE);
+}
+
+TEST(Token, ComparesWholeStrings) {
+  EXPECT_TRUE(pcs_token_equal("abc", "abc"));
+  EXPECT_TRUE(pcs_token_equal("", ""));
+  EXPECT_FALSE(pcs_token_equal("abc", "abd"));
+  EXPECT_FALSE(pcs_token_equal("abc", "abcd"));
+  EXPECT_FALSE(pcs_token_equal("", "x"));
+}
+
+TEST(Frames, SendAndReceiveOneFrame) {
+  Pair p;
+  const uint8_t payload[5] = {1, 2, 3, 4, 5};
+  ASSERT_EQ(pcs_send_frame(&p.a, PCS_MSG_STEP, 42, payload, 5, in_ms(1000)), SL_OK);
+  pcs_header h{};
+  uint8_t buf[16];
+  ASSERT_EQ(pcs_recv_frame(&p.b, &h, buf, sizeof buf, in_ms(1000)), SL_OK);
+  EXPECT_EQ(h.type, PCS_MSG_STEP);
+  EXPECT_EQ(h.step, 42u);
+  EXPECT_EQ(h.payload_size, 5u);
+  EXPECT_EQ(buf[4], 5);
+}
+
+TEST(Frames, ReceiveDeadlineTimesOut) {
+  Pair p;
+  pcs_header h{};
+  uint8_t buf[16];
+  auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(pcs_recv_frame(&p.b, &h, buf, sizeof buf, in_ms(100)), SL_ETIMEDOUT);
+  double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_GE(waited, 0.09);
+  EXPECT_LT(waited, 2.0);  // generous: a loaded CI machine, but never a hang
+}
+
+TEST(Frames, PeerClosedBeforeAFrameIsClosedNotTruncated) {
+  Pair p;
+  sl_close(&p.a);
+  pcs_header h{};
+  uint8_t buf[16];
+  EXPECT_EQ(pcs_recv_frame(&p.b, &h, buf, sizeof buf, in_ms(1000)), SL_ECLOSED);
+}
+
+TEST(Frames, PeerClosingMidFrameIsTruncated) {
+  Pair p;
+  uint8_t raw[PCS_HEADER_SIZE];
+  pcs_header h{PCS_MAGIC, PCS_PROTOCOL_VERSION, PCS_MSG_STEP, 0, 100};
+  pcs_encode_header(&h, raw);
+  ASSERT_EQ(sl_send_all(&p.a, raw, 10, in_ms(1000)), SL_OK);  // half a header
+  sl_close(&p.a);
+  uint8_t buf[128];
+  EXPECT_EQ(pcs_recv_frame(&p.b, &h, buf, sizeof buf, in_ms(1000)), SL_ETRUNCATED);
+}
+
+TEST(Frames, PayloadCutShortIsTruncated) {
+  Pair p;
+  uint8_t raw[PCS_HEADER_SIZE + 3];
+  pcs_header h{PCS_MAGIC, PCS_PROTOCOL_VERSION, PCS_MSG_STEP, 0, 100};
+  pcs_encode_header(&h, raw);
+  ASSERT_EQ(sl_send_all(&p.a, raw, sizeof raw, in_ms(1000)), SL_OK);
+  sl_close(&p.a);
+  uint8_t buf[128];
+  EXPECT_EQ(pcs_recv_frame(&p.b, &h, buf, sizeof buf, in_ms(1000)), SL_ETRUNCATED);
+}
+
+TEST(Frames, BadMagicAndOversizeAreRefused) {
+  Pair p;
+  uint8_t raw[PCS_HEADER_SIZE];
+  pcs_header h{0xdeadbeef, PCS_PROTOCOL_VERSION, PCS_MSG_STEP, 0, 0};
+  pcs_encode_header(&h, raw);
+  ASSERT_EQ(sl_send_all(&p.a, raw, sizeof raw, in_ms(1000)), SL_OK);
+  uint8_t buf[16];
+  EXPECT_EQ(pcs_recv_frame(&p.b, &h, buf, sizeof buf, in_ms(1000)), SL_EBADMAGIC);
+
+  pcs_header big{PCS_MAGIC, PCS_PROTOCOL_VERSION, PCS_MSG_STEP, 0, 0xffffffffu};
+  pcs_encode_header(&big, raw);
+  ASSERT_EQ(sl_send_all(&p.a, raw, sizeof raw, in_ms(1000)), SL_OK);
+  EXPECT_EQ(pcs_recv_frame(&p.b, &h, buf, sizeof buf, in_ms(1000)), SL_EOVERSIZE);
+}
+
+TEST(Frames, OtherVersionIsReportedWithTheFrameStillReadable) {
+  Pair p;
+  uint8_t raw[PCS_HEADER_SIZE + 4] = {};
+  pcs_header h{PCS_MAGIC, 99, PCS_MSG_ABORT, 0, 4};
+  pcs_encode_header(&h, raw);
+  ASSERT_EQ(sl_send_all(&p.a, raw, sizeof raw, in_ms(1000)), SL_OK);
+  uint8_t buf[16];
+  pcs_header got{};
+  EXPECT_EQ(pcs_recv_frame(&p.b, &got, buf, sizeof buf, in_ms(1000)), SL_EVERSION);
+  EXPECT_EQ(got.version, 99);
+  EXPECT_EQ(got.type, PCS_MSG_ABORT);
+}
+
+TEST(Tcp, ConnectIsRefusedUntilTheDeadline) {
+  // Bind then close to find a port that nobody listens on.
+  sl_socket l = SL_SOCKET_INIT;
+  ASSERT_EQ(sl_listen("127.0.0.1", 0, &l), SL_OK);
+  int port = sl_local_port(&l);
+  sl_close(&l);
+  sl_socket c = SL_SOCKET_INIT;
+  auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(sl_connect("127.0.0.1", port, in_ms(300), &c), SL_EREFUSED);
+  double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_GE(waited, 0.25);  // it retried until the deadline
+  EXPECT_LT(waited, 3.0);
+}
+
+TEST(Tcp, ConnectRetriesUntilTheServerListens) {
+  sl_socket l = SL_SOCKET_INIT;
+  ASSERT_EQ(sl_listen("127.0.0.1", 0, &l), SL_OK);
+  int port = sl_local_port(&l);
+  sl_close(&l);
+  std::thread server([port] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    sl_socket s = SL_SOCKET_INIT, conn = SL_SOCKET_INIT;
+    ASSERT_EQ(sl_listen("127.0.0.1", port, &s), SL_OK);
+    EXPECT_EQ(sl_accept(&s, in_ms(3000), &conn), SL_OK);
+    sl_close(&conn);
+    sl_close(&s);
+  });
+  sl_socket c = SL_SOCKET_INIT;
+  EXPECT_EQ(sl_connect("127.0.0.1", port, in_ms(5000), &c), SL_OK);
+  sl_close(&c);
+  server.join();
+}
+
+TEST(Tcp, AcceptTimesOut) {
+  sl_socket l = SL_SOCKET_INIT, conn = SL_SOCKET_INIT;
+  ASSERT_EQ(sl_listen("127.0.0.1", 0, &l), SL_OK);
+  EXPECT_GT(sl_local_port(&l), 0);
+  EXPECT_EQ(sl_accept(&l, in_ms(50), &conn), SL_ETIMEDOUT);
+  sl_close(&l);
+}

@@ -1,0 +1,44 @@
+// An in-process stand-in for fe_server, for FMU and client tests: it speaks
+// the server side of the protocol on an ephemeral loopback port in a thread
+// and can be told to misbehave.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <thread>
+
+#include "config/port_table.hpp"
+#include "socketlib/protocol.h"
+
+namespace testing_support {
+
+class TestPeer {
+ public:
+  enum class Behaviour {
+    Echo,           // RESULT values[i] = 2 * (sum of inputs) + i
+    StallOnStep,    // accept STEP but never answer
+    CloseMidFrame,  // answer STEP with half a header, then close
+    WrongStep,      // answer STEP k with RESULT k + 1
+  };
+  TestPeer(const config::PortTable& table, Behaviour b = Behaviour::Echo, std::string token = "");
+  ~TestPeer();
+  int port() const { return port_; }
+  // Steps answered so far and the last error the peer saw (empty if none).
+  int steps() const { return steps_; }
+  std::string error() const;
+  void join();
+
+ private:
+  void serve();
+  const config::PortTable& table_;
+  Behaviour behaviour_;
+  std::string token_;
+  sl_socket listener_ = SL_SOCKET_INIT;
+  int port_ = 0;
+  std::atomic<int> steps_{0};
+  std::string error_;
+  std::thread thread_;
+};
+
+}  // namespace testing_support

@@ -1,0 +1,161 @@
+// tlm_host: component equations against their physics, and the model reader.
+#include <gtest/gtest.h>
+#include <zip.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "components/HydraulicTurbulentOrificeQ.hpp"
+#include "fmu_importer.hpp"
+#include "model.hpp"
+#include "process.hpp"
+
+namespace {
+
+std::string write_model(const testing_support::TempDir& dir, const std::string& text) {
+  std::string path = dir.file("model.tlm");
+  std::ofstream(path) << text;
+  return path;
+}
+
+}  // namespace
+
+TEST(TurbulentOrifice, ExactSolutionSatisfiesTheOrificeEquation) {
+  const double K = 0.65 * 1e-5 * std::sqrt(2.0 / 870.0);
+  for (double Z : {0.0, 1e8, 1e11, 1e13}) {
+    for (double dc : {-5e6, -1.0, 0.0, 3e5, 2e7}) {
+      const double c1 = 1e7 + dc, c2 = 1e7, Zc1 = Z, Zc2 = 0.5 * Z;
+      const double q = tlm::turbulent_orifice_flow(c1, c2, Zc1, Zc2, K);
+      EXPECT_GE(q * dc, 0.0) << "flow must go from high to low pressure";
+      // |q| = x solves x² + K²·Z·x − K²·D = 0 (D = |c1 − c2|, Z = Zc1 + Zc2).
+      // Recomputing Δp from the ~1e7 Pa node pressures would cancel
+      // catastrophically when Z·x ≈ D, so the root is checked on the quadratic:
+      // its residual must be round-off of its largest term.
+      const double x = std::fabs(q), D = std::fabs(c1 - c2), Zs = Zc1 + Zc2;
+      const double terms[3] = {x * x, K * K * Zs * x, K * K * D};
+      const double scale = std::max({terms[0], terms[1], terms[2]});
+      EXPECT_LE(std::fabs(terms[0] + terms[1] - terms[2]), 1e-12 * scale) << "Z=" << Z << " dc=" << dc;
+      if (Z == 0.0) {
+        EXPECT_DOUBLE_EQ(x, K * std::sqrt(D)) << "stiff nodes: the plain orifice law";
+      }
+    }
+  }
+}
+
+TEST(HydraulicVolume, PressurisationRateIsBetaOverVTimesFlow) {
+  // A 1 l volume fed through an orifice from 200 bar, starting at 10 bar.
+  testing_support::TempDir dir;
+  std::string path = write_model(dir, R"(*SIMULATION
+timestep, 1e-6
+stoptime, 2e-4
+*COMPONENT
+src, PressureSourceC, p=2.0e7
+ori, HydraulicTurbulentOrificeQ, Cd=0.6, A=2e-6, rho=870
+vol, HydraulicVolumeC, V=1e-3, beta=1.5e9, p0=1e6, ports=1
+*CONNECT
+src.P1, ori.P1
+ori.P2, vol.P1
+)");
+  tlm::System sys(tlm::read_model(path));
+  sys.run(dir.file("r.h5"), false);
+  auto t = h5io::read_series(dir.file("r.h5"), "time");
+  auto p = h5io::read_series(dir.file("r.h5"), "nodes/vol.P1/p");
+  auto q = h5io::read_series(dir.file("r.h5"), "nodes/vol.P1/q");
+  ASSERT_EQ(t.size(), 201u);
+  // Over the run p rises by ~0.36 bar of 190: q is nearly constant, so the
+  // mean rate is β/V·q to within the relative change of q (≈ 1e-3).
+  const double rate = (p[200] - p[100]) / (t[200] - t[100]);
+  const double expected = 1.5e9 / 1e-3 * 0.5 * (q[100] + q[200]);
+  EXPECT_NEAR(rate, expected, 2e-3 * expected);
+  // And the flow is the orifice's at that pressure difference.
+  const double K = 0.6 * 2e-6 * std::sqrt(2.0 / 870.0);
+  EXPECT_NEAR(q[150], K * std::sqrt(2e7 - p[150]), 1e-6 * q[150]);
+}
+
+TEST(HydraulicVolume, ClosedCircuitConservesMass) {
+  // Two volumes at different pressures joined by an orifice: the pressure
+  // settles where β/V-weighted mass balance says, V1·p1 + V2·p2 conserved.
+  testing_support::TempDir dir;
+  std::string path = write_model(dir, R"(*SIMULATION
+timestep, 1e-6
+stoptime, 0.05
+*COMPONENT
+a, HydraulicVolumeC, V=1e-4, beta=1e9, p0=2e7, ports=1
+b, HydraulicVolumeC, V=3e-4, beta=1e9, p0=0, ports=1
+o, HydraulicTurbulentOrificeQ, Cd=0.7, A=1e-6
+*CONNECT
+a.P1, o.P1
+o.P2, b.P1
+)");
+  tlm::System sys(tlm::read_model(path));
+  sys.run(dir.file("r.h5"), false);
+  auto pa = h5io::read_series(dir.file("r.h5"), "nodes/a.P1/p");
+  auto pb = h5io::read_series(dir.file("r.h5"), "nodes/b.P1/p");
+  const double before = 1e-4 * 2e7, after = 1e-4 * pa.back() + 3e-4 * pb.back();
+  // TLM volumes integrate flow exactly (it is summed, not approximated), so
+  // the oil volume is conserved to round-off of the ~1e7 Pa pressures.
+  EXPECT_NEAR(after, before, 1e-9 * before);
+  EXPECT_NEAR(pa.back(), 5e6, 0.01 * 5e6) << "equalised at (1·20 + 3·0)/4 MPa";
+}
+
+TEST(ModelReader, ErrorsNameTheLineAndTheFix) {
+  testing_support::TempDir dir;
+  auto error_of = [&](const std::string& text) -> std::string {
+    try {
+      tlm::System sys(tlm::read_model(write_model(dir, text)));
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string head = "*SIMULATION\ntimestep, 1e-6\nstoptime, 1e-3\n*COMPONENT\n";
+  std::string e = error_of(head + "v, HydraulicVolumeC, V=1e-3, Vee=3\n");
+  EXPECT_NE(e.find("model.tlm:5: component v has no parameter 'Vee'"), std::string::npos) << e;
+  e = error_of(head + "v, NoSuchThing\n");
+  EXPECT_NE(e.find("unknown component type 'NoSuchThing'"), std::string::npos) << e;
+  e = error_of(head + "a, HydraulicVolumeC, ports=1\nb, HydraulicVolumeC, ports=1\n*CONNECT\na.P1, b.P1\n");
+  EXPECT_NE(e.find("model.tlm:8: 'a.P1' and 'b.P1' are both C-type"), std::string::npos) << e;
+  e = error_of(head + "a, HydraulicVolumeC, ports=1\n");
+  EXPECT_NE(e.find("port a.P1 is not connected"), std::string::npos) << e;
+  e = error_of(head + "a, HydraulicVolumeC, V=-1\n");
+  EXPECT_NE(e.find("V must be positive"), std::string::npos) << e;
+  tlm::ModelSpec spec = tlm::parse_model(head + "a, HydraulicVolumeC, ports=1\n", "m.tlm");
+  EXPECT_THROW(spec.apply_override("nobody.V=1"), std::invalid_argument);
+  spec.apply_override("simulation.stoptime=2.5");
+  EXPECT_EQ(spec.stop_time, 2.5);
+}
+
+TEST(FmuImporter, RefusesAnArchiveThatWritesOutsideItsFolder) {
+  testing_support::TempDir dir;
+  std::string path = dir.file("evil.fmu");
+  int err = 0;
+  zip_t* z = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
+  ASSERT_NE(z, nullptr);
+  static const char text[] = "x";
+  zip_file_add(z, "../escaped.txt", zip_source_buffer(z, text, 1, 0), 0);
+  ASSERT_EQ(zip_close(z), 0);
+  try {
+    tlm::FmuArchive a(path);
+    FAIL() << "an entry with .. must be refused";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("leaves the FMU folder"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::ifstream(dir.path() + "/../escaped.txt").good());
+}
+
+TEST(FmuImporter, ReadsTheGeneratedModelDescriptionAndCleansUp) {
+  std::string dir;
+  {
+    tlm::FmuArchive a(PCS_ONE_DOF_FMU);
+    dir = a.dir();
+    const auto& md = a.description();
+    EXPECT_EQ(md.model_identifier, "one_dof");
+    ASSERT_NE(md.find("cavity.q"), nullptr);
+    EXPECT_EQ(md.find("cavity.q")->causality, "output");
+    EXPECT_EQ(md.find("cavity.q")->type, "Real");
+    EXPECT_EQ(md.find("server.host")->type, "String");
+  }
+  EXPECT_FALSE(std::ifstream(dir + "/modelDescription.xml").good()) << "the temporary folder must be removed";
+}

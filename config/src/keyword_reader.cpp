@@ -25,6 +25,14 @@ std::string to_lower(std::string s) {
   return s;
 }
 
+std::string read_text_file(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot open " + what + " '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 double parse_real(const std::string& text, const SourceLocation& where, const std::string& what) {
   std::string t = trim(text);
   // Fortran-style exponents ("1.0d-6") appear in decks written by older tools.
@@ -117,15 +125,14 @@ static std::vector<Block> parse_impl(const std::string& text, const std::string&
 
 static std::vector<Block> read_impl(const std::string& path, bool follow_includes, int depth,
                                     const SourceLocation* from) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    std::string msg = "cannot open '" + path + "'";
-    if (from) throw InputError(*from, msg);
-    throw std::runtime_error(msg);
+  std::string text;
+  try {
+    text = read_text_file(path, "include file");
+  } catch (const std::runtime_error& e) {
+    if (from) throw InputError(*from, e.what());
+    throw;
   }
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_impl(ss.str(), path, follow_includes, depth);
+  return parse_impl(text, path, follow_includes, depth);
 }
 
 static std::vector<Block> parse_impl(const std::string& text, const std::string& name,

@@ -230,14 +230,7 @@ PortTable parse_port_table(const std::string& text, const std::string& name) {
 }
 
 PortTable read_port_table(const std::string& path) {
-  auto blocks_text = [&]() {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw std::runtime_error("cannot open port configuration '" + path + "'");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
-  return parse_port_table(blocks_text(), path);
+  return parse_port_table(read_text_file(path, "port configuration"), path);
 }
 
 std::vector<FmuVariable> fmu_variables(const PortTable& t) {

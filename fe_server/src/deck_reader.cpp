@@ -248,11 +248,7 @@ Model parse_deck(const std::string& text, const std::string& name, DeckWarnings*
 }
 
 Model read_deck(const std::string& path, DeckWarnings* warnings) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot open deck '" + path + "'");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_deck(ss.str(), path, warnings);
+  return parse_deck(config::read_text_file(path, "deck"), path, warnings);
 }
 
 }  // namespace fe

@@ -20,14 +20,6 @@
 
 namespace {
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read '" + path + "'");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 void add_entry(zip_t* z, const std::string& name, const std::string& data, const std::string& out) {
   // libzip copies the buffer only at zip_close; `data` must outlive it, so the
   // source is told to free a heap copy.
@@ -76,7 +68,7 @@ int main(int argc, char** argv) {
   if (ports.empty() || out.empty()) return usage(std::cerr, 2);
   try {
     config::PortTable table = config::read_port_table(ports);
-    std::string so = slurp(binary);
+    std::string so = config::read_text_file(binary, "FMU binary");
     std::remove(out.c_str());
     int err = 0;
     zip_t* z = zip_open(out.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
@@ -84,7 +76,7 @@ int main(int argc, char** argv) {
     try {
       add_entry(z, "modelDescription.xml", fmugen::model_description_xml(table, description), out);
       add_entry(z, "binaries/linux64/" + table.model_name + ".so", so, out);
-      add_entry(z, "resources/ports.cfg", slurp(ports), out);
+      add_entry(z, "resources/ports.cfg", config::read_text_file(ports, "port configuration"), out);
       add_entry(z, "documentation/externalDependencies.txt",
                 fmugen::external_dependencies_text(table), out);
     } catch (...) {

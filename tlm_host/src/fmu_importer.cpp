@@ -1,5 +1,7 @@
 #include "fmu_importer.hpp"
 
+#include "config/keyword_reader.hpp"
+
 #include <dlfcn.h>
 #include <zip.h>
 
@@ -198,11 +200,9 @@ FmuArchive::FmuArchive(const std::string& fmu_path) : path_(fmu_path) {
     }
     zip_close(z);
     z = nullptr;
-    std::ifstream mdf(fs::path(dir_) / "modelDescription.xml", std::ios::binary);
-    if (!mdf) throw FmuError(fmu_path + ": no modelDescription.xml");
-    std::stringstream ss;
-    ss << mdf.rdbuf();
-    md_ = parse_model_description(ss.str(), fmu_path + "/modelDescription.xml");
+    if (!fs::exists(fs::path(dir_) / "modelDescription.xml")) throw FmuError(fmu_path + ": no modelDescription.xml");
+    md_ = parse_model_description(config::read_text_file(dir_ + "/modelDescription.xml", "model description"),
+                                  fmu_path + "/modelDescription.xml");
     std::string so = dir_ + "/binaries/linux64/" + md_.model_identifier + ".so";
     lib_ = dlopen(so.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!lib_) throw FmuError(fmu_path + ": cannot load binaries/linux64/" + md_.model_identifier + ".so: " + dlerror());

@@ -95,11 +95,7 @@ ModelSpec parse_model(const std::string& text, const std::string& name) {
 }
 
 ModelSpec read_model(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot open model '" + path + "'");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_model(ss.str(), path);
+  return parse_model(config::read_text_file(path, "model"), path);
 }
 
 System::System(ModelSpec spec) : spec_(std::move(spec)) {

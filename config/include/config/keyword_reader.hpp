@@ -69,6 +69,9 @@ std::vector<std::string> split_fixed(const std::string& line, const std::vector<
 double parse_real(const std::string& text, const SourceLocation& where, const std::string& what);
 long parse_integer(const std::string& text, const SourceLocation& where, const std::string& what);
 
+// The whole file as a string; throws std::runtime_error "cannot open <what> '<path>'".
+std::string read_text_file(const std::string& path, const std::string& what = "file");
+
 std::string trim(const std::string& s);
 std::string to_upper(std::string s);
 std::string to_lower(std::string s);

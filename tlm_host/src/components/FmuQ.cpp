@@ -62,28 +62,24 @@ void FmuQ::initialize(double dt) {
   if (!token_.empty()) fmu_->set_string(fmu_->vr("server.token"), token_);
   fmu_->setup_experiment(0.0, 0.0);
   fmu_->enter_initialization();
-  for (auto& hp : hports_) {
-    const HydraulicNode& n = *ports_[hp.port].node;
-    if (hp.tlm) {
-      fmu_->set_real(hp.vr_c, n.c);
-      fmu_->set_real(hp.vr_Zc, n.Zc);
-    } else {
-      fmu_->set_real(hp.vr_p, n.c);
-    }
-  }
+  send_inputs();
   fmu_->exit_initialization();  // connects to fe_server
 }
 
-void FmuQ::simulate_one_step(double t) {
-  for (auto& hp : hports_) {
+void FmuQ::send_inputs() {
+  for (const auto& hp : hports_) {
     const HydraulicNode& n = *ports_[hp.port].node;
     if (hp.tlm) {
       fmu_->set_real(hp.vr_c, n.c);
       fmu_->set_real(hp.vr_Zc, n.Zc);
     } else {
-      fmu_->set_real(hp.vr_p, n.c + n.Zc * hp.q);
+      fmu_->set_real(hp.vr_p, n.c + n.Zc * hp.q);  // the last step's flow: one step delay
     }
   }
+}
+
+void FmuQ::simulate_one_step(double t) {
+  send_inputs();
   fmu_->do_step(t, dt_);
   for (auto& hp : hports_) {
     HydraulicNode& n = *ports_[hp.port].node;

@@ -39,6 +39,8 @@ class FmuQ : public Component {
     unsigned vr = 0;
     double value = 0.0;
   };
+  // Inputs for the coming step from each port's node (pressure or c, Zc).
+  void send_inputs();
   std::shared_ptr<FmuArchive> archive_;
   std::unique_ptr<FmuInstance> fmu_;
   std::vector<HydraulicPort> hports_;

@@ -46,6 +46,21 @@ Port* Component::port(const std::string& port_name) {
   return nullptr;
 }
 
+SignalPort* Component::signal(const std::string& signal_name) {
+  for (auto& s : signals_)
+    if (s.name == signal_name) return &s;
+  return nullptr;
+}
+
+void Component::add_signal_output(const std::string& signal_name, double* value) {
+  signals_.push_back(SignalPort{signal_name, true, value, nullptr, false});
+}
+
+void Component::add_signal_input(const std::string& signal_name, const double** source, const double* fallback) {
+  *source = fallback;
+  signals_.push_back(SignalPort{signal_name, false, nullptr, source, fallback != nullptr});
+}
+
 Port& Component::add_port(const std::string& port_name, Kind side) {
   ports_.push_back(Port{port_name, side, nullptr});
   return ports_.back();

@@ -22,6 +22,18 @@ struct Port {
   HydraulicNode* node = nullptr;
 };
 
+// A signal (a position, a velocity, ...) one component offers and others
+// read: outputs point at the owner's variable; an input is bound to an output
+// by *CONNECT and reads it through `source`. Values are read as they are
+// when the reader runs (loop order signal → C → Q, components in file order).
+struct SignalPort {
+  std::string name;
+  bool output = false;
+  double* value = nullptr;          // output: the owner's variable
+  const double** source = nullptr;  // input: where the binding is stored
+  bool optional = false;            // input: may stay unconnected (reads its default)
+};
+
 // A value to log each step: a name below the component and where to read it.
 struct LogVariable {
   std::string name;
@@ -72,11 +84,20 @@ class Component {
   const std::string& name() const { return name_; }
   std::vector<Port>& ports() { return ports_; }
   Port* port(const std::string& name);
+  std::vector<SignalPort>& signals() { return signals_; }
+  SignalPort* signal(const std::string& name);
+  // Largest stable time step of this component (infinity if it has no
+  // limit), and what limits it; the host warns before a run that exceeds it.
+  virtual double stable_step(std::string* /*why*/) const { return 1e300; }
 
  protected:
   Port& add_port(const std::string& port_name, Kind side);
+  void add_signal_output(const std::string& signal_name, double* value);
+  // `source` is set to the bound output; an optional input starts at `fallback`.
+  void add_signal_input(const std::string& signal_name, const double** source, const double* fallback = nullptr);
   std::string name_;
   std::vector<Port> ports_;
+  std::vector<SignalPort> signals_;
 };
 
 using ComponentFactory = std::function<std::unique_ptr<Component>(const std::string& name)>;

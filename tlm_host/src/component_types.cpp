@@ -1,9 +1,18 @@
 // The registry of component types a model file may name.
 #include "component.hpp"
+#include "components/ControlSpoolQ.hpp"
+#include "components/FlowSourceQ.hpp"
 #include "components/FmuQ.hpp"
+#include "components/GasAccumulatorC.hpp"
+#include "components/HammerPistonQ.hpp"
 #include "components/HydraulicTurbulentOrificeQ.hpp"
 #include "components/HydraulicVolumeC.hpp"
+#include "components/LaminarOrificeQ.hpp"
+#include "components/LosslessLineC.hpp"
 #include "components/PressureSourceC.hpp"
+#include "components/ReliefValveQ.hpp"
+#include "components/SpoolValveQ.hpp"
+#include "components/VariableOrificeQ.hpp"
 
 namespace tlm {
 
@@ -18,6 +27,15 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"HydraulicVolumeC", make<HydraulicVolumeC>()},
       {"HydraulicTurbulentOrificeQ", make<HydraulicTurbulentOrificeQ>()},
       {"FmuQ", make<FmuQ>()},
+      {"FlowSourceQ", make<FlowSourceQ>()},
+      {"LaminarOrificeQ", make<LaminarOrificeQ>()},
+      {"ReliefValveQ", make<ReliefValveQ>()},
+      {"LosslessLineC", make<LosslessLineC>()},
+      {"GasAccumulatorC", make<GasAccumulatorC>()},
+      {"VariableOrificeQ", make<VariableOrificeQ>()},
+      {"SpoolValveQ", make<SpoolValveQ>()},
+      {"ControlSpoolQ", make<ControlSpoolQ>()},
+      {"HammerPistonQ", make<HammerPistonQ>()},
   };
   return types;
 }

@@ -110,22 +110,41 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
     }
     components_.push_back(std::move(comp));
   }
-  auto resolve = [&](const std::string& ref, const config::SourceLocation& where) -> std::pair<Component*, Port*> {
+  auto component_of = [&](const std::string& ref, const config::SourceLocation& where) {
     size_t dot = ref.find('.');
     if (dot == std::string::npos) throw InputError(where, "'" + ref + "': expected COMPONENT.PORT");
     Component* c = find(ref.substr(0, dot));
     if (!c) throw InputError(where, "no component named '" + ref.substr(0, dot) + "'");
-    Port* p = c->port(ref.substr(dot + 1));
+    return std::make_pair(c, ref.substr(dot + 1));
+  };
+  auto resolve = [&](const std::string& ref, const config::SourceLocation& where) -> std::pair<Component*, Port*> {
+    auto [c, name] = component_of(ref, where);
+    Port* p = c->port(name);
     if (!p) {
       std::string names;
       for (const auto& q : c->ports()) names += (names.empty() ? "" : ", ") + q.name;
-      throw InputError(where, c->name() + " (" + c->type_name() + ") has no port '" + ref.substr(dot + 1) +
-                                  "'; its ports: " + names);
+      for (const auto& s : c->signals()) names += (names.empty() ? "" : ", ") + s.name + (s.output ? " (signal out)" : " (signal in)");
+      throw InputError(where, c->name() + " (" + c->type_name() + ") has no port '" + name + "'; its ports: " + names);
     }
     if (p->node) throw InputError(where, "port " + ref + " is connected twice");
     return {c, p};
   };
   for (const auto& con : spec_.connections) {
+    // A signal connection: one output, one input.
+    auto [ca0, na] = component_of(con.a, con.where);
+    auto [cb0, nb] = component_of(con.b, con.where);
+    SignalPort* sa = ca0->signal(na);
+    SignalPort* sb = cb0->signal(nb);
+    if (sa || sb) {
+      if (!sa || !sb || sa->output == sb->output)
+        throw InputError(con.where, "'" + con.a + "' and '" + con.b + "': a signal connection joins one signal output and one signal input");
+      SignalPort* in = sa->output ? sb : sa;
+      SignalPort* out = sa->output ? sa : sb;
+      if (bound_.count(in)) throw InputError(con.where, "signal input " + (sa->output ? con.b : con.a) + " is connected twice");
+      *in->source = out->value;
+      bound_.insert(in);
+      continue;
+    }
     auto [ca, pa] = resolve(con.a, con.where);
     auto [cb, pb] = resolve(con.b, con.where);
     if (pa->side == pb->side)
@@ -139,6 +158,11 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
     pa->node = pb->node = node.get();
     nodes_.push_back(std::move(node));
   }
+  for (auto& c : components_)
+    for (auto& s : c->signals())
+      if (!s.output && !s.optional && !bound_.count(&s))
+        throw InputError(config::SourceLocation{spec_.source, 1},
+                         "signal input " + c->name() + "." + s.name + " is not connected (add it to *CONNECT)");
   for (auto& c : components_)
     for (auto& p : c->ports())
       if (!p.node)
@@ -158,6 +182,14 @@ void System::run(const std::string& out_path, bool progress) {
   const double dt = spec_.dt;
   const long steps = std::lround(spec_.stop_time / dt);
   for (auto& c : components_) c->initialize(dt);
+  // Stability advisor: each component's largest stable step, before the run.
+  for (auto& c : components_) {
+    std::string why;
+    const double limit = c->stable_step(&why);
+    if (dt > limit)
+      std::cerr << "tlm_host: warning: time step " << dt << " s exceeds the stable step " << limit << " s of " << why
+                << "; expect a blow-up or lower timestep\n";
+  }
 
   h5io::TimeSeriesWriter out(out_path);
   out.set_attribute("producer", "tlm_host");

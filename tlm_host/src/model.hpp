@@ -9,6 +9,7 @@
 #pragma once
 
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,7 @@ class System {
   std::vector<std::unique_ptr<HydraulicNode>> nodes_;
   std::vector<Component*> signal_, c_type_, q_type_;
   long steps_done_ = 0;
+  std::set<const SignalPort*> bound_;
 };
 
 }  // namespace tlm

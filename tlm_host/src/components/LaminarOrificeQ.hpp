@@ -1,0 +1,38 @@
+// Laminar orifice or leakage path (Q-type): q = Kc·(p1 − p2), flow 1 → 2.
+// With p1 = c1 − Zc1·q and p2 = c2 + Zc2·q (q leaves node 1, enters node 2):
+//   q = Kc·(c1 − c2) / (1 + Kc·(Zc1 + Zc2)),
+// exact, and the flow always runs down the pressure difference it leaves.
+#pragma once
+
+#include "component.hpp"
+
+namespace tlm {
+
+class LaminarOrificeQ : public Component {
+ public:
+  using Component::Component;
+  Kind kind() const override { return Kind::Q; }
+  const char* type_name() const override { return "LaminarOrificeQ"; }
+  void configure(ParameterSet& prm) override {
+    Kc_ = prm.real("Kc");  // m³/(s·Pa)
+    if (Kc_ < 0.0) throw config::InputError(prm.where(), name_ + ": Kc must not be negative");
+    add_port("P1", Kind::Q);
+    add_port("P2", Kind::Q);
+  }
+  void initialize(double) override {}
+  void simulate_one_step(double) override {
+    HydraulicNode& n1 = *ports_[0].node;
+    HydraulicNode& n2 = *ports_[1].node;
+    q_ = Kc_ * (n1.c - n2.c) / (1.0 + Kc_ * (n1.Zc + n2.Zc));
+    n1.q = -q_;
+    n2.q = q_;
+    n1.p = n1.c + n1.Zc * n1.q;
+    n2.p = n2.c + n2.Zc * n2.q;
+  }
+  void log_variables(std::vector<LogVariable>& out) override { out.push_back({"q", "m3/s", &q_}); }
+
+ private:
+  double Kc_ = 0.0, q_ = 0.0;
+};
+
+}  // namespace tlm

@@ -1,0 +1,47 @@
+// Turbulent orifice whose area is a table of a signal (Q-type): grooves
+// opened by the piston, valve edges, ... The area table A(x) is given as
+// "x1:A1; x2:A2; ..." and interpolated linearly (held outside its range);
+// the flow is the exact TLM solution of HydraulicTurbulentOrificeQ.
+#pragma once
+
+#include "HydraulicTurbulentOrificeQ.hpp"
+#include "table.hpp"
+
+namespace tlm {
+
+class VariableOrificeQ : public Component {
+ public:
+  using Component::Component;
+  Kind kind() const override { return Kind::Q; }
+  const char* type_name() const override { return "VariableOrificeQ"; }
+  void configure(ParameterSet& prm) override {
+    Cd_ = prm.positive("Cd", 0.67);
+    rho_ = prm.positive("rho", 870.0);
+    area_ = Table(prm.text("area", ""), prm.where(), name_ + ": area table");
+    add_port("P1", Kind::Q);
+    add_port("P2", Kind::Q);
+    add_signal_input("x", &x_);
+  }
+  void initialize(double) override {}
+  void simulate_one_step(double) override {
+    HydraulicNode& n1 = *ports_[0].node;
+    HydraulicNode& n2 = *ports_[1].node;
+    A_ = area_(*x_);
+    q_ = turbulent_orifice_flow(n1.c, n2.c, n1.Zc, n2.Zc, Cd_ * A_ * std::sqrt(2.0 / rho_));
+    n1.q = -q_;
+    n2.q = q_;
+    n1.p = n1.c + n1.Zc * n1.q;
+    n2.p = n2.c + n2.Zc * n2.q;
+  }
+  void log_variables(std::vector<LogVariable>& out) override {
+    out.push_back({"q", "m3/s", &q_});
+    out.push_back({"A", "m2", &A_});
+  }
+
+ private:
+  double Cd_ = 0, rho_ = 0, q_ = 0, A_ = 0;
+  Table area_;
+  const double* x_ = nullptr;
+};
+
+}  // namespace tlm

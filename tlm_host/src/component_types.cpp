@@ -11,6 +11,7 @@
 #include "components/LosslessLineC.hpp"
 #include "components/PressureSourceC.hpp"
 #include "components/ReliefValveQ.hpp"
+#include "components/SignalSources.hpp"
 #include "components/SpoolValveQ.hpp"
 #include "components/VariableOrificeQ.hpp"
 
@@ -36,6 +37,11 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"SpoolValveQ", make<SpoolValveQ>()},
       {"ControlSpoolQ", make<ControlSpoolQ>()},
       {"HammerPistonQ", make<HammerPistonQ>()},
+      {"SignalStep", make<SignalStep>()},
+      {"SignalRamp", make<SignalRamp>()},
+      {"SignalTable", make<SignalTable>()},
+      {"SignalGain", make<SignalGain>()},
+      {"SignalLowPass", make<SignalLowPass>()},
   };
   return types;
 }

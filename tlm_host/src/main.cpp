@@ -3,6 +3,7 @@
 //   tlm_host MODEL [--fmu FILE.fmu] [--server HOST:PORT] [--token T]
 //            [--out results.h5] [--set comp.param=value ...] [--quiet]
 #include <csignal>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@ int usage(std::ostream& os, int rc) {
         "  --out FILE          HDF5 results (default results.h5)\n"
         "  --set C.P=VALUE     override parameter P of component C (repeatable);\n"
         "                      simulation.timestep / stoptime / log_every too\n"
+        "  --report FILE       write the percussion report (model's *REPORT block) to FILE\n"
         "  --quiet             no progress line\n"
         "Exit codes: 0 ok, 2 usage, 3 model rejected, 4 simulation failed.\n";
   return rc;
@@ -28,7 +30,7 @@ int usage(std::ostream& os, int rc) {
 
 int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
-  std::string model_path, fmu, server, token, out = "results.h5";
+  std::string model_path, fmu, server, token, out = "results.h5", report_path;
   std::vector<std::string> overrides;
   bool quiet = false;
   try {
@@ -44,6 +46,7 @@ int main(int argc, char** argv) {
       else if (a == "--out") out = value();
       else if (a == "--set") overrides.push_back(value());
       else if (a == "--quiet") quiet = true;
+      else if (a == "--report") report_path = value();
       else if (a == "-h" || a == "--help") return usage(std::cout, 0);
       else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
       else if (model_path.empty()) model_path = a;
@@ -56,6 +59,8 @@ int main(int argc, char** argv) {
   }
 
   std::unique_ptr<tlm::System> system;
+  tlm::ReportSettings report;
+  bool want_report = false;
   try {
     tlm::ModelSpec spec = tlm::read_model(model_path);
     for (auto& c : spec.components) {
@@ -66,6 +71,8 @@ int main(int argc, char** argv) {
       if (!token.empty()) c.params.set("token", token, cli);
     }
     for (const auto& o : overrides) spec.apply_override(o);
+    want_report = !spec.report.empty();
+    if (want_report) report = tlm::report_settings(spec);
     system = std::make_unique<tlm::System>(std::move(spec));
   } catch (const std::exception& e) {
     std::cerr << "tlm_host: " << e.what() << "\n";
@@ -76,6 +83,19 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::cerr << "tlm_host: " << e.what() << "\n";
     return 4;
+  }
+  if (want_report) {
+    try {
+      std::string text = tlm::format_figures(tlm::evaluate_percussion(out, report));
+      std::cout << "percussion report (" << out << "):\n" << text;
+      if (!report_path.empty()) {
+        std::ofstream f(report_path);
+        f << text;
+      }
+    } catch (const std::exception& e) {
+      std::cerr << "tlm_host: report: " << e.what() << "\n";
+      return 4;
+    }
   }
   if (!quiet)
     std::cout << "tlm_host: " << system->steps_done() << " steps of " << system->spec().dt << " s done; results in "

@@ -81,10 +81,12 @@ ModelSpec parse_model(const std::string& text, const std::string& name) {
         }
         m.components.push_back(std::move(s));
       }
+    } else if (b.keyword == "*REPORT") {
+      m.report.insert(m.report.end(), b.cards.begin(), b.cards.end());
     } else if (b.keyword == "*CONNECT") {
       for (const auto& c : b.cards) m.connections.push_back({c.field(0, "port"), c.field(1, "port"), c.where});
     } else {
-      b.fail("unknown keyword '" + b.keyword + "': expected *SIMULATION, *COMPONENT or *CONNECT");
+      b.fail("unknown keyword '" + b.keyword + "': expected *SIMULATION, *COMPONENT, *CONNECT or *REPORT");
     }
   }
   config::SourceLocation top{name, 1};
@@ -172,6 +174,21 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
 
 System::~System() = default;
 
+std::vector<std::string> System::stability_warnings(double dt) const {
+  std::vector<std::string> out;
+  for (const auto& c : components_) {
+    std::string why;
+    const double limit = c->stable_step(&why);
+    if (dt > limit) {
+      std::ostringstream s;
+      s << "time step " << dt << " s exceeds the stable step " << limit << " s of " << why
+        << "; lower simulation.timestep";
+      out.push_back(s.str());
+    }
+  }
+  return out;
+}
+
 Component* System::find(const std::string& name) {
   for (auto& c : components_)
     if (c->name() == name) return c.get();
@@ -182,14 +199,7 @@ void System::run(const std::string& out_path, bool progress) {
   const double dt = spec_.dt;
   const long steps = std::lround(spec_.stop_time / dt);
   for (auto& c : components_) c->initialize(dt);
-  // Stability advisor: each component's largest stable step, before the run.
-  for (auto& c : components_) {
-    std::string why;
-    const double limit = c->stable_step(&why);
-    if (dt > limit)
-      std::cerr << "tlm_host: warning: time step " << dt << " s exceeds the stable step " << limit << " s of " << why
-                << "; expect a blow-up or lower timestep\n";
-  }
+  for (const auto& w : stability_warnings(dt)) std::cerr << "tlm_host: warning: " << w << "\n";
 
   h5io::TimeSeriesWriter out(out_path);
   out.set_attribute("producer", "tlm_host");
@@ -255,6 +265,30 @@ void System::run(const std::string& out_path, bool progress) {
   for (auto& c : components_) c->finalize();
   out.flush();
   if (progress && tty) std::fprintf(stderr, "\n");
+}
+
+}  // namespace tlm
+
+namespace tlm {
+
+ReportSettings report_settings(ModelSpec& spec) {
+  ReportSettings s;
+  for (const auto& c : spec.report) {
+    const std::string key = config::to_lower(c.field(0, "key"));
+    if (key == "piston") s.piston = c.field(1, "component");
+    else if (key == "inlet_p") s.inlet_p = c.field(1, "dataset");
+    else if (key == "inlet_q") s.inlet_q = c.field(1, "dataset");
+    else if (key == "peak") s.peaks.push_back({c.field(1, "label"), c.field(2, "dataset")});
+    else if (key == "settle") s.settle = c.real(1, "settle");
+    else if (key == "lowpass") s.lowpass = c.real(1, "lowpass");
+    else if (key == "v_blow") s.v_blow = c.real(1, "v_blow");
+    else c.fail("unknown report key '" + c.fields[0] + "': expected piston, inlet_p, inlet_q, peak, settle, lowpass or v_blow");
+  }
+  ComponentSpec* piston = spec.find(s.piston);
+  if (!piston && !spec.report.empty())
+    throw config::InputError(spec.report.front().where, "*REPORT: no component named '" + s.piston + "'");
+  if (piston) s.piston_mass = piston->params.real("m", 14.4);
+  return s;
 }
 
 }  // namespace tlm

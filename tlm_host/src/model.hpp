@@ -36,6 +36,8 @@ struct ModelSpec {
   int log_every = 1;
   std::vector<ComponentSpec> components;
   std::vector<ConnectionSpec> connections;
+  // *REPORT: key, value rows (piston, inlet_p, inlet_q, peak, settle, lowpass); empty: no report
+  std::vector<config::Card> report;
 
   ComponentSpec* find(const std::string& name);
   // "comp.key=value" (or "simulation.timestep=…"); throws on an unknown component.
@@ -55,6 +57,9 @@ class System {
   // on every error, so what was computed is kept). Progress goes to stderr.
   void run(const std::string& out_path, bool progress);
   Component* find(const std::string& name);
+  // Stability advisor: one message per component whose largest stable step
+  // (explicit springs, stops, contacts) is below dt.
+  std::vector<std::string> stability_warnings(double dt) const;
   const ModelSpec& spec() const { return spec_; }
   long steps_done() const { return steps_done_; }
 
@@ -67,4 +72,12 @@ class System {
   std::set<const SignalPort*> bound_;
 };
 
+}  // namespace tlm
+
+#include "percussion_report.hpp"
+
+namespace tlm {
+// The report settings from the model's *REPORT block (piston mass taken from
+// the piston component's parameter m). Throws config::InputError for a bad row.
+ReportSettings report_settings(ModelSpec& spec);
 }  // namespace tlm

@@ -40,7 +40,10 @@ class HydraulicTurbulentOrificeQ : public Component {
     add_port("P1", Kind::Q);
     add_port("P2", Kind::Q);
   }
-  void initialize(double) override { K_ = Cd_ * A_ * std::sqrt(2.0 / rho_); }
+  void initialize(double dt) override {
+    K_ = Cd_ * A_ * std::sqrt(2.0 / rho_);
+    dt_ = dt;
+  }
   void simulate_one_step(double) override {
     HydraulicNode& n1 = *ports_[0].node;
     HydraulicNode& n2 = *ports_[1].node;
@@ -49,11 +52,15 @@ class HydraulicTurbulentOrificeQ : public Component {
     n2.q = q_;
     n1.p = n1.c + n1.Zc * n1.q;
     n2.p = n2.c + n2.Zc * n2.q;
+    dissipated_ += q_ * (n1.p - n2.p) * dt_;  // always ≥ 0: q runs down Δp
   }
-  void log_variables(std::vector<LogVariable>& out) override { out.push_back({"q", "m3/s", &q_}); }
+  void log_variables(std::vector<LogVariable>& out) override {
+    out.push_back({"q", "m3/s", &q_});
+    out.push_back({"E_loss", "J", &dissipated_});
+  }
 
  private:
-  double Cd_ = 0, A_ = 0, rho_ = 0, K_ = 0, q_ = 0;
+  double Cd_ = 0, A_ = 0, rho_ = 0, K_ = 0, q_ = 0, dt_ = 0, dissipated_ = 0;
 };
 
 }  // namespace tlm

@@ -60,6 +60,7 @@ class HydraulicVolumeC : public Component {
       port.node->q = 0.0;
     }
     p_mean_ = p0_;
+    stored_ = V_ * p0_ * p0_ / (2.0 * beta_);
   }
   void simulate_one_step(double) override {
     double sum = 0.0;
@@ -79,6 +80,8 @@ class HydraulicVolumeC : public Component {
       nd.c = alpha_ * nd.c + (1.0 - alpha_) * c_new;
       nd.Zc = Zc_;
     }
+    // Compression energy of the oil, V·p²/(2β) (linear compressibility, from p = 0).
+    stored_ = V_ * p_mean_ * p_mean_ / (2.0 * beta_);
   }
   void finalize() override {
     if (cavitation_events_ > 0)
@@ -87,6 +90,7 @@ class HydraulicVolumeC : public Component {
   }
   void log_variables(std::vector<LogVariable>& out) override {
     out.push_back({"p_mean", "Pa", &p_mean_});
+    out.push_back({"E_stored", "J", &stored_});
     if (dVdx_ != 0.0) out.push_back({"V", "m3", &V_});
   }
   double stable_step(std::string*) const override { return 1e300; }  // TLM volumes are unconditionally stable
@@ -98,7 +102,7 @@ class HydraulicVolumeC : public Component {
     Zc_ = static_cast<double>(ports_.size()) * beta_ * dt_ / (2.0 * V_ * (1.0 - alpha_));
   }
   double V0_ = 0, beta_ = 0, p0_ = 0, alpha_ = 0, p_vap_ = 0, dVdx_ = 0, V_min_ = 0;
-  double V_ = 0, Zc_ = 0, p_mean_ = 0, dt_ = 0;
+  double V_ = 0, Zc_ = 0, p_mean_ = 0, dt_ = 0, stored_ = 0;
   const double* x_ = nullptr;
   bool cavitating_ = false;
   long cavitation_events_ = 0;

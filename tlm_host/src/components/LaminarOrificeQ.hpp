@@ -19,7 +19,7 @@ class LaminarOrificeQ : public Component {
     add_port("P1", Kind::Q);
     add_port("P2", Kind::Q);
   }
-  void initialize(double) override {}
+  void initialize(double dt) override { dt_ = dt; }
   void simulate_one_step(double) override {
     HydraulicNode& n1 = *ports_[0].node;
     HydraulicNode& n2 = *ports_[1].node;
@@ -28,11 +28,15 @@ class LaminarOrificeQ : public Component {
     n2.q = q_;
     n1.p = n1.c + n1.Zc * n1.q;
     n2.p = n2.c + n2.Zc * n2.q;
+    dissipated_ += q_ * (n1.p - n2.p) * dt_;
   }
-  void log_variables(std::vector<LogVariable>& out) override { out.push_back({"q", "m3/s", &q_}); }
+  void log_variables(std::vector<LogVariable>& out) override {
+    out.push_back({"q", "m3/s", &q_});
+    out.push_back({"E_loss", "J", &dissipated_});
+  }
 
  private:
-  double Kc_ = 0.0, q_ = 0.0;
+  double Kc_ = 0.0, q_ = 0.0, dt_ = 0.0, dissipated_ = 0.0;
 };
 
 }  // namespace tlm

@@ -72,7 +72,13 @@ int main(int argc, char** argv) {
     std::remove(out.c_str());
     int err = 0;
     zip_t* z = zip_open(out.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
-    if (!z) throw std::runtime_error("cannot create " + out + " (libzip error " + std::to_string(err) + ")");
+    if (!z) {
+      zip_error_t ze;
+      zip_error_init_with_code(&ze, err);
+      std::string why = zip_error_strerror(&ze);
+      zip_error_fini(&ze);
+      throw std::runtime_error("cannot create " + out + ": " + why);
+    }
     try {
       add_entry(z, "modelDescription.xml", fmugen::model_description_xml(table, description), out);
       add_entry(z, "binaries/linux64/" + table.model_name + ".so", so, out);

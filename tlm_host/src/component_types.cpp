@@ -32,6 +32,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"LaminarOrificeQ", make<LaminarOrificeQ>()},
       {"ReliefValveQ", make<ReliefValveQ>()},
       {"LosslessLineC", make<LosslessLineC>()},
+      {"LaminarLineC", make<LaminarLineC>()},
       {"GasAccumulatorC", make<GasAccumulatorC>()},
       {"VariableOrificeQ", make<VariableOrificeQ>()},
       {"SpoolValveQ", make<SpoolValveQ>()},

@@ -163,7 +163,13 @@ ModelDescription parse_model_description(const std::string& xml, const std::stri
 FmuArchive::FmuArchive(const std::string& fmu_path) : path_(fmu_path) {
   int err = 0;
   zip_t* z = zip_open(fmu_path.c_str(), ZIP_RDONLY, &err);
-  if (!z) throw FmuError("cannot open FMU '" + fmu_path + "' (libzip error " + std::to_string(err) + ")");
+  if (!z) {
+    zip_error_t ze;
+    zip_error_init_with_code(&ze, err);
+    std::string why = zip_error_strerror(&ze);
+    zip_error_fini(&ze);
+    throw FmuError("cannot open FMU '" + fmu_path + "': " + why);
+  }
   const char* tmp = std::getenv("TMPDIR");
   std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/tlm_host_fmu_XXXXXX";
   std::vector<char> buf(templ.begin(), templ.end());

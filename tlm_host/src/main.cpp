@@ -20,6 +20,7 @@ int usage(std::ostream& os, int rc) {
         "  --out FILE          HDF5 results (default results.h5)\n"
         "  --set C.P=VALUE     override parameter P of component C (repeatable);\n"
         "                      simulation.timestep / stoptime / log_every too\n"
+        "  --csv FILE          also write every logged series as CSV\n"
         "  --report FILE       write the percussion report (model's *REPORT block) to FILE\n"
         "  --quiet             no progress line\n"
         "Exit codes: 0 ok, 2 usage, 3 model rejected, 4 simulation failed.\n";
@@ -30,7 +31,7 @@ int usage(std::ostream& os, int rc) {
 
 int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
-  std::string model_path, fmu, server, token, out = "results.h5", report_path;
+  std::string model_path, fmu, server, token, out = "results.h5", report_path, csv_path;
   std::vector<std::string> overrides;
   bool quiet = false;
   try {
@@ -47,6 +48,7 @@ int main(int argc, char** argv) {
       else if (a == "--set") overrides.push_back(value());
       else if (a == "--quiet") quiet = true;
       else if (a == "--report") report_path = value();
+      else if (a == "--csv") csv_path = value();
       else if (a == "-h" || a == "--help") return usage(std::cout, 0);
       else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
       else if (model_path.empty()) model_path = a;
@@ -74,6 +76,7 @@ int main(int argc, char** argv) {
     want_report = !spec.report.empty();
     if (want_report) report = tlm::report_settings(spec);
     system = std::make_unique<tlm::System>(std::move(spec));
+    if (!csv_path.empty()) system->set_csv(csv_path);
   } catch (const std::exception& e) {
     std::cerr << "tlm_host: " << e.what() << "\n";
     return 3;

@@ -206,27 +206,39 @@ void System::run(const std::string& out_path, bool progress) {
   out.set_attribute("model", spec_.source);
   out.set_attribute("timestep", dt);
   std::vector<const double*> sources;
+  std::vector<std::string> names;
   double time = 0.0;
-  out.add_series("time", "s");
-  sources.push_back(&time);
+  auto add = [&](const std::string& name, const std::string& unit, const double* value) {
+    out.add_series(name, unit);
+    names.push_back(name + " [" + unit + "]");
+    sources.push_back(value);
+  };
+  add("time", "s", &time);
   for (const auto& n : nodes_) {
-    out.add_series("nodes/" + n->name + "/p", "Pa");
-    sources.push_back(&n->p);
-    out.add_series("nodes/" + n->name + "/q", "m3/s");
-    sources.push_back(&n->q);
+    add("nodes/" + n->name + "/p", "Pa", &n->p);
+    add("nodes/" + n->name + "/q", "m3/s", &n->q);
   }
   for (auto& c : components_) {
     std::vector<LogVariable> vars;
     c->log_variables(vars);
-    for (const auto& v : vars) {
-      out.add_series("components/" + c->name() + "/" + v.name, v.unit);
-      sources.push_back(v.value);
-    }
+    for (const auto& v : vars) add("components/" + c->name() + "/" + v.name, v.unit, v.value);
+  }
+  std::ofstream csv;
+  if (!csv_path_.empty()) {
+    csv.open(csv_path_);
+    if (!csv) throw std::runtime_error("cannot write CSV file '" + csv_path_ + "'");
+    csv.precision(12);
+    for (size_t i = 0; i < names.size(); ++i) csv << (i ? "," : "") << names[i];
+    csv << "\n";
   }
   std::vector<double> row(sources.size());
   auto record = [&] {
     for (size_t i = 0; i < sources.size(); ++i) row[i] = *sources[i];
     out.append(row);
+    if (csv.is_open()) {
+      for (size_t i = 0; i < row.size(); ++i) csv << (i ? "," : "") << row[i];
+      csv << "\n";
+    }
   };
   record();
 
@@ -257,6 +269,7 @@ void System::run(const std::string& out_path, bool progress) {
     }
   } catch (const std::exception& e) {
     out.flush();
+    if (csv.is_open()) csv.flush();
     std::ostringstream s;
     s << "at step " << k << " (t = " << static_cast<double>(k) * dt << " s): " << e.what()
       << "; results up to the last completed step kept in " << out_path;

@@ -56,6 +56,8 @@ class System {
   // Run to the stop time, writing the HDF5 time series to out_path (flushed
   // on every error, so what was computed is kept). Progress goes to stderr.
   void run(const std::string& out_path, bool progress);
+  // Also write every logged series as CSV (same rows as the HDF5 file).
+  void set_csv(const std::string& path) { csv_path_ = path; }
   Component* find(const std::string& name);
   // Stability advisor: one message per component whose largest stable step
   // (explicit springs, stops, contacts) is below dt.
@@ -70,6 +72,7 @@ class System {
   std::vector<Component*> signal_, c_type_, q_type_;
   long steps_done_ = 0;
   std::set<const SignalPort*> bound_;
+  std::string csv_path_;
 };
 
 }  // namespace tlm

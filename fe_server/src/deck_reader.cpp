@@ -1,9 +1,9 @@
 #include "deck_reader.hpp"
 
+#include "element_hex8.hpp"
+
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 namespace fe {
 
@@ -33,218 +33,452 @@ Card fields_of(const Card& c, const std::vector<int>& widths) {
   return out;
 }
 const std::vector<int> kW10 = {10};
+const std::vector<int> kW8 = {8};
 
-struct PartInfo {
-  int secid = 0, mid = 0;
-  config::SourceLocation where;
-};
-struct SpringMaterial {
-  double k = 0.0, c = 0.0;
-};
-
-}  // namespace
-
-Model parse_deck(const std::string& text, const std::string& name, DeckWarnings* warnings) {
-  {
-    Model m;
-    m.source = name;
-    auto blocks = config::parse_keyword_text(text, name, true);
-    std::map<int, PartInfo> parts;
-    std::map<int, SpringMaterial> spring_mats;
-    std::vector<Card> discrete_cards, mass_cards, spc_cards, vel_cards, rigid_cards;
-    // Keywords whose absence of support would change the physics are errors.
-    const std::set<std::string> must_understand = {"*ELEMENT_SOLID", "*ELEMENT_SHELL", "*ELEMENT_BEAM",
-                                                   "*LOAD_SEGMENT_SET", "*LOAD_NODE_SET", "*MAT_ELASTIC",
-                                                   "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE"};
-    bool seen_keyword = false;
-    for (const Block& b : blocks) {
-      const std::string& kw = b.keyword;
-      if (kw == "*KEYWORD") {
-        seen_keyword = true;
-      } else if (kw == "*END") {
-        break;
-      } else if (kw == "*TITLE") {
-        if (!b.cards.empty()) m.title = config::trim(b.cards[0].text);
-      } else if (kw == "*NODE") {
-        for (const Card& raw : b.cards) {
-          Card c = fields_of(raw, {8, 16, 16, 16, 8, 8});
-          int id = static_cast<int>(c.integer(0, "NID"));
-          if (m.node_index.count(id)) c.fail("node " + std::to_string(id) + " defined twice");
-          m.node_index[id] = static_cast<int>(m.node_ids.size());
-          m.node_ids.push_back(id);
-          m.x0.emplace_back(c.real_or(1, "X", 0), c.real_or(2, "Y", 0), c.real_or(3, "Z", 0));
-          long tc = c.integer_or(4, "TC", 0);
-          Eigen::Matrix<bool, 3, 1> f(tc == 1 || tc == 4 || tc == 5 || tc == 7,
-                                      tc == 2 || tc == 4 || tc == 6 || tc == 7,
-                                      tc == 3 || tc == 5 || tc == 6 || tc == 7);
-          m.fixed.push_back(f);
-        }
-      } else if (kw == "*PART") {
-        // Card 1: title; card 2: PID, SECID, MID, ...
-        for (size_t i = 0; i + 1 < b.cards.size(); i += 2) {
-          Card c = fields_of(b.cards[i + 1], kW10);
-          PartInfo p{static_cast<int>(c.integer_or(1, "SECID", 0)), static_cast<int>(c.integer_or(2, "MID", 0)), c.where};
-          parts[static_cast<int>(c.integer(0, "PID"))] = p;
-        }
-        if (b.cards.size() % 2) b.fail("*PART needs a title card and a PID card per part");
-      } else if (kw == "*SECTION_DISCRETE") {
-        for (const Card& raw : b.cards) {
-          Card c = fields_of(raw, kW10);
-          if (c.fields.size() >= 2 && c.integer_or(1, "DRO", 0) != 0)
-            c.fail("only translational discrete elements (DRO = 0) are supported");
-        }
-      } else if (kw == "*MAT_SPRING_ELASTIC" || kw == "*MAT_S01") {
-        for (const Card& raw : b.cards) {
-          Card c = fields_of(raw, kW10);
-          spring_mats[static_cast<int>(c.integer(0, "MID"))].k = c.real(1, "K");
-        }
-      } else if (kw == "*MAT_DAMPER_VISCOUS" || kw == "*MAT_S02") {
-        for (const Card& raw : b.cards) {
-          Card c = fields_of(raw, kW10);
-          spring_mats[static_cast<int>(c.integer(0, "MID"))].c = c.real(1, "DC");
-        }
-      } else if (kw == "*ELEMENT_DISCRETE") {
-        for (const Card& raw : b.cards) discrete_cards.push_back(fields_of(raw, {8, 8, 8, 8, 8, 16, 8, 16}));
-      } else if (kw == "*ELEMENT_MASS") {
-        for (const Card& raw : b.cards) mass_cards.push_back(fields_of(raw, {8, 8, 16, 8}));
-      } else if (kw == "*SET_NODE_LIST") {
-        if (b.cards.empty()) b.fail("*SET_NODE_LIST needs a header card with SID");
-        int sid = static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"));
-        auto& list = m.node_sets[sid];
-        for (size_t i = 1; i < b.cards.size(); ++i) {
-          Card c = fields_of(b.cards[i], kW10);
-          for (size_t k = 0; k < c.fields.size(); ++k)
-            if (!c.fields[k].empty()) {
-              long id = c.integer(k, "NID");
-              if (id != 0) list.push_back(static_cast<int>(id));
-            }
-        }
-      } else if (kw == "*SET_SEGMENT") {
-        if (b.cards.empty()) b.fail("*SET_SEGMENT needs a header card with SID");
-        int sid = static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"));
-        auto& list = m.segment_sets[sid];
-        for (size_t i = 1; i < b.cards.size(); ++i) {
-          Card c = fields_of(b.cards[i], kW10);
-          Segment s;
-          for (int k = 0; k < 4; ++k) {
-            long id = c.integer_or(static_cast<size_t>(k), "N", k == 3 ? 0 : -1);
-            if (k == 3 && id == 0) {
-              s.n[3] = s.n[2];  // triangle
-              continue;
-            }
-            s.n[k] = m.index_of(static_cast<int>(id), c.where);
-          }
-          list.push_back(s);
-        }
-      } else if (kw == "*CONSTRAINED_NODAL_RIGID_BODY") {
-        for (const Card& raw : b.cards) rigid_cards.push_back(fields_of(raw, kW10));
-      } else if (kw == "*BOUNDARY_SPC_NODE") {
-        for (const Card& raw : b.cards) spc_cards.push_back(fields_of(raw, kW10));
-      } else if (kw == "*INITIAL_VELOCITY_NODE") {
-        for (const Card& raw : b.cards) vel_cards.push_back(fields_of(raw, kW10));
-      } else if (kw == "*USER_LOADING_SET") {
-        // Co-simulation port on a segment set: SID, LTYPE (PRESSS), PORT.
-        for (const Card& raw : b.cards) {
-          Card c = fields_of(raw, kW10);
-          LoadingSet ls;
-          ls.segment_set = static_cast<int>(c.integer(0, "SID"));
-          std::string ltype = config::to_upper(c.field(1, "LTYPE"));
-          if (ltype != "PRESSS") c.fail("LTYPE '" + c.fields[1] + "': only PRESSS (pressure on a segment set) is supported");
-          ls.port_id = static_cast<int>(c.integer(2, "PORT"));
-          ls.where = c.where;
-          m.loading_sets.push_back(ls);
-        }
-      } else if (kw == "*CONTROL_TERMINATION") {
-        if (!b.cards.empty()) m.end_time = fields_of(b.cards[0], kW10).real(0, "ENDTIM");
-      } else if (kw == "*CONTROL_TIMESTEP") {
-        if (!b.cards.empty()) {
-          double s = fields_of(b.cards[0], kW10).real_or(1, "TSSFAC", 0.9);
-          if (s > 0.0) m.dt_scale = s;
-        }
-      } else if (kw == "*DATABASE_HISTORY_NODE") {
-        for (const Card& raw : b.cards) {
-          Card c = fields_of(raw, kW10);
-          for (size_t k = 0; k < c.fields.size(); ++k)
-            if (!c.fields[k].empty() && c.integer(k, "ID") != 0)
-              m.history_nodes.push_back(m.index_of(static_cast<int>(c.integer(k, "ID")), c.where));
-        }
-      } else if (must_understand.count(kw)) {
-        b.fail(kw + " is not supported by this fe_server version; ignoring it would change the physics");
-      } else if (warnings) {
-        warnings->messages.push_back(b.where.str() + ": warning: keyword " + kw + " is not supported and was ignored");
+// All ids listed on the cards of a list keyword (8 per card, 0 or blank ends).
+std::vector<int> id_list(const Block& b, size_t first_card, const char* what) {
+  std::vector<int> ids;
+  for (size_t i = first_card; i < b.cards.size(); ++i) {
+    Card c = fields_of(b.cards[i], kW10);
+    for (size_t k = 0; k < c.fields.size(); ++k)
+      if (!c.fields[k].empty()) {
+        long id = c.integer(k, what);
+        if (id != 0) ids.push_back(static_cast<int>(id));
       }
-    }
-    if (!seen_keyword && warnings)
-      warnings->messages.push_back(name + ":1: warning: the deck does not start with *KEYWORD");
-    if (m.node_ids.empty()) throw InputError({name, 1}, "the deck defines no nodes (*NODE)");
+  }
+  return ids;
+}
 
+// Keywords this reader reads; anything else is a warning (or an error, below).
+struct Reader {
+  Model& m;
+  DeckWarnings* warnings;
+  std::map<int, std::pair<double, double>> spring_mats;  // mid → (k, c)
+  std::map<int, std::pair<int, double>> sections;         // secid → (elform, bar area)
+  std::vector<Card> discrete_cards, mass_cards, spc_cards, spc_set_cards, vel_cards, rigid_cards, solid_cards,
+      beam_cards;
+  std::vector<std::pair<Card, Card>> vel_set_cards, vel_gen_cards;
+
+  void warn(const config::SourceLocation& w, const std::string& msg) {
+    if (warnings) warnings->messages.push_back(w.str() + ": warning: " + msg);
+  }
+
+  void block(const Block& b) {
+    const std::string& kw = b.keyword;
+    if (kw == "*KEYWORD" || kw == "*END") return;
+    if (kw == "*TITLE") {
+      if (!b.cards.empty()) m.title = config::trim(b.cards[0].text);
+    } else if (kw == "*NODE") {
+      for (const Card& raw : b.cards) {
+        Card c = fields_of(raw, {8, 16, 16, 16, 8, 8});
+        int id = static_cast<int>(c.integer(0, "NID"));
+        if (m.node_index.count(id)) c.fail("node " + std::to_string(id) + " defined twice");
+        m.node_index[id] = static_cast<int>(m.node_ids.size());
+        m.node_ids.push_back(id);
+        m.x0.emplace_back(c.real_or(1, "X", 0), c.real_or(2, "Y", 0), c.real_or(3, "Z", 0));
+        long tc = c.integer_or(4, "TC", 0);
+        m.fixed.emplace_back(tc == 1 || tc == 4 || tc == 5 || tc == 7, tc == 2 || tc == 4 || tc == 6 || tc == 7,
+                             tc == 3 || tc == 5 || tc == 6 || tc == 7);
+      }
+    } else if (kw == "*PART") {
+      if (b.cards.size() % 2) b.fail("*PART needs a title card and a PID card per part");
+      for (size_t i = 0; i + 1 < b.cards.size(); i += 2) {
+        Card c = fields_of(b.cards[i + 1], kW10);
+        Part p;
+        p.title = config::trim(b.cards[i].text);
+        p.id = static_cast<int>(c.integer(0, "PID"));
+        p.section = static_cast<int>(c.integer_or(1, "SECID", 0));
+        p.material = static_cast<int>(c.integer_or(2, "MID", 0));
+        p.where = c.where;
+        if (m.parts.count(p.id)) c.fail("part " + std::to_string(p.id) + " defined twice");
+        m.parts[p.id] = p;
+      }
+    } else if (kw == "*SECTION_SOLID") {
+      for (const Card& raw : b.cards) {
+        Card c = fields_of(raw, kW10);
+        long elform = c.integer_or(1, "ELFORM", 1);
+        if (elform != 1 && elform != 0)
+          warn(c.where, "ELFORM " + std::to_string(elform) + " read as ELFORM 1 (one-point hexahedron)");
+        sections[static_cast<int>(c.integer(0, "SECID"))] = {1, 0.0};
+      }
+    } else if (kw == "*SECTION_BEAM") {
+      // Card 1: SECID, ELFORM (3 = truss); card 2 of a truss: A.
+      for (size_t i = 0; i + 1 < b.cards.size(); i += 2) {
+        Card c1 = fields_of(b.cards[i], kW10), c2 = fields_of(b.cards[i + 1], kW10);
+        long elform = c1.integer_or(1, "ELFORM", 1);
+        if (elform != 3) c1.fail("only truss beams (ELFORM 3, 1D bar) are supported");
+        double area = c2.real(0, "A");
+        if (!(area > 0.0)) c2.fail("truss area A must be positive");
+        sections[static_cast<int>(c1.integer(0, "SECID"))] = {3, area};
+      }
+      if (b.cards.size() % 2) b.fail("*SECTION_BEAM needs two cards per section");
+    } else if (kw == "*SECTION_DISCRETE") {
+      for (const Card& raw : b.cards) {
+        Card c = fields_of(raw, kW10);
+        if (c.fields.size() >= 2 && c.integer_or(1, "DRO", 0) != 0)
+          c.fail("only translational discrete elements (DRO = 0) are supported");
+      }
+    } else if (kw == "*MAT_ELASTIC" || kw == "*MAT_001" || kw == "*MAT_RIGID" || kw == "*MAT_020") {
+      for (const Card& raw : b.cards) {
+        Card c = fields_of(raw, kW10);
+        if (c.fields.empty() || c.fields[0].empty()) continue;  // a MAT_RIGID constraint card
+        if (kw == "*MAT_RIGID" || kw == "*MAT_020") {
+          // Card 2 (CMO, CON1, CON2) starts with a real; only card 1 has an integer MID with RO next.
+          if (c.fields.size() < 4) continue;
+        }
+        Material mat;
+        mat.id = static_cast<int>(c.integer(0, "MID"));
+        mat.rho = c.real(1, "RO");
+        mat.E = c.real(2, "E");
+        mat.nu = c.real_or(3, "PR", 0.0);
+        mat.rigid = kw == "*MAT_RIGID" || kw == "*MAT_020";
+        mat.where = c.where;
+        if (!(mat.rho > 0.0) || !(mat.E > 0.0)) c.fail("RO and E must be positive");
+        if (mat.nu < 0.0 || mat.nu >= 0.5) c.fail("PR must be in [0, 0.5)");
+        m.materials[mat.id] = mat;
+      }
+    } else if (kw == "*MAT_SPRING_ELASTIC" || kw == "*MAT_S01") {
+      for (const Card& raw : b.cards) {
+        Card c = fields_of(raw, kW10);
+        spring_mats[static_cast<int>(c.integer(0, "MID"))].first = c.real(1, "K");
+      }
+    } else if (kw == "*MAT_DAMPER_VISCOUS" || kw == "*MAT_S02") {
+      for (const Card& raw : b.cards) {
+        Card c = fields_of(raw, kW10);
+        spring_mats[static_cast<int>(c.integer(0, "MID"))].second = c.real(1, "DC");
+      }
+    } else if (kw == "*ELEMENT_SOLID") {
+      for (const Card& raw : b.cards) solid_cards.push_back(fields_of(raw, kW8));
+    } else if (kw == "*ELEMENT_BEAM") {
+      for (const Card& raw : b.cards) beam_cards.push_back(fields_of(raw, kW8));
+    } else if (kw == "*ELEMENT_DISCRETE") {
+      for (const Card& raw : b.cards) discrete_cards.push_back(fields_of(raw, {8, 8, 8, 8, 8, 16, 8, 16}));
+    } else if (kw == "*ELEMENT_MASS") {
+      for (const Card& raw : b.cards) mass_cards.push_back(fields_of(raw, {8, 8, 16, 8}));
+    } else if (kw == "*SET_NODE_LIST") {
+      if (b.cards.empty()) b.fail("*SET_NODE_LIST needs a header card with SID");
+      auto& list = m.node_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
+      for (int id : id_list(b, 1, "NID")) list.push_back(id);
+    } else if (kw == "*SET_PART_LIST" || kw == "*SET_PART") {
+      if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
+      auto& list = m.part_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
+      for (int id : id_list(b, 1, "PID")) list.push_back(id);
+    } else if (kw == "*SET_SEGMENT") {
+      if (b.cards.empty()) b.fail("*SET_SEGMENT needs a header card with SID");
+      auto& list = m.segment_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
+      for (size_t i = 1; i < b.cards.size(); ++i) {
+        Card c = fields_of(b.cards[i], kW10);
+        Segment s;
+        for (int k = 0; k < 4; ++k) {
+          long id = c.integer_or(static_cast<size_t>(k), "N", k == 3 ? 0 : -1);
+          if (k == 3 && id == 0) {
+            s.n[3] = s.n[2];  // triangle
+            continue;
+          }
+          s.n[k] = m.index_of(static_cast<int>(id), c.where);
+        }
+        list.push_back(s);
+      }
+    } else if (kw == "*CONSTRAINED_NODAL_RIGID_BODY") {
+      for (const Card& raw : b.cards) rigid_cards.push_back(fields_of(raw, kW10));
+    } else if (kw == "*BOUNDARY_SPC_NODE") {
+      for (const Card& raw : b.cards) spc_cards.push_back(fields_of(raw, kW10));
+    } else if (kw == "*BOUNDARY_SPC_SET") {
+      for (const Card& raw : b.cards) spc_set_cards.push_back(fields_of(raw, kW10));
+    } else if (kw == "*INITIAL_VELOCITY_NODE") {
+      for (const Card& raw : b.cards) vel_cards.push_back(fields_of(raw, kW10));
+    } else if (kw == "*INITIAL_VELOCITY") {
+      for (size_t i = 0; i + 1 < b.cards.size(); i += 2)
+        vel_set_cards.push_back({fields_of(b.cards[i], kW10), fields_of(b.cards[i + 1], kW10)});
+      if (b.cards.size() % 2) b.fail("*INITIAL_VELOCITY needs two cards per set");
+    } else if (kw == "*INITIAL_VELOCITY_GENERATION") {
+      for (size_t i = 0; i + 1 < b.cards.size(); i += 2)
+        vel_gen_cards.push_back({fields_of(b.cards[i], kW10), fields_of(b.cards[i + 1], kW10)});
+      if (b.cards.size() % 2) b.fail("*INITIAL_VELOCITY_GENERATION needs two cards per entry");
+    } else if (kw == "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE") {
+      if (b.cards.empty()) b.fail(kw + " needs at least card 1 (SSID, MSID, SSTYP, MSTYP)");
+      Card c1 = fields_of(b.cards[0], kW10);
+      ContactDef d;
+      d.where = c1.where;
+      d.slave_set = static_cast<int>(c1.integer(0, "SSID"));
+      d.master_set = static_cast<int>(c1.integer(1, "MSID"));
+      if (c1.integer_or(2, "SSTYP", 0) != 0 || c1.integer_or(3, "MSTYP", 0) != 0)
+        c1.fail("SSTYP and MSTYP must be 0 (segment sets) in this version");
+      if (b.cards.size() > 1) {
+        Card c2 = fields_of(b.cards[1], kW10);
+        d.friction = c2.real_or(0, "FS", 0.0);
+        d.damping = c2.real_or(4, "VDC", 20.0) / 100.0;
+        if (d.friction != 0.0) warn(c2.where, "contact friction FS is not modelled yet (frictionless contact)");
+      }
+      if (b.cards.size() > 2) d.stiffness_factor = fields_of(b.cards[2], kW10).real_or(0, "SFS", 1.0);
+      if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
+      m.contacts.push_back(d);
+    } else if (kw == "*USER_LOADING_SET") {
+      // Co-simulation port on a segment set: SID, LTYPE (PRESSS), PORT.
+      for (const Card& raw : b.cards) {
+        Card c = fields_of(raw, kW10);
+        LoadingSet ls;
+        ls.segment_set = static_cast<int>(c.integer(0, "SID"));
+        std::string ltype = config::to_upper(c.field(1, "LTYPE"));
+        if (ltype != "PRESSS") c.fail("LTYPE '" + c.fields[1] + "': only PRESSS (pressure on a segment set) is supported");
+        ls.port_id = static_cast<int>(c.integer(2, "PORT"));
+        ls.where = c.where;
+        m.loading_sets.push_back(ls);
+      }
+    } else if (kw == "*CONTROL_TERMINATION") {
+      if (!b.cards.empty()) m.end_time = fields_of(b.cards[0], kW10).real(0, "ENDTIM");
+    } else if (kw == "*CONTROL_TIMESTEP") {
+      if (!b.cards.empty()) {
+        Card c = fields_of(b.cards[0], kW10);
+        double s = c.real_or(1, "TSSFAC", 0.9);
+        if (s > 0.0) m.dt_scale = s;
+        m.dt2ms = c.real_or(4, "DT2MS", 0.0);
+      }
+    } else if (kw == "*CONTROL_HOURGLASS") {
+      if (!b.cards.empty()) {
+        Card c = fields_of(b.cards[0], kW10);
+        long ihq = c.integer_or(0, "IHQ", 1);
+        if (ihq > 3) warn(c.where, "IHQ " + std::to_string(ihq) + " read as viscous FB hourglass control (IHQ 1-3)");
+        m.hourglass_q = c.real_or(1, "QH", 0.1);
+      }
+    } else if (kw == "*CONTROL_BULK_VISCOSITY") {
+      if (!b.cards.empty()) {
+        Card c = fields_of(b.cards[0], kW10);
+        m.bulk_q1 = c.real_or(0, "Q1", 1.5);
+        m.bulk_q2 = c.real_or(1, "Q2", 0.06);
+      }
+    } else if (kw == "*DATABASE_HISTORY_NODE") {
+      for (int id : id_list(b, 0, "ID")) m.history_nodes.push_back(m.index_of(id, b.where));
+    } else if (kw == "*DATABASE_HISTORY_SOLID") {
+      for (int id : id_list(b, 0, "ID")) m.history_solids.push_back(id);  // resolved after the elements
+    } else if (kw == "*ELEMENT_SHELL" || kw == "*LOAD_SEGMENT_SET" || kw == "*LOAD_NODE_SET" ||
+               kw.rfind("*CONTACT_", 0) == 0 || kw.rfind("*MAT_", 0) == 0 || kw.rfind("*CONSTRAINED_", 0) == 0) {
+      b.fail(kw + " is not supported by this fe_server version; ignoring it would change the physics");
+    } else {
+      warn(b.where, "keyword " + kw + " is not supported and was ignored");
+    }
+  }
+
+  std::vector<int> nodes_of_set(int sid, const Card& c) {
+    auto it = m.node_sets.find(sid);
+    if (it == m.node_sets.end()) c.fail("node set " + std::to_string(sid) + " is not defined in *SET_NODE_LIST");
+    std::vector<int> idx;
+    for (int id : it->second) idx.push_back(m.index_of(id, c.where));
+    return idx;
+  }
+  std::vector<int> nodes_of_parts(const std::set<int>& pids) {
+    std::set<int> nodes;
+    for (const auto& e : m.solids)
+      if (pids.count(e.part)) nodes.insert(e.n, e.n + 8);
+    for (const auto& e : m.bars)
+      if (pids.count(e.part)) {
+        nodes.insert(e.n1);
+        nodes.insert(e.n2);
+      }
+    return {nodes.begin(), nodes.end()};
+  }
+
+  void finish(const std::string& name) {
+    if (m.node_ids.empty()) throw InputError({name, 1}, "the deck defines no nodes (*NODE)");
     const size_t n = m.node_ids.size();
-    m.mass.assign(n, 0.0);
     m.v0.assign(n, Vec3::Zero());
+    elements();
     for (const Card& c : mass_cards) {
       double mass = c.real(2, "MASS");
       if (!(mass > 0.0)) c.fail("MASS must be positive");
       m.mass[static_cast<size_t>(m.index_of(static_cast<int>(c.integer(1, "NID")), c.where))] += mass;
     }
-    for (const Card& c : discrete_cards) {
-      DiscreteElement d;
-      d.where = c.where;
-      d.id = static_cast<int>(c.integer(0, "EID"));
-      int pid = static_cast<int>(c.integer(1, "PID"));
-      d.n1 = m.index_of(static_cast<int>(c.integer(2, "N1")), c.where);
-      d.n2 = m.index_of(static_cast<int>(c.integer(3, "N2")), c.where);
-      double scale = c.real_or(5, "S", 1.0);
-      if (scale == 0.0) scale = 1.0;  // LS-DYNA: S = 0 means 1
-      d.offset = c.real_or(7, "OFFSET", 0.0);
-      auto p = parts.find(pid);
-      if (p == parts.end()) c.fail("part " + std::to_string(pid) + " is not defined in *PART");
-      auto mat = spring_mats.find(p->second.mid);
-      if (mat == spring_mats.end())
-        c.fail("part " + std::to_string(pid) + " has material " + std::to_string(p->second.mid) +
-               ", which is not a *MAT_SPRING_ELASTIC or *MAT_DAMPER_VISCOUS");
-      d.k = scale * mat->second.k;
-      d.c = scale * mat->second.c;
-      d.length0 = (m.x0[static_cast<size_t>(d.n2)] - m.x0[static_cast<size_t>(d.n1)]).norm();
-      if (d.length0 <= 0.0) c.fail("discrete element " + std::to_string(d.id) + " has zero length: its direction is undefined");
-      m.discretes.push_back(d);
+    for (const Card& c : discrete_cards) discrete(c);
+    for (const Card& c : spc_cards) spc(c, {m.index_of(static_cast<int>(c.integer(0, "NID")), c.where)});
+    for (const Card& c : spc_set_cards) spc(c, nodes_of_set(static_cast<int>(c.integer(0, "NSID")), c));
+    for (const Card& c : vel_cards)
+      m.v0[static_cast<size_t>(m.index_of(static_cast<int>(c.integer(0, "NID")), c.where))] =
+          Vec3(c.real_or(1, "VX", 0), c.real_or(2, "VY", 0), c.real_or(3, "VZ", 0));
+    for (const auto& [c1, c2] : vel_set_cards) {
+      Vec3 v(c2.real_or(0, "VX", 0), c2.real_or(1, "VY", 0), c2.real_or(2, "VZ", 0));
+      long nsid = c1.integer_or(0, "NSID", 0);
+      if (nsid == 0)
+        for (auto& vi : m.v0) vi = v;  // NSID 0: all nodes
+      else
+        for (int i : nodes_of_set(static_cast<int>(nsid), c1)) m.v0[static_cast<size_t>(i)] = v;
     }
-    for (const Card& c : spc_cards) {
-      size_t i = static_cast<size_t>(m.index_of(static_cast<int>(c.integer(0, "NID")), c.where));
-      for (int k = 0; k < 3; ++k)
-        if (c.integer_or(static_cast<size_t>(2 + k), "DOF", 0) != 0) m.fixed[i][k] = true;
+    for (const auto& [c1, c2] : vel_gen_cards) {
+      // ID, STYP (1 part set, 2 part, 3 node set), OMEGA, VX, VY, VZ.
+      if (c1.real_or(2, "OMEGA", 0.0) != 0.0) c1.fail("OMEGA (initial rotation) is not supported yet");
+      Vec3 v(c1.real_or(3, "VX", 0), c1.real_or(4, "VY", 0), c1.real_or(5, "VZ", 0));
+      int id = static_cast<int>(c1.integer(0, "ID"));
+      long styp = c1.integer(1, "STYP");
+      std::vector<int> nodes;
+      if (styp == 1) {
+        auto it = m.part_sets.find(id);
+        if (it == m.part_sets.end()) c1.fail("part set " + std::to_string(id) + " is not defined");
+        nodes = nodes_of_parts({it->second.begin(), it->second.end()});
+      } else if (styp == 2) {
+        nodes = nodes_of_parts({id});
+      } else if (styp == 3) {
+        nodes = nodes_of_set(id, c1);
+      } else {
+        c1.fail("STYP must be 1 (part set), 2 (part) or 3 (node set)");
+      }
+      for (int i : nodes) m.v0[static_cast<size_t>(i)] = v;
     }
-    for (const Card& c : vel_cards) {
-      size_t i = static_cast<size_t>(m.index_of(static_cast<int>(c.integer(0, "NID")), c.where));
-      m.v0[i] = Vec3(c.real_or(1, "VX", 0), c.real_or(2, "VY", 0), c.real_or(3, "VZ", 0));
-    }
+    rigid_bodies();
     std::set<int> in_body;
+    for (const auto& rb : m.rigid_bodies) in_body.insert(rb.nodes.begin(), rb.nodes.end());
+    for (size_t i = 0; i < n; ++i)
+      if (!in_body.count(static_cast<int>(i)) && !m.fixed[i].all() && !(m.mass[i] > 0.0))
+        throw InputError({name, 1}, "node " + std::to_string(m.node_ids[i]) +
+                                        " has no mass and is neither fixed nor part of a rigid body");
+    for (const auto& ls : m.loading_sets)
+      if (!m.segment_sets.count(ls.segment_set))
+        throw InputError(ls.where, "segment set " + std::to_string(ls.segment_set) + " is not defined in *SET_SEGMENT");
+    for (const auto& c : m.contacts)
+      for (int sid : {c.slave_set, c.master_set})
+        if (!m.segment_sets.count(sid))
+          throw InputError(c.where, "contact segment set " + std::to_string(sid) + " is not defined in *SET_SEGMENT");
+    std::map<int, int> solid_index;
+    for (size_t i = 0; i < m.solids.size(); ++i) solid_index[m.solids[i].id] = static_cast<int>(i);
+    for (int& id : m.history_solids) {
+      auto it = solid_index.find(id);
+      if (it == solid_index.end()) throw InputError({name, 1}, "*DATABASE_HISTORY_SOLID names element " + std::to_string(id) + ", which is not a solid element");
+      id = it->second;
+    }
+  }
+
+  const Material& material_of(int pid, const Card& c) {
+    auto p = m.parts.find(pid);
+    if (p == m.parts.end()) c.fail("part " + std::to_string(pid) + " is not defined in *PART");
+    auto mat = m.materials.find(p->second.material);
+    if (mat == m.materials.end())
+      c.fail("part " + std::to_string(pid) + " has material " + std::to_string(p->second.material) +
+             ", which is not a *MAT_ELASTIC or *MAT_RIGID");
+    return mat->second;
+  }
+
+  void elements() {
+    m.mass.assign(m.node_ids.size(), 0.0);
+    for (const Card& c : solid_cards) {
+      SolidElement e;
+      e.id = static_cast<int>(c.integer(0, "EID"));
+      e.part = static_cast<int>(c.integer(1, "PID"));
+      material_of(e.part, c);
+      std::vector<int> ids;
+      for (size_t k = 2; k < c.fields.size() && ids.size() < 8; ++k)
+        if (!c.fields[k].empty() && c.integer(k, "N") != 0) ids.push_back(static_cast<int>(c.integer(k, "N")));
+      if (ids.size() == 4) ids = {ids[0], ids[1], ids[2], ids[2], ids[3], ids[3], ids[3], ids[3]};  // tet4
+      if (ids.size() == 6) ids = {ids[0], ids[1], ids[2], ids[2], ids[3], ids[4], ids[5], ids[5]};  // wedge
+      if (ids.size() != 8) c.fail("a solid element needs 4, 6 or 8 nodes, got " + std::to_string(ids.size()));
+      for (int k = 0; k < 8; ++k) e.n[k] = m.index_of(ids[static_cast<size_t>(k)], c.where);
+      // Lumped mass: an eighth of ρ·V to each corner (repeated
+      // corners of a degenerate element receive their shares too).
+      Mat83 x;
+      for (int k = 0; k < 8; ++k) x.row(k) = m.x0[static_cast<size_t>(e.n[k])].transpose();
+      Mat83 b;
+      double volume = 0.0;
+      if (!hex8_gradients(x, b, volume))
+        c.fail("solid element " + std::to_string(e.id) + " is inverted or degenerate (volume " + std::to_string(volume) +
+               "): check its node order (1-2-3-4 counter-clockwise seen from 5-6-7-8)");
+      const double rho = material_of(e.part, c).rho;
+      for (int k = 0; k < 8; ++k) m.mass[static_cast<size_t>(e.n[k])] += rho * volume / 8.0;
+      m.solids.push_back(e);
+    }
+    for (const Card& c : beam_cards) {
+      BarElement e;
+      e.id = static_cast<int>(c.integer(0, "EID"));
+      e.part = static_cast<int>(c.integer(1, "PID"));
+      material_of(e.part, c);
+      auto sec = sections.find(m.parts[e.part].section);
+      if (sec == sections.end() || sec->second.first != 3)
+        c.fail("part " + std::to_string(e.part) + " needs a *SECTION_BEAM with ELFORM 3 (truss)");
+      m.parts[e.part].bar_area = sec->second.second;
+      e.n1 = m.index_of(static_cast<int>(c.integer(2, "N1")), c.where);
+      e.n2 = m.index_of(static_cast<int>(c.integer(3, "N2")), c.where);
+      const double L = (m.x0[static_cast<size_t>(e.n2)] - m.x0[static_cast<size_t>(e.n1)]).norm();
+      if (!(L > 0.0)) c.fail("bar element " + std::to_string(e.id) + " has zero length");
+      const double half = 0.5 * material_of(e.part, c).rho * m.parts[e.part].bar_area * L;
+      m.mass[static_cast<size_t>(e.n1)] += half;
+      m.mass[static_cast<size_t>(e.n2)] += half;
+      m.bars.push_back(e);
+    }
+  }
+
+  void discrete(const Card& c) {
+    DiscreteElement d;
+    d.where = c.where;
+    d.id = static_cast<int>(c.integer(0, "EID"));
+    int pid = static_cast<int>(c.integer(1, "PID"));
+    d.n1 = m.index_of(static_cast<int>(c.integer(2, "N1")), c.where);
+    d.n2 = m.index_of(static_cast<int>(c.integer(3, "N2")), c.where);
+    double scale = c.real_or(5, "S", 1.0);
+    if (scale == 0.0) scale = 1.0;  // LS-DYNA: S = 0 means 1
+    d.offset = c.real_or(7, "OFFSET", 0.0);
+    auto p = m.parts.find(pid);
+    if (p == m.parts.end()) c.fail("part " + std::to_string(pid) + " is not defined in *PART");
+    auto mat = spring_mats.find(p->second.material);
+    if (mat == spring_mats.end())
+      c.fail("part " + std::to_string(pid) + " has material " + std::to_string(p->second.material) +
+             ", which is not a *MAT_SPRING_ELASTIC or *MAT_DAMPER_VISCOUS");
+    d.k = scale * mat->second.first;
+    d.c = scale * mat->second.second;
+    d.length0 = (m.x0[static_cast<size_t>(d.n2)] - m.x0[static_cast<size_t>(d.n1)]).norm();
+    if (d.length0 <= 0.0) c.fail("discrete element " + std::to_string(d.id) + " has zero length: its direction is undefined");
+    m.discretes.push_back(d);
+  }
+
+  void spc(const Card& c, const std::vector<int>& nodes) {
+    for (int i : nodes)
+      for (int k = 0; k < 3; ++k)
+        if (c.integer_or(static_cast<size_t>(2 + k), "DOF", 0) != 0) m.fixed[static_cast<size_t>(i)][k] = true;
+  }
+
+  void rigid_bodies() {
+    std::set<int> in_body;
+    auto add_body = [&](RigidBody rb, const std::vector<int>& nodes, const Card* c) {
+      for (int idx : nodes) {
+        if (!in_body.insert(idx).second) {
+          std::string msg = "node " + std::to_string(m.node_ids[static_cast<size_t>(idx)]) + " belongs to two rigid bodies";
+          if (c) c->fail(msg);
+          throw InputError(rb.where, msg);
+        }
+        rb.nodes.push_back(idx);
+        rb.mass += m.mass[static_cast<size_t>(idx)];
+      }
+      if (!(rb.mass > 0.0)) throw InputError(rb.where, "rigid body " + std::to_string(rb.id) + " has no mass");
+      m.rigid_bodies.push_back(rb);
+    };
     for (const Card& c : rigid_cards) {
       RigidBody rb;
       rb.where = c.where;
       rb.id = static_cast<int>(c.integer(0, "PID"));
-      int nsid = static_cast<int>(c.integer(2, "NSID"));
-      auto set = m.node_sets.find(nsid);
-      if (set == m.node_sets.end()) c.fail("node set " + std::to_string(nsid) + " is not defined in *SET_NODE_LIST");
-      for (int id : set->second) {
-        int idx = m.index_of(id, c.where);
-        if (!in_body.insert(idx).second) c.fail("node " + std::to_string(id) + " belongs to two rigid bodies");
-        rb.nodes.push_back(idx);
-        rb.mass += m.mass[static_cast<size_t>(idx)];
-      }
-      if (!(rb.mass > 0.0)) c.fail("rigid body " + std::to_string(rb.id) + " has no mass (add *ELEMENT_MASS to one of its nodes)");
-      m.rigid_bodies.push_back(rb);
+      add_body(rb, nodes_of_set(static_cast<int>(c.integer(2, "NSID")), c), &c);
     }
-    for (size_t i = 0; i < n; ++i) {
-      bool all_fixed = m.fixed[i].all();
-      if (!in_body.count(static_cast<int>(i)) && !all_fixed && !(m.mass[i] > 0.0))
-        throw InputError({name, 1}, "node " + std::to_string(m.node_ids[i]) +
-                                        " has no mass and is neither fixed nor part of a rigid body");
+    // *MAT_RIGID parts: their element nodes move as one body.
+    for (const auto& [pid, part] : m.parts) {
+      auto mat = m.materials.find(part.material);
+      if (mat == m.materials.end() || !mat->second.rigid) continue;
+      RigidBody rb;
+      rb.id = pid;
+      rb.where = part.where;
+      add_body(rb, nodes_of_parts({pid}), nullptr);
     }
-    for (const auto& ls : m.loading_sets)
-      if (!m.segment_sets.count(ls.segment_set))
-        throw InputError(ls.where, "segment set " + std::to_string(ls.segment_set) + " is not defined in *SET_SEGMENT");
-    return m;
   }
+};
+
+}  // namespace
+
+Model parse_deck(const std::string& text, const std::string& name, DeckWarnings* warnings) {
+  Model m;
+  m.source = name;
+  Reader r{m, warnings, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+  auto blocks = config::parse_keyword_text(text, name, true);
+  if (!blocks.empty() && blocks.front().keyword != "*KEYWORD" && warnings)
+    warnings->messages.push_back(name + ":1: warning: the deck does not start with *KEYWORD");
+  for (const Block& b : blocks) {
+    if (b.keyword == "*END") break;
+    r.block(b);
+  }
+  r.finish(name);
+  return m;
 }
 
 Model read_deck(const std::string& path, DeckWarnings* warnings) {

@@ -18,6 +18,7 @@
 #include "deck_reader.hpp"
 #include "exit_codes.hpp"
 #include "history.hpp"
+#include "mass_scaling.hpp"
 #include "socketlib/socketlib.h"
 #include "solver.hpp"
 
@@ -54,18 +55,31 @@ std::string random_token() {
   return hex;
 }
 
-int run_standalone(const fe::Model& model, const std::string& out, bool quiet) {
+// The FE step for a requested step: as is if stable, else with selective
+// mass scaling when the deck allows it (DT2MS < 0); the solver refuses an
+// unstable step with the limiting element named.
+void prepare_step(fe::Model& model, double dt, bool quiet) {
+  const fe::StableStep crit = fe::Solver::stable_dt(model);
+  if (dt <= model.dt_scale * crit.dt || !(model.dt2ms < 0.0)) return;
+  fe::MassScalingReport r = fe::apply_mass_scaling(model, dt);
+  if (!quiet)
+    std::cout << "fe_server: mass scaling for dt = " << dt << " s (" << r.elements_scaled << " elements):\n"
+              << r.summary();
+}
+
+int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
   if (!(model.end_time > 0.0)) {
     std::cerr << "fe_server: " << model.source
               << ": a standalone run needs *CONTROL_TERMINATION with ENDTIM > 0\n";
     return fe::kExitInput;
   }
-  std::string limit;
-  double dt = model.dt_scale * fe::Solver::stable_dt(model, &limit);
-  if (!std::isfinite(dt)) {
+  const fe::StableStep crit = fe::Solver::stable_dt(model);
+  double dt = model.dt2ms < 0.0 ? -model.dt2ms : model.dt_scale * crit.dt;
+  if (!std::isfinite(dt) || dt > 1e299) {
     std::cerr << "fe_server: the model has no element that limits the time step\n";
     return fe::kExitInput;
   }
+  prepare_step(model, dt, quiet);
   fe::Solver solver(model, dt);
   fe::History history(out, model, nullptr);
   const long steps = static_cast<long>(std::ceil(model.end_time / dt));
@@ -75,8 +89,8 @@ int run_standalone(const fe::Model& model, const std::string& out, bool quiet) {
   }
   history.flush();
   if (!quiet)
-    std::cout << "fe_server: standalone run, " << steps << " steps of " << dt << " s (limited by " << limit
-              << "), energy balance error " << solver.energies().balance_error << " J\n";
+    std::cout << "fe_server: standalone run, " << steps << " steps of " << dt << " s (limited by "
+              << crit.limited_by << "), energy balance error " << solver.energies().balance_error << " J\n";
   return fe::kExitOk;
 }
 
@@ -141,6 +155,7 @@ int main(int argc, char** argv) {
   try {
     fe::CavityPressureLoad load(model, table);
     fe::PortMap ports(table, load);
+    prepare_step(model, table.dt / table.subcycles, opt.quiet);
     fe::Solver solver(model, table.dt / table.subcycles);
     solver.set_user_load(&load);
     history = std::make_unique<fe::History>(out, model, &table);

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -38,6 +39,46 @@ struct Segment {
   int n[4] = {0, 0, 0, 0};  // node indices; n[3] == n[2] for a triangle
 };
 
+struct Material {
+  int id = 0;
+  double rho = 0.0, E = 0.0, nu = 0.0;
+  bool rigid = false;
+  // Derived: Lamé constants and the dilatational wave speed.
+  double lambda() const { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
+  double mu() const { return E / (2.0 * (1.0 + nu)); }
+  double wave_speed() const { return std::sqrt((lambda() + 2.0 * mu()) / rho); }
+  config::SourceLocation where;
+};
+
+struct Part {
+  int id = 0;
+  std::string title;
+  int section = 0, material = 0;
+  double bar_area = 0.0;  // m², for 1D bar (truss) sections
+  config::SourceLocation where;
+};
+
+// Eight-node solid; a tet4 or a wedge is a degenerate hex (repeated nodes).
+struct SolidElement {
+  int id = 0, part = 0;
+  int n[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // node indices
+};
+
+// Two-node 1D bar (truss): axial force only, area from its section.
+struct BarElement {
+  int id = 0, part = 0;
+  int n1 = 0, n2 = 0;
+};
+
+// *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE between two segment sets.
+struct ContactDef {
+  int slave_set = 0, master_set = 0;  // segment set ids
+  double friction = 0.0;              // FS (not used yet: frictionless normal contact)
+  double damping = 0.2;               // VDC as a fraction of critical
+  double stiffness_factor = 1.0;      // SFS
+  config::SourceLocation where;
+};
+
 // A co-simulation port acting on a segment set (*USER_LOADING_SET).
 struct LoadingSet {
   int port_id = 0;
@@ -56,6 +97,16 @@ struct Model {
   std::vector<double> mass;      // lumped nodal mass
   std::vector<Eigen::Matrix<bool, 3, 1>> fixed;  // translational SPCs
   std::vector<DiscreteElement> discretes;
+  std::map<int, Material> materials;
+  std::map<int, Part> parts;
+  std::vector<SolidElement> solids;
+  std::vector<BarElement> bars;
+  std::vector<ContactDef> contacts;
+  std::map<int, std::vector<int>> part_sets;
+  std::vector<int> history_solids;  // element indices into solids
+  double dt2ms = 0.0;              // *CONTROL_TIMESTEP DT2MS (< 0: mass scaling to |DT2MS|)
+  double hourglass_q = 0.1;        // *CONTROL_HOURGLASS QH
+  double bulk_q1 = 1.5, bulk_q2 = 0.06;  // *CONTROL_BULK_VISCOSITY (quadratic, linear)
   std::vector<RigidBody> rigid_bodies;
   std::map<int, std::vector<Segment>> segment_sets;
   std::map<int, std::vector<int>> node_sets;

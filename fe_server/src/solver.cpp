@@ -2,12 +2,29 @@
 
 #include <cmath>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
 namespace fe {
 
 namespace {
+
+using Voigt = Eigen::Matrix<double, 6, 1>;
+
+Mat83 gather(const std::vector<Vec3>& a, const SolidElement& e) {
+  Mat83 out;
+  for (int k = 0; k < 8; ++k) out.row(k) = a[static_cast<size_t>(e.n[k])].transpose();
+  return out;
+}
+
+bool in_rigid_part(const Model& m, int part) {
+  auto p = m.parts.find(part);
+  if (p == m.parts.end()) return false;
+  auto mat = m.materials.find(p->second.material);
+  return mat != m.materials.end() && mat->second.rigid;
+}
+
 // Mass that moves with node i: its rigid body's, or its own.
 double moving_mass(const Model& m, int i) {
   for (const auto& b : m.rigid_bodies)
@@ -16,49 +33,66 @@ double moving_mass(const Model& m, int i) {
   return m.fixed[static_cast<size_t>(i)].all() ? std::numeric_limits<double>::infinity()
                                                : m.mass[static_cast<size_t>(i)];
 }
+
 }  // namespace
 
-double Solver::stable_dt(const Model& m, std::string* limited_by) {
-  double best = std::numeric_limits<double>::infinity();
+StableStep Solver::stable_dt(const Model& m) {
+  StableStep best;
+  auto consider = [&](double dt, const std::string& what) {
+    if (dt < best.dt) {
+      best.dt = dt;
+      best.limited_by = what;
+    }
+  };
   for (const auto& d : m.discretes) {
     if (!(d.k > 0.0)) continue;
-    // Two masses on a spring: ω² = k (1/m1 + 1/m2); central difference is
-    // stable for ω·Δt ≤ 2.
-    double inv = 1.0 / moving_mass(m, d.n1) + 1.0 / moving_mass(m, d.n2);
+    // Two masses on a spring: ω² = k (1/m1 + 1/m2); stable for ω·Δt ≤ 2.
+    const double inv = 1.0 / moving_mass(m, d.n1) + 1.0 / moving_mass(m, d.n2);
     if (!(inv > 0.0)) continue;
-    double dt = 2.0 / std::sqrt(d.k * inv);
-    if (dt < best) {
-      best = dt;
-      if (limited_by) {
-        std::ostringstream s;
-        s << "discrete element " << d.id << " (" << d.where.str() << ", k = " << d.k << " N/m)";
-        *limited_by = s.str();
-      }
-    }
+    std::ostringstream s;
+    s << "discrete element " << d.id << " (" << d.where.str() << ", k = " << d.k << " N/m)";
+    consider(2.0 / std::sqrt(d.k * inv), s.str());
+  }
+  for (const auto& e : m.bars) {
+    if (in_rigid_part(m, e.part)) continue;
+    const Material& mat = m.materials.at(m.parts.at(e.part).material);
+    const double L = (m.x0[static_cast<size_t>(e.n2)] - m.x0[static_cast<size_t>(e.n1)]).norm();
+    consider(L / std::sqrt(mat.E / mat.rho), "bar element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
+  }
+  for (const auto& e : m.solids) {
+    if (in_rigid_part(m, e.part)) continue;
+    const Material& mat = m.materials.at(m.parts.at(e.part).material);
+    Mat83 x = gather(m.x0, e), b;
+    double volume = 0.0;
+    if (!hex8_gradients(x, b, volume)) continue;  // the reader refused these
+    // Courant: the dilatational wave must not cross the element in one step.
+    consider(hex8_characteristic_length(x, volume) / mat.wave_speed(),
+             "solid element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
   }
   return best;
 }
 
 Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt) {
   if (!(dt > 0.0) || !std::isfinite(dt)) throw std::runtime_error("FE time step must be positive");
-  std::string limit;
-  double crit = stable_dt(model, &limit);
-  if (dt > model.dt_scale * crit) {
+  const StableStep crit = stable_dt(model);
+  if (dt > model.dt_scale * crit.dt) {
     std::ostringstream s;
-    s << "FE time step " << dt << " s exceeds the stable step " << crit << " s × safety factor "
-      << model.dt_scale << " (TSSFAC), limited by " << limit
-      << ": lower the coupling time step or raise the subcycles in the port configuration";
+    s << "FE time step " << dt << " s exceeds the stable step " << crit.dt << " s × safety factor " << model.dt_scale
+      << " (TSSFAC), limited by " << crit.limited_by
+      << ": lower the coupling time step, raise the subcycles in the port configuration, or allow mass scaling "
+         "(*CONTROL_TIMESTEP DT2MS < 0)";
     throw std::runtime_error(s.str());
   }
   const size_t n = model.x0.size();
   x_ = model.x0;
   v_ = model.v0;
-  a_.assign(n, Vec3::Zero());
-  f_int_.assign(n, Vec3::Zero());
-  f_ext_.assign(n, Vec3::Zero());
-  f_ext_prev_.assign(n, Vec3::Zero());
+  mass_ = model.mass;
+  for (auto* a : {&a_, &f_int_, &f_ext_, &f_ext_prev_, &f_con_, &f_con_prev_}) a->assign(n, Vec3::Zero());
   x_prev_ = x_;
-  v_prev_ = v_;
+  sigma_.assign(model.solids.size(), Voigt::Zero());
+  bar_force_.assign(model.bars.size(), 0.0);
+  solid_active_.resize(model.solids.size());
+  for (size_t e = 0; e < model.solids.size(); ++e) solid_active_[e] = !in_rigid_part(model, model.solids[e].part);
   body_of_.assign(n, -1);
   body_fixed_.assign(model.rigid_bodies.size(), Eigen::Matrix<bool, 3, 1>(false, false, false));
   for (size_t b = 0; b < model.rigid_bodies.size(); ++b) {
@@ -70,16 +104,26 @@ Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt) {
       p += model.mass[static_cast<size_t>(i)] * model.v0[static_cast<size_t>(i)];
       for (int k = 0; k < 3; ++k) body_fixed_[b][k] = body_fixed_[b][k] || model.fixed[static_cast<size_t>(i)][k];
     }
-    Vec3 vb = p / model.rigid_bodies[b].mass;
+    const Vec3 vb = p / model.rigid_bodies[b].mass;
     for (int i : model.rigid_bodies[b].nodes) v_[static_cast<size_t>(i)] = vb;
   }
   v_prev_ = v_;
+  // Contact sees the mass that moves with each node (a rigid body's whole mass).
+  std::vector<double> contact_mass = mass_;
+  for (size_t i = 0; i < n; ++i)
+    if (body_of_[i] >= 0) contact_mass[i] = model.rigid_bodies[static_cast<size_t>(body_of_[i])].mass;
+  contact_mass_ = contact_mass;
+  for (const auto& c : model.contacts) contacts_.push_back(std::make_unique<PenaltyContact>(model, c, dt, contact_mass_));
 }
 
-void Solver::internal_forces() {
-  for (auto& f : f_int_) f.setZero();
+double Solver::max_penetration() const {
+  double p = 0.0;
+  for (const auto& c : contacts_) p = std::max(p, c->max_penetration());
+  return p;
+}
+
+void Solver::spring_forces() {
   spring_energy_ = 0.0;
-  damping_power_ = 0.0;
   for (const auto& d : m_.discretes) {
     const size_t i = static_cast<size_t>(d.n1), j = static_cast<size_t>(d.n2);
     Vec3 axis = x_[j] - x_[i];
@@ -96,26 +140,120 @@ void Solver::internal_forces() {
   }
 }
 
+void Solver::bar_forces() {
+  for (size_t e = 0; e < m_.bars.size(); ++e) {
+    const BarElement& b = m_.bars[e];
+    const Part& part = m_.parts.at(b.part);
+    const Material& mat = m_.materials.at(part.material);
+    if (mat.rigid) continue;
+    const size_t i = static_cast<size_t>(b.n1), j = static_cast<size_t>(b.n2);
+    Vec3 axis = x_[j] - x_[i];
+    const double len = axis.norm();
+    axis /= len;
+    // Axial stress rate from the elongation rate (hypoelastic, like the solids).
+    const double rate = (v_[j] - v_[i]).dot(axis) / len;
+    const double old = bar_force_[e];
+    bar_force_[e] += dt_ * mat.E * part.bar_area * rate;
+    f_int_[i] += bar_force_[e] * axis;
+    f_int_[j] -= bar_force_[e] * axis;
+    energies_.internal += 0.5 * (old + bar_force_[e]) * rate * len * dt_;
+  }
+}
+
+void Solver::solid_forces() {
+  const double q_hg = m_.hourglass_q, q1 = m_.bulk_q1, q2 = m_.bulk_q2;
+  for (size_t e = 0; e < m_.solids.size(); ++e) {
+    if (!solid_active_[e]) continue;
+    const SolidElement& el = m_.solids[e];
+    const Material& mat = m_.materials.at(m_.parts.at(el.part).material);
+    const Mat83 x = gather(x_, el), v = gather(v_, el);
+    Mat83 b;
+    double volume = 0.0;
+    if (!hex8_gradients(x, b, volume)) {
+      std::ostringstream s;
+      s << "solid element " << el.id << " (part " << el.part << ") inverted at t = " << t_ << " s, step " << n_
+        << " (volume " << volume << " m³): the mesh is too coarse for this deformation, or the step is too large";
+      throw std::runtime_error(s.str());
+    }
+    // Rate of deformation D = sym(L), L_ij = Σ_a v_ai b_aj.
+    const Eigen::Matrix3d L = v.transpose() * b;
+    const Eigen::Matrix3d D = 0.5 * (L + L.transpose());
+    const double trD = D.trace();
+    const double lambda = mat.lambda(), mu = mat.mu();
+    Voigt dsig;
+    dsig << lambda * trD + 2 * mu * D(0, 0), lambda * trD + 2 * mu * D(1, 1), lambda * trD + 2 * mu * D(2, 2),
+        2 * mu * D(0, 1), 2 * mu * D(1, 2), 2 * mu * D(2, 0);
+    const Voigt old = sigma_[e];
+    sigma_[e] += dt_ * dsig;
+    // Bulk viscosity in compression (von Neumann–Richtmyer with a linear term, LS-DYNA's Q1, Q2).
+    const double len = hex8_characteristic_length(x, volume);
+    const double c = mat.wave_speed();
+    const double q = trD < 0.0 ? mat.rho * len * (q1 * len * trD * trD - q2 * c * trD) : 0.0;
+    Eigen::Matrix3d s;
+    s << sigma_[e](0) - q, sigma_[e](3), sigma_[e](5), sigma_[e](3), sigma_[e](1) - q, sigma_[e](4), sigma_[e](5),
+        sigma_[e](4), sigma_[e](2) - q;
+    const Mat83 f = -volume * b * s;  // f_a = −V·σ·b_a
+    // Hourglass (viscous FB): f = −c_h Σ_α γ_α ⊗ q_α.
+    const Eigen::Matrix<double, 4, 8> gamma = hex8_hourglass_shapes(x, b);
+    const Eigen::Matrix<double, 4, 3> qa = gamma * v;
+    const double c_h = q_hg * mat.rho * c * std::cbrt(volume * volume) / 4.0;
+    const Mat83 f_hg = -c_h * gamma.transpose() * qa;
+    for (int k = 0; k < 8; ++k) f_int_[static_cast<size_t>(el.n[k])] += (f.row(k) + f_hg.row(k)).transpose();
+    // Energies of this step: elastic σ:D (trapezoidal in σ), hourglass and bulk viscosity dissipation.
+    const Voigt mid = 0.5 * (old + sigma_[e]);
+    const double sd = mid(0) * D(0, 0) + mid(1) * D(1, 1) + mid(2) * D(2, 2) +
+                      2 * (mid(3) * D(0, 1) + mid(4) * D(1, 2) + mid(5) * D(2, 0));
+    energies_.internal += volume * sd * dt_;
+    energies_.hourglass += c_h * qa.squaredNorm() * dt_;
+    damping_power_ += -q * trD * volume;
+  }
+}
+
+void Solver::internal_forces() {
+  for (auto& f : f_int_) f.setZero();
+  damping_power_ = 0.0;
+  spring_forces();
+  bar_forces();
+  solid_forces();
+}
+
+double Solver::step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f) const {
+  if (n_ == 0) return 0.0;
+  double w = 0.0;
+  for (size_t i = 0; i < x_.size(); ++i) w += 0.5 * (f_prev[i] + f[i]).dot(x_[i] - x_prev_[i]);
+  return w;
+}
+
 void Solver::user_loads() {
   f_ext_prev_.swap(f_ext_);
   for (auto& f : f_ext_) f.setZero();
   if (user_load_) user_load_->apply(t_, x_, v_, f_ext_);
-  // Work of the external forces over the last step, trapezoidal in force.
-  if (n_ > 0)
-    for (size_t i = 0; i < x_.size(); ++i)
-      energies_.external_work += 0.5 * (f_ext_prev_[i] + f_ext_[i]).dot(x_[i] - x_prev_[i]);
+  energies_.external_work += step_work(f_ext_prev_, f_ext_);
+}
+
+void Solver::contact() {
+  f_con_prev_.swap(f_con_);
+  for (auto& f : f_con_) f.setZero();
+  for (auto& c : contacts_) c->apply(x_, v_, f_con_, n_);
+  // Energy taken by the contact: minus the work its forces did on the nodes.
+  energies_.contact -= step_work(f_con_prev_, f_con_);
+  double total = 0.0;
+  for (const auto& f : f_con_) total += f.norm();
+  contact_force_ = 0.5 * total;  // each pair appears twice (node and segment side)
 }
 
 void Solver::accelerations() {
-  // f_int holds the forces the elements exert on the nodes, so it adds to f_ext.
   for (size_t i = 0; i < x_.size(); ++i) {
     if (body_of_[i] >= 0) continue;
-    a_[i] = m_.mass[i] > 0.0 ? Vec3((f_ext_[i] + f_int_[i]) / m_.mass[i]) : Vec3::Zero();
+    a_[i] = mass_[i] > 0.0 ? Vec3((f_ext_[i] + f_int_[i] + f_con_[i]) / mass_[i]) : Vec3::Zero();
   }
   for (const auto& b : m_.rigid_bodies) {
     Vec3 f = Vec3::Zero();
-    for (int i : b.nodes) f += f_ext_[static_cast<size_t>(i)] + f_int_[static_cast<size_t>(i)];
-    Vec3 ab = f / b.mass;
+    for (int i : b.nodes) {
+      const size_t k = static_cast<size_t>(i);
+      f += f_ext_[k] + f_int_[k] + f_con_[k];
+    }
+    const Vec3 ab = f / b.mass;
     for (int i : b.nodes) a_[static_cast<size_t>(i)] = ab;
   }
 }
@@ -148,18 +286,18 @@ void Solver::energy_account() {
   double ke = 0.0;
   for (size_t i = 0; i < v_.size(); ++i) {
     if (body_of_[i] >= 0) continue;
-    Vec3 vn = n_ == 0 ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
-    ke += 0.5 * m_.mass[i] * vn.squaredNorm();
+    const Vec3 vn = n_ == 0 ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
+    ke += 0.5 * mass_[i] * vn.squaredNorm();
   }
   for (const auto& b : m_.rigid_bodies) {
-    size_t i = static_cast<size_t>(b.nodes.front());
-    Vec3 vn = n_ == 0 ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
+    const size_t i = static_cast<size_t>(b.nodes.front());
+    const Vec3 vn = n_ == 0 ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
     ke += 0.5 * b.mass * vn.squaredNorm();
   }
   energies_.kinetic = ke;
-  energies_.internal = spring_energy_;
   if (n_ > 0) energies_.damping += damping_power_ * dt_;
-  const double total = ke + spring_energy_ + energies_.damping - energies_.external_work;
+  const Energies& e = energies_;
+  const double total = ke + e.internal + spring_energy_ + e.hourglass + e.contact + e.damping - e.external_work;
   if (n_ == 0) energy0_ = total;
   energies_.balance_error = total - energy0_;
 }

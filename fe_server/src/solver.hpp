@@ -1,20 +1,24 @@
 // Explicit central-difference time integration with lumped mass.
 //
 // One step, t_n → t_{n+1}, in named stages (each one function):
-//   1 internal_forces      f_int(x_n, v_{n-1/2}): what the elements exert on the nodes
+//   1 internal_forces      f_int(x_n, v_{n-1/2}): springs, dampers, 1D bars,
+//                          hex8 (stress update, bulk viscosity, FB hourglass)
 //   2 user_loads           f_ext(x_n, v_{n-1/2})  ← the UserLoad hook
-//   3 contact              (none in this version)
-//   4 accelerations        a_n = (f_ext + f_int) / m, rigid bodies as one mass
-//   5 boundary_conditions  a = 0 on fixed DOFs
+//   3 contact              penalty contact forces
+//   4 accelerations        a_n = (f_ext + f_int + f_contact) / m, rigid bodies as one mass
+//   5 boundary_conditions  a = 0, v = 0 on fixed DOFs
 //   6 velocities           v_{n+1/2} = v_{n-1/2} + Δt·a_n (Δt/2 on the first step)
-//   7 positions            x_{n+1} = x_n + Δt·v_{n+1/2}
-//   8 energy_account       kinetic + internal + damping − external work at t_n
+//   7 energy_account       kinetic + internal + hourglass + contact + damping − external work
+//   8 positions            x_{n+1} = x_n + Δt·v_{n+1/2}
 // The stable step is checked once at construction (fixed Δt).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "contact.hpp"
+#include "element_hex8.hpp"
 #include "model.hpp"
 #include "user_load.hpp"
 
@@ -22,17 +26,25 @@ namespace fe {
 
 struct Energies {
   double kinetic = 0.0;
-  double internal = 0.0;       // springs
-  double damping = 0.0;        // dissipated by dampers so far
-  double external_work = 0.0;  // done by user loads so far
-  // kinetic + internal + damping − external work − its value at t = 0
+  double internal = 0.0;       // elastic energy of elements and springs
+  double hourglass = 0.0;      // dissipated by hourglass control
+  double contact = 0.0;        // stored in and dissipated by contact
+  double damping = 0.0;        // dissipated by dampers and bulk viscosity
+  double external_work = 0.0;  // done by user loads
+  // kinetic + internal + hourglass + contact + damping − external work − its value at t = 0
   double balance_error = 0.0;
+};
+
+// What limits the stable time step.
+struct StableStep {
+  double dt = 1e300;
+  std::string limited_by;
 };
 
 class Solver {
  public:
-  // Throws std::runtime_error naming the limiting element if dt exceeds
-  // the model's stable step times its safety factor.
+  // Throws std::runtime_error naming the limiting element if dt exceeds the
+  // model's stable step times its safety factor (TSSFAC).
   Solver(const Model& model, double dt);
 
   void set_user_load(UserLoad* load) { user_load_ = load; }
@@ -44,18 +56,27 @@ class Solver {
   const std::vector<Vec3>& x() const { return x_; }
   const std::vector<Vec3>& v() const { return v_; }  // v_{n-1/2} of the next step
   const Energies& energies() const { return energies_; }
+  // Stress (Voigt: xx, yy, zz, xy, yz, zx) of solid element e.
+  const Eigen::Matrix<double, 6, 1>& stress(size_t e) const { return sigma_[e]; }
+  double contact_force() const { return contact_force_; }  // total normal force of the last step, N
+  double max_penetration() const;
   // Largest stable step of the model (without safety factor) and what limits it.
-  static double stable_dt(const Model& model, std::string* limited_by = nullptr);
+  static StableStep stable_dt(const Model& model);
 
  private:
   void internal_forces();
   void user_loads();
-  void contact() {}
+  void contact();
   void accelerations();
   void boundary_conditions();
   void velocities();
-  void positions();
   void energy_account();
+  void positions();
+  void solid_forces();
+  void bar_forces();
+  void spring_forces();
+  // Work of force field f over the last step, trapezoidal: ½(f_prev + f)·(x_n − x_{n−1}).
+  double step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f) const;
 
   const Model& m_;
   double dt_;
@@ -63,11 +84,16 @@ class Solver {
   long n_ = 0;
   UserLoad* user_load_ = nullptr;
   // Nodal state, one array per quantity.
-  std::vector<Vec3> x_, v_, a_, f_int_, f_ext_, f_ext_prev_, x_prev_;
+  std::vector<Vec3> x_, v_, a_, f_int_, f_ext_, f_ext_prev_, f_con_, f_con_prev_, x_prev_, v_prev_;
+  std::vector<double> mass_, contact_mass_;
   std::vector<int> body_of_;  // rigid body index per node, -1 if none
   std::vector<Eigen::Matrix<bool, 3, 1>> body_fixed_;
-  std::vector<Vec3> v_prev_;  // v_{n-1/2}, for the kinetic energy at t_n
-  double spring_energy_ = 0.0, damping_power_ = 0.0;
+  // Element state, one array per quantity.
+  std::vector<Eigen::Matrix<double, 6, 1>> sigma_;
+  std::vector<double> bar_force_;
+  std::vector<char> solid_active_;  // 0 for elements of rigid parts
+  std::vector<std::unique_ptr<PenaltyContact>> contacts_;
+  double spring_energy_ = 0.0, damping_power_ = 0.0, contact_force_ = 0.0;
   Energies energies_;
   double energy0_ = 0.0;
 };

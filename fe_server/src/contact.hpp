@@ -1,0 +1,46 @@
+// Penalty contact between two segment sets (*CONTACT_AUTOMATIC_SURFACE_TO_
+// SURFACE), symmetric: the nodes of each surface are checked against the
+// segments of the other.
+//
+// A node behind a segment (gap g = (x − x_c)·n < 0, n the segment's outward
+// normal, its projection inside the segment) is pushed out with
+//   F = k·(−g) + c·(−ġ),   only while F > 0 (contact never pulls),
+// and the reaction goes to the segment's nodes by the projection's
+// barycentric weights. Stiffness from the masses and the time step, as in
+// LS-DYNA's SOFT = 1: k = SFS·0.5·m_eff/Δt², capped at m_eff/Δt² so that
+// ω·Δt ≤ 1 (≤ √2 with both passes) whatever SFS is: central difference is
+// stable to ω·Δt = 2, and a stiffer penalty would only add energy.
+// Damping c = VDC·2·sqrt(k·m_eff).
+// Candidate segments are searched every `search_interval` steps.
+#pragma once
+
+#include <vector>
+
+#include "model.hpp"
+
+namespace fe {
+
+class PenaltyContact {
+ public:
+  PenaltyContact(const Model& model, const ContactDef& def, double dt, const std::vector<double>& nodal_mass);
+  // Add contact forces for positions x and velocities v; returns the number of active contacts.
+  int apply(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f, long step);
+  // Largest penetration of the last apply(), m.
+  double max_penetration() const { return max_penetration_; }
+  double element_size() const { return size_; }
+
+ private:
+  struct Side {
+    std::vector<Segment> segments;
+    std::vector<int> nodes;  // unique nodes of the other surface, checked against `segments`
+    std::vector<std::vector<int>> candidates;  // per node: nearby segment indices
+  };
+  void search(Side& s, const std::vector<Vec3>& x);
+  int side_forces(Side& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f);
+  const std::vector<double>& mass_;
+  double dt_, sfs_, damping_, size_ = 0.0, max_penetration_ = 0.0;
+  std::vector<Side> sides_;
+  int search_interval_ = 20;
+};
+
+}  // namespace fe

@@ -1,0 +1,56 @@
+#include "element_hex8.hpp"
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <algorithm>
+
+namespace fe {
+
+namespace {
+// Natural coordinates of the 8 nodes (LS-DYNA order).
+constexpr double kXi[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                              {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+// Hourglass base vectors: products of the natural coordinates, ξη, ηζ, ζξ, ξηζ.
+const Eigen::Matrix<double, 4, 8> kH = [] {
+  Eigen::Matrix<double, 4, 8> h;
+  for (int a = 0; a < 8; ++a) {
+    const double xi = kXi[a][0], eta = kXi[a][1], zeta = kXi[a][2];
+    h(0, a) = xi * eta;
+    h(1, a) = eta * zeta;
+    h(2, a) = zeta * xi;
+    h(3, a) = xi * eta * zeta;
+  }
+  return h;
+}();
+constexpr int kFaces[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+}  // namespace
+
+bool hex8_gradients(const Mat83& x, Mat83& b, double& volume) {
+  // ∂N_a/∂ξ at the centre: ξ_a/8 (each shape function is (1 + ξ_a ξ)(1 + η_a η)(1 + ζ_a ζ)/8).
+  Mat83 dN;
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i) dN(a, i) = kXi[a][i] / 8.0;
+  const Eigen::Matrix3d J = x.transpose() * dN;  // J_ij = Σ_a x_ai ∂N_a/∂ξ_j
+  const double det = J.determinant();
+  volume = 8.0 * det;
+  if (!(det > 0.0)) return false;
+  b = dN * J.inverse();  // ∂N_a/∂x_k = Σ_j ∂N_a/∂ξ_j (J⁻¹)_jk
+  return true;
+}
+
+Eigen::Matrix<double, 4, 8> hex8_hourglass_shapes(const Mat83& x, const Mat83& b) {
+  // γ_α = h_α − (h_α·x_i) b_i
+  const Eigen::Matrix<double, 4, 3> hx = kH * x;
+  return kH - hx * b.transpose();
+}
+
+double hex8_characteristic_length(const Mat83& x, double volume) {
+  double a_max = 0.0;
+  for (const auto& f : kFaces) {
+    const Eigen::Vector3d d1 = x.row(f[2]) - x.row(f[0]), d2 = x.row(f[3]) - x.row(f[1]);
+    a_max = std::max(a_max, 0.5 * d1.cross(d2).norm());
+  }
+  return a_max > 0.0 ? volume / a_max : 0.0;
+}
+
+}  // namespace fe

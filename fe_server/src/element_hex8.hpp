@@ -1,0 +1,34 @@
+// Eight-node hexahedron with one-point integration and Flanagan–Belytschko
+// hourglass control (Flanagan & Belytschko 1981, IJNME 17:679; as used in
+// LS-DYNA ELFORM 1 with viscous hourglass control, IHQ 1).
+//
+// Gradients at the centre: J = Σ_a x_a ⊗ ∂N_a/∂ξ(0), ∂N_a/∂x = J⁻ᵀ·∂N_a/∂ξ(0),
+// V = 8·det J. Any linear velocity field v = G·x gives Σ_a v_a ⊗ ∂N_a/∂x = G
+// exactly for any element shape (Σ_a x_a ⊗ ∂N_a/∂ξ is J itself), so
+// constant strain rates are reproduced: the patch test.
+//
+// Hourglass: with the base vectors h_α (α = 1..4) the FB shape vectors
+//   γ_α = h_α − Σ_i (h_α·x_i)·b_i       (orthogonal to linear fields)
+// give the hourglass rates q_αi = Σ_a v_ai·γ_αa and the resisting force
+//   f_ai = −c_h·Σ_α q_αi·γ_αa,   c_h = Q_h·ρ·c·V^(2/3)/4,
+// which does no work on rigid motions or constant strain rates.
+// Node order is LS-DYNA's: 1-2-3-4 one face, 5-6-7-8 the opposite face.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace fe {
+
+using Mat83 = Eigen::Matrix<double, 8, 3>;
+
+// Gradients b (8×3) and volume of the element with node coordinates x (8×3).
+// Returns false for a degenerate or inverted element (det J ≤ 0).
+bool hex8_gradients(const Mat83& x, Mat83& b, double& volume);
+
+// FB hourglass shape vectors γ (4×8) for gradients b and coordinates x.
+Eigen::Matrix<double, 4, 8> hex8_hourglass_shapes(const Mat83& x, const Mat83& b);
+
+// Characteristic length for the stable time step: volume / largest face area.
+double hex8_characteristic_length(const Mat83& x, double volume);
+
+}  // namespace fe

@@ -1,0 +1,62 @@
+#include "mass_scaling.hpp"
+
+#include <cstdio>
+
+#include "element_hex8.hpp"
+
+namespace fe {
+
+std::string MassScalingReport::summary() const {
+  std::string s;
+  char buf[160];
+  for (const auto& [pid, mm] : per_part) {
+    if (mm.second <= 0.0) continue;
+    std::snprintf(buf, sizeof buf, "part %d: added %.4g kg to %.4g kg (%.2f %%)\n", pid, mm.second, mm.first,
+                  100.0 * mm.second / mm.first);
+    s += buf;
+  }
+  return s;
+}
+
+MassScalingReport apply_mass_scaling(Model& m, double dt) {
+  MassScalingReport r;
+  for (const auto& e : m.solids) {
+    const Material& mat = m.materials.at(m.parts.at(e.part).material);
+    Mat83 x, b;
+    for (int k = 0; k < 8; ++k) x.row(k) = m.x0[static_cast<size_t>(e.n[k])].transpose();
+    double volume = 0.0;
+    hex8_gradients(x, b, volume);
+    auto& part = r.per_part[e.part];
+    part.first += mat.rho * volume;
+    if (mat.rigid) continue;
+    const double dt_e = hex8_characteristic_length(x, volume) / mat.wave_speed();
+    const double f = dt / (m.dt_scale * dt_e);
+    if (f <= 1.0) continue;
+    const double added = (f * f - 1.0) * mat.rho * volume;
+    for (int k = 0; k < 8; ++k) m.mass[static_cast<size_t>(e.n[k])] += added / 8.0;
+    part.second += added;
+    ++r.elements_scaled;
+  }
+  for (const auto& e : m.bars) {
+    const Part& p = m.parts.at(e.part);
+    const Material& mat = m.materials.at(p.material);
+    const double L = (m.x0[static_cast<size_t>(e.n2)] - m.x0[static_cast<size_t>(e.n1)]).norm();
+    auto& part = r.per_part[e.part];
+    part.first += mat.rho * p.bar_area * L;
+    if (mat.rigid) continue;
+    const double f = dt / (m.dt_scale * L / std::sqrt(mat.E / mat.rho));
+    if (f <= 1.0) continue;
+    const double added = (f * f - 1.0) * mat.rho * p.bar_area * L;
+    m.mass[static_cast<size_t>(e.n1)] += added / 2.0;
+    m.mass[static_cast<size_t>(e.n2)] += added / 2.0;
+    part.second += added;
+    ++r.elements_scaled;
+  }
+  for (auto& rb : m.rigid_bodies) {  // bodies carry their nodes' masses
+    rb.mass = 0.0;
+    for (int i : rb.nodes) rb.mass += m.mass[static_cast<size_t>(i)];
+  }
+  return r;
+}
+
+}  // namespace fe

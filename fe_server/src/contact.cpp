@@ -110,8 +110,7 @@ int PenaltyContact::side_forces(Side& s, const std::vector<Vec3>& x, const std::
       const double m_node = mass_[node];
       const double m_eff = (m_node > 0.0 && m_seg > 0.0) ? m_node * m_seg / (m_node + m_seg) : std::max(m_node, m_seg);
       if (!(m_eff > 0.0)) continue;
-      // ω·Δt ≤ 1: k ≤ m_eff/Δt²; the base value 0.5·m_eff/Δt² gives ω·Δt ≈ 0.7.
-      const double k = std::min(sfs_ * 0.5 * m_eff / (dt_ * dt_), m_eff / (dt_ * dt_));
+      const double k = std::min(sfs_ * 0.1, 0.2) * m_eff / (dt_ * dt_);
       const double gdot = (v[node] - v_seg).dot(n);
       const double F = k * (-g) - damping_ * 2.0 * std::sqrt(k * m_eff) * gdot;
       if (F <= 0.0) continue;

@@ -7,9 +7,11 @@
 //   F = k·(−g) + c·(−ġ),   only while F > 0 (contact never pulls),
 // and the reaction goes to the segment's nodes by the projection's
 // barycentric weights. Stiffness from the masses and the time step, as in
-// LS-DYNA's SOFT = 1: k = SFS·0.5·m_eff/Δt², capped at m_eff/Δt² so that
-// ω·Δt ≤ 1 (≤ √2 with both passes) whatever SFS is: central difference is
-// stable to ω·Δt = 2, and a stiffer penalty would only add energy.
+// LS-DYNA's SOFT = 1: k = SFS·0.1·m_eff/Δt², capped at 0.2·m_eff/Δt². The
+// cap matters: a contact node already vibrates with its elements at up to
+// ω·Δt = 2·TSSFAC = 1.8; adding the penalty (both passes: ω_c·Δt ≤ 0.63)
+// keeps sqrt(1.8² + 0.4) = 1.91 below central difference's limit of 2, so
+// a 100× stiffer SFS cannot make the energy grow.
 // Damping c = VDC·2·sqrt(k·m_eff).
 // Candidate segments are searched every `search_interval` steps.
 #pragma once

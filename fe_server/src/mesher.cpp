@@ -1,0 +1,226 @@
+#include "mesher.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace fe {
+
+namespace {
+
+struct Point2 {
+  double x, y;
+};
+
+// The 2D O-grid: node positions and quads (counter-clockwise seen from +z),
+// each quad with the mean radius of its ring (0 for the core).
+struct CrossSection {
+  std::vector<Point2> nodes;
+  std::vector<std::array<int, 4>> quads;
+  std::vector<double> quad_radius;  // radius of the cell's centre
+};
+
+CrossSection o_grid(const std::vector<double>& radii, double h) {
+  CrossSection cs;
+  const double r1 = radii.front();
+  // Core square of half-side a, so its corners sit at 0.75·r1 and its edge
+  // midpoints at 0.53·r1: cells of the first ring stay reasonably shaped.
+  const double a = 0.75 * r1 / std::sqrt(2.0);
+  const int n = std::max(1, static_cast<int>(std::lround(2.0 * a / h)));  // cells per core side
+  auto id = [&](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) cs.nodes.push_back({-a + 2.0 * a * i / n, -a + 2.0 * a * j / n});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      cs.quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+      cs.quad_radius.push_back(0.0);
+    }
+  // The core's boundary, counter-clockwise from the (−a, −a) corner: 4n nodes.
+  std::vector<int> ring;
+  for (int i = 0; i < n; ++i) ring.push_back(id(i, 0));
+  for (int j = 0; j < n; ++j) ring.push_back(id(n, j));
+  for (int i = n; i > 0; --i) ring.push_back(id(i, n));
+  for (int j = n; j > 0; --j) ring.push_back(id(0, j));
+  const size_t m = ring.size();
+  std::vector<Point2> square(m);
+  for (size_t k = 0; k < m; ++k) square[k] = cs.nodes[static_cast<size_t>(ring[k])];
+  // Rings: the first blends the square into the circle r1, the rest are circles.
+  double r_prev = 0.0;
+  for (size_t level = 0; level < radii.size(); ++level) {
+    const double r = radii[level];
+    const double span = level == 0 ? r - 0.5 * r1 : r - r_prev;
+    const int layers = std::max(1, static_cast<int>(std::lround(span / h)));
+    for (int l = 1; l <= layers; ++l) {
+      const double s = static_cast<double>(l) / layers;
+      std::vector<int> next(m);
+      for (size_t k = 0; k < m; ++k) {
+        const double theta = std::atan2(square[k].y, square[k].x);
+        Point2 p;
+        if (level == 0) {
+          const Point2 c{r * std::cos(theta), r * std::sin(theta)};
+          p = {(1 - s) * square[k].x + s * c.x, (1 - s) * square[k].y + s * c.y};
+        } else {
+          const double rr = r_prev + s * (r - r_prev);
+          p = {rr * std::cos(theta), rr * std::sin(theta)};
+        }
+        next[k] = static_cast<int>(cs.nodes.size());
+        cs.nodes.push_back(p);
+      }
+      for (size_t k = 0; k < m; ++k) {
+        const size_t k1 = (k + 1) % m;
+        // Counter-clockwise: out along θ_k, forward on the outer arc, back in on θ_k+1.
+        cs.quads.push_back({ring[k], next[k], next[k1], ring[k1]});
+        Point2 c{0, 0};
+        for (int q : {ring[k], next[k], next[k1], ring[k1]}) {
+          c.x += cs.nodes[static_cast<size_t>(q)].x / 4;
+          c.y += cs.nodes[static_cast<size_t>(q)].y / 4;
+        }
+        cs.quad_radius.push_back(std::hypot(c.x, c.y));
+      }
+      ring = next;
+    }
+    r_prev = r;
+  }
+  return cs;
+}
+
+}  // namespace
+
+std::vector<RevolutionSection> parse_sections(const std::string& text) {
+  std::vector<RevolutionSection> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ';')) {
+    std::vector<double> v;
+    std::stringstream is(item);
+    std::string num;
+    while (std::getline(is, num, ',')) {
+      if (num.find_first_not_of(" \t") == std::string::npos) continue;
+      v.push_back(std::stod(num));
+    }
+    if (v.empty()) continue;
+    if (v.size() < 2 || v.size() > 3) throw std::invalid_argument("section '" + item + "': expected L,r_out[,r_in]");
+    out.push_back({v[0], v[1], v.size() == 3 ? v[2] : 0.0});
+  }
+  return out;
+}
+
+RevolutionMesh mesh_revolution(const std::vector<RevolutionSection>& sections, const RevolutionMeshOptions& opt) {
+  if (sections.empty()) throw std::invalid_argument("no sections");
+  if (!(opt.element_size > 0.0)) throw std::invalid_argument("element size must be positive");
+  std::set<double> rset;
+  for (size_t i = 0; i < sections.size(); ++i) {
+    const auto& s = sections[i];
+    if (!(s.length > 0.0) || !(s.r_out > 0.0) || s.r_in < 0.0 || !(s.r_in < s.r_out))
+      throw std::invalid_argument("section " + std::to_string(i + 1) + ": need length > 0 and 0 ≤ r_in < r_out");
+    rset.insert(s.r_out);
+    if (s.r_in > 0.0) rset.insert(s.r_in);
+  }
+  const std::vector<double> radii(rset.begin(), rset.end());
+  const CrossSection cs = o_grid(radii, opt.element_size);
+  const size_t np = cs.nodes.size();
+
+  // Which cells each section takes: those between its radii.
+  auto inside = [&](size_t q, const RevolutionSection& s) {
+    const double r = cs.quad_radius[q];
+    return r < s.r_out && (s.r_in == 0.0 ? true : r > s.r_in);
+  };
+  // Axial stations.
+  std::vector<double> z = {opt.z0};
+  std::vector<size_t> section_of_layer;
+  std::vector<size_t> first_station = {0};
+  for (size_t i = 0; i < sections.size(); ++i) {
+    const int nz = std::max(1, static_cast<int>(std::lround(sections[i].length / opt.element_size)));
+    for (int k = 1; k <= nz; ++k) {
+      z.push_back(z.back() + sections[i].length / nz);
+      section_of_layer.push_back(i);
+    }
+    first_station.push_back(z.size() - 1);
+  }
+  // Elements; node id = offset + station·np + 2D index + 1, renumbered to used ones below.
+  std::vector<std::array<long, 8>> elems;
+  for (size_t layer = 0; layer < section_of_layer.size(); ++layer) {
+    const auto& s = sections[section_of_layer[layer]];
+    for (size_t q = 0; q < cs.quads.size(); ++q) {
+      if (!inside(q, s)) continue;
+      std::array<long, 8> e;
+      for (int k = 0; k < 4; ++k) {
+        e[static_cast<size_t>(k)] = static_cast<long>(layer * np) + cs.quads[q][static_cast<size_t>(k)];
+        e[static_cast<size_t>(k + 4)] = static_cast<long>((layer + 1) * np) + cs.quads[q][static_cast<size_t>(k)];
+      }
+      elems.push_back(e);
+    }
+  }
+  std::map<long, int> number;
+  for (const auto& e : elems)
+    for (long n : e) number.emplace(n, 0);
+  int next_id = opt.node_offset;
+  for (auto& [raw, id] : number) id = ++next_id;
+
+  RevolutionMesh out;
+  std::ostringstream k;
+  char buf[160];
+  k << "$ " << opt.title << ": generated by fe_mesh (body of revolution about z)\n$ sections (length, r_out, r_in):";
+  for (const auto& s : sections) k << " (" << s.length << ", " << s.r_out << ", " << s.r_in << ")";
+  k << "\n*NODE\n";
+  for (const auto& [raw, id] : number) {
+    const auto& p = cs.nodes[static_cast<size_t>(raw) % np];
+    std::snprintf(buf, sizeof buf, "%d,%.10g,%.10g,%.10g\n", id, p.x, p.y, z[static_cast<size_t>(raw) / np]);
+    k << buf;
+  }
+  k << "*ELEMENT_SOLID\n";
+  int eid = opt.element_offset;
+  for (const auto& e : elems) {
+    k << ++eid << "," << opt.part;
+    for (long n : e) k << "," << number[n];
+    k << "\n";
+  }
+  // Exposed axial faces, grouped per station and direction.
+  int sid = opt.set_offset;
+  for (size_t st = 0; st < first_station.size(); ++st) {
+    const size_t station = first_station[st];
+    const RevolutionSection* below = st > 0 ? &sections[st - 1] : nullptr;
+    const RevolutionSection* above = st < sections.size() ? &sections[st] : nullptr;
+    for (int dir : {-1, +1}) {
+      // Facing −z: cells of the section above not covered by the one below; +z: the reverse.
+      const RevolutionSection* own = dir < 0 ? above : below;
+      const RevolutionSection* other = dir < 0 ? below : above;
+      if (!own) continue;
+      std::vector<std::array<int, 4>> segs;
+      double r_lo = 1e300, r_hi = 0.0;
+      for (size_t q = 0; q < cs.quads.size(); ++q) {
+        if (!inside(q, *own) || (other && inside(q, *other))) continue;
+        const auto& quad = cs.quads[q];
+        std::array<int, 4> seg;
+        for (int c = 0; c < 4; ++c) seg[static_cast<size_t>(c)] = number[static_cast<long>(station * np) + quad[static_cast<size_t>(c)]];
+        if (dir < 0) std::swap(seg[1], seg[3]);  // clockwise from +z: the normal points to −z
+        segs.push_back(seg);
+        for (int c = 0; c < 4; ++c) {
+          const auto& p = cs.nodes[static_cast<size_t>(quad[static_cast<size_t>(c)])];
+          const double r = std::hypot(p.x, p.y);
+          r_lo = std::min(r_lo, r);
+          r_hi = std::max(r_hi, r);
+        }
+      }
+      if (segs.empty()) continue;
+      if (r_lo < 0.5 * radii.front()) r_lo = 0.0;  // a full disc (the core has no node on the axis)
+      ++sid;
+      out.faces.push_back({sid, z[station], dir, r_lo, r_hi});
+      std::snprintf(buf, sizeof buf, "$ set %d: face at z = %.6g facing %sz, r %.6g to %.6g\n", sid, z[station],
+                    dir < 0 ? "-" : "+", r_lo, r_hi);
+      k << buf << "*SET_SEGMENT\n" << sid << "\n";
+      for (const auto& s : segs) k << s[0] << "," << s[1] << "," << s[2] << "," << s[3] << "\n";
+    }
+  }
+  out.keyword_text = k.str();
+  out.nodes = static_cast<int>(number.size());
+  out.elements = static_cast<int>(elems.size());
+  return out;
+}
+
+}  // namespace fe

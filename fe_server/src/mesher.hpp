@@ -1,0 +1,52 @@
+// Mesher for bodies of revolution: a table of axial sections (length, outer
+// radius, inner radius) becomes an eight-node hexahedral mesh in the keyword
+// format fe_server reads, so a stepped piston or a tool needs no
+// pre-processor.
+//
+// Cross-section: an O-grid, a square core with rings around it. Every
+// distinct radius of the table is a ring boundary, so each section takes
+// exactly the cells between its inner and outer radius, and the meshes of
+// neighbouring sections share their nodes. The axis is z.
+//
+// Every exposed face normal to the axis (the end faces and the annular steps
+// between sections) becomes a *SET_SEGMENT whose node order points out of
+// the body, listed with its z and radii in a comment.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace fe {
+
+struct RevolutionSection {
+  double length = 0.0, r_out = 0.0, r_in = 0.0;  // m
+};
+
+struct RevolutionMeshOptions {
+  double element_size = 0.005;  // target edge length, m
+  double z0 = 0.0;              // z of the first section's start
+  int part = 1;
+  int node_offset = 0, element_offset = 0, set_offset = 0;  // ids start after these
+  std::string title = "body of revolution";
+};
+
+struct FaceSet {
+  int id;
+  double z;
+  int direction;  // −1 facing −z, +1 facing +z
+  double r_in, r_out;
+};
+
+struct RevolutionMesh {
+  std::string keyword_text;  // *NODE, *ELEMENT_SOLID, *SET_SEGMENT blocks
+  int nodes = 0, elements = 0;
+  std::vector<FaceSet> faces;
+};
+
+// Throws std::invalid_argument for a bad table (non-positive length, r_in ≥ r_out).
+RevolutionMesh mesh_revolution(const std::vector<RevolutionSection>& sections, const RevolutionMeshOptions& opt);
+
+// Parse "L,ro,ri; L,ro,ri; ..." (ri may be omitted).
+std::vector<RevolutionSection> parse_sections(const std::string& text);
+
+}  // namespace fe

@@ -1,0 +1,290 @@
+// fe_server elements, contact and waves against analytic references:
+// patch test, rigid motion, 1D waves (bar elements and hex8), coaxial bar
+// impact with equal and unequal impedance, contact penetration and energy.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "deck_reader.hpp"
+#include "element_hex8.hpp"
+#include "mesher.hpp"
+#include "solver.hpp"
+
+namespace {
+
+constexpr double kRho = 7850.0, kE = 210e9;
+
+// A 3×3×3-node unit cube of 8 hexes whose centre node is moved off-centre,
+// so the elements are not parallelepipeds.
+std::string distorted_cube(double E, double nu) {
+  std::ostringstream d;
+  d << "*KEYWORD\n*NODE\n";
+  int id = 0;
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        double x = 0.5 * i, y = 0.5 * j, z = 0.5 * k;
+        if (i == 1 && j == 1 && k == 1) x += 0.08, y -= 0.05, z += 0.11;
+        d << ++id << "," << x << "," << y << "," << z << "\n";
+      }
+  auto n = [](int i, int j, int k) { return 1 + i + 3 * j + 9 * k; };
+  d << "*PART\ncube\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1," << kRho << "," << E << "," << nu << "\n";
+  d << "*ELEMENT_SOLID\n";
+  int eid = 0;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i)
+        d << ++eid << ",1," << n(i, j, k) << "," << n(i + 1, j, k) << "," << n(i + 1, j + 1, k) << "," << n(i, j + 1, k)
+          << "," << n(i, j, k + 1) << "," << n(i + 1, j, k + 1) << "," << n(i + 1, j + 1, k + 1) << ","
+          << n(i, j + 1, k + 1) << "\n";
+  return d.str();
+}
+
+// Two coaxial cylinders of radius r along z: a piston (part 1) of length Lp
+// moving at −v0 towards a tool (part 2) of length Lt below it, 0.1 mm apart.
+std::string bar_impact_deck(double Lp, double Lt, double r, double h, double v0, double E_tool, double sfs = 1.0) {
+  fe::RevolutionMeshOptions tool, piston;
+  tool.element_size = piston.element_size = h;
+  tool.part = 2;
+  tool.z0 = -Lt;
+  tool.title = "tool";
+  tool.node_offset = 0, tool.element_offset = 0, tool.set_offset = 0;
+  fe::RevolutionMesh mt = fe::mesh_revolution({{Lt, r, 0.0}}, tool);
+  piston.part = 1;
+  piston.z0 = 1e-4;
+  piston.title = "piston";
+  piston.node_offset = 100000, piston.element_offset = 100000, piston.set_offset = 10;
+  fe::RevolutionMesh mp = fe::mesh_revolution({{Lp, r, 0.0}}, piston);
+  std::ostringstream d;
+  d << "*KEYWORD\n" << mt.keyword_text << mp.keyword_text;
+  d << "*PART\npiston\n1,1,1\n*PART\ntool\n2,1,2\n*SECTION_SOLID\n1,1\n";
+  d << "*MAT_ELASTIC\n1," << kRho << "," << kE << ",0.0\n2," << kRho << "," << E_tool << ",0.0\n";
+  // Tool top face: set 2 (z = 0 facing +z); piston bottom face: set 11.
+  d << "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n11,2,0,0\n0,0,0,0,20\n" << sfs << "\n";
+  d << "*INITIAL_VELOCITY_GENERATION\n1,2,0,0,0," << -v0 << "\n0,0,0,0,0,0\n";
+  return d.str();
+}
+
+struct ImpactResult {
+  double sigma_plateau = 0, pulse_length = 0, W = 0, piston_v_after = 0, max_penetration = 0, max_balance = 0;
+  double ke0 = 0, h = 0;
+};
+
+// Run the impact and measure at a gauge in the tool, `gauge` below its top.
+ImpactResult run_impact(double Lp, double Lt, double h, double v0, double E_tool, double gauge, double t_end,
+                        double sfs = 1.0) {
+  const double r = 0.01;
+  fe::Model m = fe::parse_deck(bar_impact_deck(Lp, Lt, r, h, v0, E_tool, sfs), "impact.k");
+  const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
+  fe::Solver s(m, dt);
+  // Gauge: tool elements whose centre lies in the layer at z = −gauge.
+  std::vector<size_t> gauge_elems;
+  double area = 0.0;
+  for (size_t e = 0; e < m.solids.size(); ++e) {
+    if (m.solids[e].part != 2) continue;
+    double zc = 0.0;
+    for (int k = 0; k < 8; ++k) zc += m.x0[static_cast<size_t>(m.solids[e].n[k])].z() / 8.0;
+    if (std::fabs(zc + gauge) < 0.5 * h * 1.01) gauge_elems.push_back(e);
+  }
+  EXPECT_FALSE(gauge_elems.empty());
+  (void)area;
+  ImpactResult res;
+  res.h = h;
+  std::vector<double> sig;
+  double W = 0.0, above = 0.0;
+  const double A = M_PI * r * r;  // the O-grid's polygon area differs from πr² by < 1 %
+  double mesh_area = 0.0;
+  (void)mesh_area;
+  const double c_t = std::sqrt(E_tool / kRho);
+  while (s.time() < t_end) {
+    s.step();
+    double sz = 0.0;
+    for (size_t e : gauge_elems) sz += s.stress(e)(2);
+    sz /= static_cast<double>(gauge_elems.size());
+    sig.push_back(sz);
+    W += A * c_t / E_tool * sz * sz * dt;
+    res.max_penetration = std::max(res.max_penetration, s.max_penetration());
+    res.max_balance = std::max(res.max_balance, std::fabs(s.energies().balance_error));
+    if (s.step_count() == 1) res.ke0 = s.energies().kinetic;
+  }
+  std::vector<double> comp;
+  for (double v : sig)
+    if (v < -1e6) comp.push_back(v);
+  std::sort(comp.begin(), comp.end());
+  res.sigma_plateau = comp.empty() ? 0.0 : comp[comp.size() / 2];  // median over the pulse
+  // Pulse length: full width at half the plateau (the front's rise and fall are symmetric about it).
+  for (double v : sig)
+    if (v < 0.5 * res.sigma_plateau) above += dt;
+  res.pulse_length = above;
+  res.W = W;
+  // Piston's mean velocity at the end.
+  double p = 0.0, mass = 0.0;
+  for (size_t i = 0; i < m.x0.size(); ++i)
+    if (m.node_ids[i] > 100000) {
+      p += m.mass[i] * s.v()[i].z();
+      mass += m.mass[i];
+    }
+  res.piston_v_after = p / mass;
+  return res;
+}
+
+}  // namespace
+
+TEST(Hex8, PatchTestConstantStrainRateIsExactInDistortedElements) {
+  fe::Model m = fe::parse_deck(distorted_cube(1e9, 0.3), "cube.k");
+  // A linear velocity field v = G·x: every element must see D = sym(G) exactly.
+  Eigen::Matrix3d G;
+  G << 1e-3, 2e-4, -3e-4, 5e-4, -2e-3, 1e-4, 0.0, 7e-4, 1.5e-3;
+  for (size_t i = 0; i < m.x0.size(); ++i) m.v0[i] = G * m.x0[i];
+  for (const auto& e : m.solids) {
+    fe::Mat83 x, b;
+    for (int k = 0; k < 8; ++k) x.row(k) = m.x0[static_cast<size_t>(e.n[k])].transpose();
+    double V = 0;
+    ASSERT_TRUE(fe::hex8_gradients(x, b, V));
+    fe::Mat83 v;
+    for (int k = 0; k < 8; ++k) v.row(k) = m.v0[static_cast<size_t>(e.n[k])].transpose();
+    const Eigen::Matrix3d L = v.transpose() * b;
+    EXPECT_LT((L - G).norm(), 1e-14 * G.norm()) << "element " << e.id;
+    // The hourglass shapes are orthogonal to linear fields: no hourglass rate.
+    EXPECT_LT((fe::hex8_hourglass_shapes(x, b) * v).norm(), 1e-14 * G.norm());
+  }
+  // The eight volumes fill the unit cube exactly, however the centre node moves.
+  double total = 0;
+  for (const auto& e : m.solids) {
+    fe::Mat83 x, b;
+    for (int k = 0; k < 8; ++k) x.row(k) = m.x0[static_cast<size_t>(e.n[k])].transpose();
+    double V = 0;
+    fe::hex8_gradients(x, b, V);
+    total += V;
+  }
+  EXPECT_NEAR(total, 1.0, 0.02) << "one-point volumes of warped hexes are approximate, not exact";
+}
+
+TEST(Hex8, RigidMotionMakesNoStrain) {
+  fe::Model m = fe::parse_deck(distorted_cube(1e6, 0.3), "cube.k");  // soft: large stable steps
+  // Translation plus a rigid rotation about z through (0.5, 0.5, 0.5): v = t + ω × (x − c).
+  // The turn is kept to 0.05 rad: the stress update is hypoelastic without an
+  // objective (Jaumann) rate, made for the small rotations of pistons and tools.
+  const double dt = 0.5 * fe::Solver::stable_dt(m).dt;
+  const Eigen::Vector3d t(0.3, -0.2, 0.1), omega(0, 0, 0.05 / (200 * dt)), c(0.5, 0.5, 0.5);
+  for (size_t i = 0; i < m.x0.size(); ++i) m.v0[i] = t + omega.cross(m.x0[i] - c);
+  fe::Solver s(m, dt);
+  for (int k = 0; k < 200; ++k) s.step();  // 200 steps
+  double worst = 0.0;
+  for (size_t e = 0; e < m.solids.size(); ++e) worst = std::max(worst, s.stress(e).cwiseAbs().maxCoeff());
+  // A rigid velocity field has D = 0 exactly, so no stress should appear but
+  // for the second-order error of moving the nodes on straight lines while
+  // the body turns: |D| ~ ω²·Δt, i.e. σ ~ E·(ω·Δt)²·steps. Bound it by that.
+  const double bound = 1e6 * std::pow(omega.z() * dt, 2) * 200;
+  EXPECT_LT(worst, bound);
+  EXPECT_LT(s.energies().hourglass, 1e-9 * s.energies().kinetic);
+}
+
+TEST(Waves, BarElementsCarryTheStepAtSpeedSqrtEOverRho) {
+  // A 1 m steel bar of 200 bar elements moving at −1 m/s onto a fixed end at
+  // z = 0: a compressive wave σ = −ρ·c·v0 runs up the bar at c = sqrt(E/ρ).
+  std::ostringstream d;
+  d << "*KEYWORD\n*NODE\n";
+  for (int i = 0; i <= 200; ++i) d << i + 1 << ",0,0," << 0.005 * i << (i == 0 ? ",7" : "") << "\n";
+  d << "*PART\nbar\n1,1,1\n*SECTION_BEAM\n1,3\n1e-4\n*MAT_ELASTIC\n1," << kRho << "," << kE << ",0.3\n*ELEMENT_BEAM\n";
+  for (int i = 0; i < 200; ++i) d << i + 1 << ",1," << i + 1 << "," << i + 2 << "\n";
+  d << "*BOUNDARY_SPC_SET\n1,0,1,1,0\n*SET_NODE_LIST\n1\n";
+  for (int i = 2; i <= 201; ++i) d << i << (i % 8 == 1 ? "\n" : ",");
+  d << "\n*INITIAL_VELOCITY\n0\n0,0,-1\n";
+  fe::Model m = fe::parse_deck(d.str(), "bar.k");
+  const double c = std::sqrt(kE / kRho);
+  const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
+  EXPECT_NEAR(fe::Solver::stable_dt(m).dt, 0.005 / c, 1e-12);
+  fe::Solver s(m, dt);
+  // Nodes at z = 0.3 m and 0.6 m stop when the front passes (half amplitude).
+  // The speed between them cancels the fixed start-up lag of the discrete front.
+  const size_t near = 60, far = 120;
+  double t_near = -1, t_far = -1;
+  while (s.time() < 1.5 * 0.6 / c) {
+    s.step();
+    if (t_near < 0 && s.v()[near].z() > -0.5) t_near = s.time();
+    if (t_far < 0 && s.v()[far].z() > -0.5) t_far = s.time();
+  }
+  ASSERT_GT(t_far, 0.0);
+  // 1 %: a lumped-mass chain at Courant 0.9 is nearly dispersion-free for the
+  // front's long wavelengths; the half-amplitude crossing is sampled every Δt
+  // (0.9·Δx/c), i.e. 0.3 % of the 60-element transit.
+  EXPECT_NEAR(0.3 / (t_far - t_near), c, 0.01 * c);
+  EXPECT_NEAR(t_far, 0.6 / c, 3.0 * 0.005 / c) << "arrival after L/c, within a few element transits of start-up lag";
+  EXPECT_NEAR(s.v()[far].z(), 0.0, 0.05) << "behind the front the bar is at rest";
+}
+
+TEST(Waves, CoaxialImpactEqualImpedanceMatchesOneDimensionalTheory) {
+  const double Lp = 0.2, Lt = 0.8, v0 = 8.0, c = std::sqrt(kE / kRho);
+  const ImpactResult r = run_impact(Lp, Lt, 0.005, v0, kE, 0.2, 2.2 * Lp / c + 0.25 / c);
+  // 1D theory (DESIGN.md): σ = E·v0/(2c), duration 2·Lp/c, W = ½·m·v0², piston stops.
+  const double sigma = -kE * v0 / (2.0 * c);
+  EXPECT_NEAR(r.sigma_plateau, sigma, 0.02 * std::fabs(sigma)) << "plateau, 2 %: penalty contact and bulk viscosity round the front";
+  EXPECT_NEAR(r.pulse_length, 2.0 * Lp / c, 0.05 * 2.0 * Lp / c);
+  const double m_p = kRho * M_PI * 0.01 * 0.01 * Lp;
+  EXPECT_NEAR(r.W, 0.5 * m_p * v0 * v0, 0.05 * 0.5 * m_p * v0 * v0) << "W = (A·c/E)∫σ²dt; 5 %: the O-grid area is not exactly πr²";
+  EXPECT_NEAR(r.piston_v_after, 0.0, 0.05 * v0);
+  EXPECT_LT(r.max_balance, 0.01 * r.ke0) << "energy balance within 1 % of the impact energy";
+}
+
+TEST(Waves, CoaxialImpactUnequalImpedanceMatchesOneDimensionalTheory) {
+  // Tool four times stiffer (same density): c_t = 2c, Z_t = 2·Z_p.
+  const double Lp = 0.2, Lt = 1.6, v0 = 8.0, c = std::sqrt(kE / kRho);
+  const ImpactResult r = run_impact(Lp, Lt, 0.005, v0, 4.0 * kE, 0.4, 0.4 / (2 * c) + 2.5 * Lp / c);
+  // Force Z_p·Z_t/(Z_p + Z_t)·v0 = (2/3)·A·ρ·c·v0; piston rebounds at v0·(Z_p − Z_t)/(Z_p + Z_t) = −v0/3.
+  const double sigma = -(2.0 / 3.0) * kRho * c * v0;
+  EXPECT_NEAR(r.sigma_plateau, sigma, 0.02 * std::fabs(sigma));
+  EXPECT_NEAR(r.piston_v_after, v0 / 3.0, 0.05 * v0) << "rebound upwards (+z)";
+  const double m_p = kRho * M_PI * 0.01 * 0.01 * Lp;
+  EXPECT_NEAR(r.W, (8.0 / 9.0) * 0.5 * m_p * v0 * v0, 0.05 * 0.5 * m_p * v0 * v0) << "8/9 of the energy is transmitted";
+}
+
+TEST(Contact, PenetrationStaysSmallAt15MetresPerSecondAndStiffnessCannotAddEnergy) {
+  const double Lp = 0.1, Lt = 0.3, c = std::sqrt(kE / kRho);
+  for (double sfs : {1.0, 100.0}) {
+    const ImpactResult r = run_impact(Lp, Lt, 0.005, 15.0, kE, 0.1, 2.5 * Lp / c, sfs);
+    // Penetration below 5 % of the element size (LS-DYNA's default reporting threshold is far larger).
+    EXPECT_LT(r.max_penetration, 0.05 * 0.005) << "SFS = " << sfs;
+    // A 100× stiffer penalty is capped at the stable stiffness: no energy is created.
+    EXPECT_LT(r.max_balance, 0.01 * r.ke0) << "SFS = " << sfs;
+  }
+}
+
+TEST(StableStep, ASolidElementLimitsAndIsNamed) {
+  fe::Model m = fe::parse_deck(distorted_cube(kE, 0.3), "cube.k");
+  const fe::StableStep st = fe::Solver::stable_dt(m);
+  EXPECT_NE(st.limited_by.find("solid element"), std::string::npos);
+  try {
+    fe::Solver s(m, st.dt);  // above TSSFAC × the limit
+    FAIL() << "must refuse";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(st.limited_by), std::string::npos) << e.what();
+  }
+}
+
+TEST(Mesher, StepsShareNodesAndFacesPointOutwards) {
+  fe::RevolutionMeshOptions o;
+  o.element_size = 0.006;
+  fe::RevolutionMesh mesh = fe::mesh_revolution({{0.33, 0.0305, 0.0}, {0.11, 0.0328, 0.0}, {0.2, 0.028, 0.0}}, o);
+  fe::Model m = fe::parse_deck("*KEYWORD\n" + mesh.keyword_text +
+                                   "*PART\np\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n",
+                               "piston.k");
+  // Mass: the stepped piston's volume (the polygonal section is slightly under πr²).
+  const double V = M_PI * (0.0305 * 0.0305 * 0.33 + 0.0328 * 0.0328 * 0.11 + 0.028 * 0.028 * 0.2);
+  EXPECT_NEAR(m.total_mass(), 7850 * V, 0.02 * 7850 * V);
+  ASSERT_EQ(mesh.faces.size(), 4u);
+  // Striking face: area πr², normal −z; the collar's lower annulus π(0.0328² − 0.0305²), normal −z.
+  const double expected[4] = {-M_PI * 0.0305 * 0.0305, -M_PI * (0.0328 * 0.0328 - 0.0305 * 0.0305),
+                              M_PI * (0.0328 * 0.0328 - 0.028 * 0.028), M_PI * 0.028 * 0.028};
+  for (int f = 0; f < 4; ++f) {
+    double az = 0.0;
+    for (const auto& seg : m.segment_sets.at(mesh.faces[static_cast<size_t>(f)].id)) {
+      const fe::Vec3 a = 0.5 * (m.x0[static_cast<size_t>(seg.n[2])] - m.x0[static_cast<size_t>(seg.n[0])])
+                                   .cross(m.x0[static_cast<size_t>(seg.n[3])] - m.x0[static_cast<size_t>(seg.n[1])]);
+      az += a.z();
+    }
+    EXPECT_NEAR(az, expected[f], 0.03 * std::fabs(expected[f])) << "face set " << f + 1;
+  }
+}

@@ -247,6 +247,9 @@ struct Reader {
         m.bulk_q1 = c.real_or(0, "Q1", 1.5);
         m.bulk_q2 = c.real_or(1, "Q2", 0.06);
       }
+    } else if (kw == "*DATABASE_BINARY_D3PLOT") {
+      // Field snapshots every DT, written as HDF5 + XDMF (not d3plot).
+      if (!b.cards.empty()) m.snapshot_interval = fields_of(b.cards[0], kW10).real(0, "DT");
     } else if (kw == "*DATABASE_HISTORY_NODE") {
       for (int id : id_list(b, 0, "ID")) m.history_nodes.push_back(m.index_of(id, b.where));
     } else if (kw == "*DATABASE_HISTORY_SOLID") {

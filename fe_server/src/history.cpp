@@ -1,5 +1,10 @@
 #include "history.hpp"
 
+#include <cmath>
+#include <cstdio>
+
+#include "field_output.hpp"
+
 namespace fe {
 
 History::History(const std::string& path, const Model& model, const config::PortTable* table)
@@ -18,9 +23,35 @@ History::History(const std::string& path, const Model& model, const config::Port
     for (const char* c : {"ux", "uy", "uz"}) writer_.add_series(base + c, "m");
     for (const char* c : {"vx", "vy", "vz"}) writer_.add_series(base + c, "m/s");
   }
-  for (const char* e : {"kinetic", "internal", "damping", "external_work", "balance_error"})
+  for (int e : model.history_solids) {
+    std::string base = "solids/" + std::to_string(model.solids[static_cast<size_t>(e)].id) + "/";
+    for (const char* c : {"sxx", "syy", "szz", "sxy", "syz", "szx"}) writer_.add_series(base + c, "Pa");
+  }
+  if (!model.contacts.empty()) {
+    writer_.add_series("contact/force", "N");
+    writer_.add_series("contact/max_penetration", "m");
+  }
+  for (const char* e : {"kinetic", "internal", "hourglass", "contact", "damping", "external_work", "balance_error"})
     writer_.add_series(std::string("energy/") + e, "J");
   row_.resize(writer_.columns());
+  if (model.snapshot_interval > 0.0) {
+    std::string base = path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0 ? path.substr(0, path.size() - 3) : path;
+    fields_ = std::make_unique<FieldWriter>(base + "_fields.h5", model);
+  }
+}
+
+History::~History() = default;
+
+size_t History::snapshots() const { return fields_ ? fields_->snapshots() : 0; }
+
+std::string History::energy_summary(const Solver& s, bool* exceeded) const {
+  const double err = s.energies().balance_error;
+  const double scale = std::max(energy_scale_, 1e-300);
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "energy balance error %.4g J (%.3g %% of %.4g J, bound 1 %%)", err,
+                100.0 * std::fabs(err) / scale, energy_scale_);
+  if (exceeded) *exceeded = std::fabs(err) > 0.01 * scale && energy_scale_ > 0.0;
+  return buf;
 }
 
 void History::record(const Solver& s, const std::vector<double>& inputs,
@@ -34,9 +65,21 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
     for (int c = 0; c < 3; ++c) row_[k++] = s.x()[n][c] - model_.x0[n][c];
     for (int c = 0; c < 3; ++c) row_[k++] = s.v()[n][c];
   }
+  for (int e : model_.history_solids)
+    for (int c = 0; c < 6; ++c) row_[k++] = s.stress(static_cast<size_t>(e))(c);
+  if (!model_.contacts.empty()) {
+    row_[k++] = s.contact_force();
+    row_[k++] = s.max_penetration();
+  }
   const Energies& e = s.energies();
-  for (double v : {e.kinetic, e.internal, e.damping, e.external_work, e.balance_error}) row_[k++] = v;
+  for (double v : {e.kinetic, e.internal, e.hourglass, e.contact, e.damping, e.external_work, e.balance_error})
+    row_[k++] = v;
   writer_.append(row_);
+  energy_scale_ = std::max({energy_scale_, e.kinetic + e.internal, std::fabs(e.external_work)});
+  if (fields_ && s.time() >= next_snapshot_ - 1e-12 * model_.snapshot_interval) {
+    fields_->write(s);
+    next_snapshot_ += model_.snapshot_interval;
+  }
 }
 
 }  // namespace fe

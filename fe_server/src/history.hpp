@@ -12,18 +12,29 @@
 
 namespace fe {
 
+// All of a run's output behind one interface: time histories every step,
+// field snapshots (HDF5 + XDMF) every *DATABASE_BINARY_D3PLOT interval, and
+// the energy balance check at the end.
 class History {
  public:
   History(const std::string& path, const Model& model, const config::PortTable* table);
+  ~History();
   // inputs/outputs: the values of the table's to_fe/to_host variables, wire units.
   void record(const Solver& s, const std::vector<double>& inputs, const std::vector<double>& outputs);
   void flush() { writer_.flush(); }
   size_t rows() const { return writer_.rows(); }
+  size_t snapshots() const;
+  // "energy balance error X J (Y % of Z J)", and whether it exceeds the bound:
+  // 1 % of the largest energy the run held (kinetic + internal, or the work done on it).
+  std::string energy_summary(const Solver& s, bool* exceeded) const;
 
  private:
   h5io::TimeSeriesWriter writer_;
   const Model& model_;
   std::vector<double> row_;
+  std::unique_ptr<class FieldWriter> fields_;
+  double next_snapshot_ = 0.0;
+  double energy_scale_ = 0.0;
 };
 
 }  // namespace fe

@@ -83,14 +83,32 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
   fe::Solver solver(model, dt);
   fe::History history(out, model, nullptr);
   const long steps = static_cast<long>(std::ceil(model.end_time / dt));
-  for (long k = 0; k < steps; ++k) {
-    solver.step();
-    history.record(solver, {}, {});
+  const auto t0 = std::chrono::steady_clock::now();
+  auto last = t0;
+  try {
+    for (long k = 0; k < steps; ++k) {
+      solver.step();
+      history.record(solver, {}, {});
+      if (!quiet && (k & 1023) == 0 && std::chrono::steady_clock::now() - last > std::chrono::seconds(5)) {
+        last = std::chrono::steady_clock::now();
+        std::cout << "fe_server: t = " << solver.time() << " of " << model.end_time << " s (" << 100 * (k + 1) / steps
+                  << " %)" << std::endl;
+      }
+    }
+  } catch (const std::exception& e) {
+    history.flush();
+    std::cerr << "fe_server: " << e.what() << "; history up to the last completed step kept in " << out << "\n";
+    return fe::kExitNumerical;
   }
   history.flush();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  bool drift = false;
+  const std::string energy = history.energy_summary(solver, &drift);
   if (!quiet)
-    std::cout << "fe_server: standalone run, " << steps << " steps of " << dt << " s (limited by "
-              << crit.limited_by << "), energy balance error " << solver.energies().balance_error << " J\n";
+    std::cout << "fe_server: standalone run, " << steps << " steps of " << dt << " s (limited by " << crit.limited_by
+              << "), " << wall << " s wall; " << energy << "; " << history.rows() << " history rows, "
+              << history.snapshots() << " field snapshots in " << out << "\n";
+  if (drift) std::cerr << "fe_server: warning: the " << energy << " exceeds its bound: check contacts and hourglass energy\n";
   return fe::kExitOk;
 }
 
@@ -171,8 +189,8 @@ int main(int argc, char** argv) {
     if (code == fe::kExitOk) {
       if (!opt.quiet) {
         std::cout << "fe_server: " << message << "\n"
-                  << "fe_server: energy balance error " << solver.energies().balance_error << " J; history ("
-                  << history->rows() << " rows) in " << out << std::endl;
+                  << "fe_server: " << history->energy_summary(solver, nullptr) << "; history (" << history->rows()
+                  << " rows) in " << out << std::endl;
       }
     } else {
       std::cerr << "fe_server: " << message << "; history up to the last completed step (" << history->rows()

@@ -1,7 +1,8 @@
 // fe_mesh: bodies of revolution → keyword mesh (nodes, hex8 elements, face sets).
 //
 //   fe_mesh --sections "L,ro[,ri]; L,ro[,ri]; ..." [--size h] [--part PID] [--z0 Z]
-//           [--node-offset N] [--element-offset E] [--set-offset S] [--title T] -o mesh.k
+//           [--node-offset N] [--element-offset E] [--set-offset S] [--title T]
+//           [--gauge Z ...] -o mesh.k
 // Include the result from a deck (*INCLUDE) that defines the part's *PART,
 // *SECTION_SOLID and material.
 #include <fstream>
@@ -27,6 +28,7 @@ int main(int argc, char** argv) {
       else if (a == "--element-offset") opt.element_offset = std::stoi(value());
       else if (a == "--set-offset") opt.set_offset = std::stoi(value());
       else if (a == "--title") opt.title = value();
+      else if (a == "--gauge") opt.gauges.push_back(std::stod(value()));
       else if (a == "-o") out = value();
       else throw std::invalid_argument("unknown argument " + a);
     }

@@ -91,8 +91,10 @@ CrossSection o_grid(const std::vector<double>& radii, double h) {
 
 }  // namespace
 
-std::vector<RevolutionSection> parse_sections(const std::string& text) {
+std::vector<RevolutionSection> parse_sections(const std::string& text_in) {
   std::vector<RevolutionSection> out;
+  std::string text = text_in;
+  std::replace(text.begin(), text.end(), '/', ';');  // '/' separates sections too (shell- and CMake-safe)
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ';')) {
@@ -179,6 +181,21 @@ RevolutionMesh mesh_revolution(const std::vector<RevolutionSection>& sections, c
     k << ++eid << "," << opt.part;
     for (long n : e) k << "," << number[n];
     k << "\n";
+  }
+  // Gauge layers: the elements of the layer that contains each gauge z.
+  for (double zg : opt.gauges) {
+    std::vector<int> ids;
+    int e2 = opt.element_offset;
+    for (size_t layer = 0; layer < section_of_layer.size(); ++layer)
+      for (size_t q = 0; q < cs.quads.size(); ++q) {
+        if (!inside(q, sections[section_of_layer[layer]])) continue;
+        ++e2;
+        if (z[layer] <= zg && zg < z[layer + 1]) ids.push_back(e2);
+      }
+    if (ids.empty()) throw std::invalid_argument("gauge z = " + std::to_string(zg) + " is outside the body");
+    std::snprintf(buf, sizeof buf, "$ gauge layer at z = %.6g\n*DATABASE_HISTORY_SOLID\n", zg);
+    k << buf;
+    for (size_t i = 0; i < ids.size(); ++i) k << ids[i] << ((i % 8 == 7 || i + 1 == ids.size()) ? "\n" : ",");
   }
   // Exposed axial faces, grouped per station and direction.
   int sid = opt.set_offset;

@@ -28,6 +28,7 @@ struct RevolutionMeshOptions {
   int part = 1;
   int node_offset = 0, element_offset = 0, set_offset = 0;  // ids start after these
   std::string title = "body of revolution";
+  std::vector<double> gauges;  // z of strain-gauge layers: their elements go to *DATABASE_HISTORY_SOLID
 };
 
 struct FaceSet {
@@ -46,7 +47,7 @@ struct RevolutionMesh {
 // Throws std::invalid_argument for a bad table (non-positive length, r_in ≥ r_out).
 RevolutionMesh mesh_revolution(const std::vector<RevolutionSection>& sections, const RevolutionMeshOptions& opt);
 
-// Parse "L,ro,ri; L,ro,ri; ..." (ri may be omitted).
+// Parse "L,ro,ri; L,ro,ri; ..." (ri may be omitted; '/' may replace ';').
 std::vector<RevolutionSection> parse_sections(const std::string& text);
 
 }  // namespace fe

@@ -104,6 +104,7 @@ struct Model {
   std::vector<ContactDef> contacts;
   std::map<int, std::vector<int>> part_sets;
   std::vector<int> history_solids;  // element indices into solids
+  double snapshot_interval = 0.0;  // *DATABASE_BINARY_D3PLOT DT (0: no field output)
   double dt2ms = 0.0;              // *CONTROL_TIMESTEP DT2MS (< 0: mass scaling to |DT2MS|)
   double hourglass_q = 0.1;        // *CONTROL_HOURGLASS QH
   double bulk_q1 = 1.5, bulk_q2 = 0.06;  // *CONTROL_BULK_VISCOSITY (quadratic, linear)

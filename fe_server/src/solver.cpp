@@ -92,7 +92,18 @@ Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt) {
   sigma_.assign(model.solids.size(), Voigt::Zero());
   bar_force_.assign(model.bars.size(), 0.0);
   solid_active_.resize(model.solids.size());
-  for (size_t e = 0; e < model.solids.size(); ++e) solid_active_[e] = !in_rigid_part(model, model.solids[e].part);
+  solid_material_.resize(model.solids.size());
+  hourglass_coef_.resize(model.solids.size());
+  for (size_t e = 0; e < model.solids.size(); ++e) {
+    const SolidElement& el = model.solids[e];
+    solid_active_[e] = !in_rigid_part(model, el.part);
+    solid_material_[e] = &model.materials.at(model.parts.at(el.part).material);
+    Mat83 xe = gather(model.x0, el), b;
+    double volume = 0.0;
+    hex8_gradients(xe, b, volume);
+    const Material& mat = *solid_material_[e];
+    hourglass_coef_[e] = model.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0;
+  }
   body_of_.assign(n, -1);
   body_fixed_.assign(model.rigid_bodies.size(), Eigen::Matrix<bool, 3, 1>(false, false, false));
   for (size_t b = 0; b < model.rigid_bodies.size(); ++b) {
@@ -161,11 +172,11 @@ void Solver::bar_forces() {
 }
 
 void Solver::solid_forces() {
-  const double q_hg = m_.hourglass_q, q1 = m_.bulk_q1, q2 = m_.bulk_q2;
+  const double q1 = m_.bulk_q1, q2 = m_.bulk_q2;
   for (size_t e = 0; e < m_.solids.size(); ++e) {
     if (!solid_active_[e]) continue;
     const SolidElement& el = m_.solids[e];
-    const Material& mat = m_.materials.at(m_.parts.at(el.part).material);
+    const Material& mat = *solid_material_[e];
     const Mat83 x = gather(x_, el), v = gather(v_, el);
     Mat83 b;
     double volume = 0.0;
@@ -186,9 +197,11 @@ void Solver::solid_forces() {
     const Voigt old = sigma_[e];
     sigma_[e] += dt_ * dsig;
     // Bulk viscosity in compression (von Neumann–Richtmyer with a linear term, LS-DYNA's Q1, Q2).
-    const double len = hex8_characteristic_length(x, volume);
-    const double c = mat.wave_speed();
-    const double q = trD < 0.0 ? mat.rho * len * (q1 * len * trD * trD - q2 * c * trD) : 0.0;
+    double q = 0.0;
+    if (trD < 0.0) {
+      const double len = hex8_characteristic_length(x, volume);
+      q = mat.rho * len * (q1 * len * trD * trD - q2 * mat.wave_speed() * trD);
+    }
     Eigen::Matrix3d s;
     s << sigma_[e](0) - q, sigma_[e](3), sigma_[e](5), sigma_[e](3), sigma_[e](1) - q, sigma_[e](4), sigma_[e](5),
         sigma_[e](4), sigma_[e](2) - q;
@@ -196,7 +209,7 @@ void Solver::solid_forces() {
     // Hourglass (viscous FB): f = −c_h Σ_α γ_α ⊗ q_α.
     const Eigen::Matrix<double, 4, 8> gamma = hex8_hourglass_shapes(x, b);
     const Eigen::Matrix<double, 4, 3> qa = gamma * v;
-    const double c_h = q_hg * mat.rho * c * std::cbrt(volume * volume) / 4.0;
+    const double c_h = hourglass_coef_[e];
     const Mat83 f_hg = -c_h * gamma.transpose() * qa;
     for (int k = 0; k < 8; ++k) f_int_[static_cast<size_t>(el.n[k])] += (f.row(k) + f_hg.row(k)).transpose();
     // Energies of this step: elastic σ:D (trapezoidal in σ), hourglass and bulk viscosity dissipation.

@@ -92,6 +92,8 @@ class Solver {
   std::vector<Eigen::Matrix<double, 6, 1>> sigma_;
   std::vector<double> bar_force_;
   std::vector<char> solid_active_;  // 0 for elements of rigid parts
+  std::vector<const Material*> solid_material_;
+  std::vector<double> hourglass_coef_;  // Q_h·ρ·c·V0^(2/3)/4, fixed per element (V changes little)
   std::vector<std::unique_ptr<PenaltyContact>> contacts_;
   double spring_energy_ = 0.0, damping_power_ = 0.0, contact_force_ = 0.0;
   Energies energies_;

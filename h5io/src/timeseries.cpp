@@ -56,7 +56,6 @@ size_t TimeSeriesWriter::add_series(const std::string& name, const std::string& 
   if (d < 0) fail("cannot create dataset '" + name + "'", path_);
   put_string_attribute(d, "unit", unit, path_);
   series_.push_back(d);
-  buffer_.assign(series_.size() * chunk_, 0.0);
   return series_.size() - 1;
 }
 
@@ -71,6 +70,7 @@ void TimeSeriesWriter::set_attribute(const std::string& name, double value) {
 }
 
 void TimeSeriesWriter::append(const double* row) {
+  if (buffer_.size() != series_.size() * chunk_) buffer_.assign(series_.size() * chunk_, 0.0);  // sized once, at the first row
   for (size_t c = 0; c < series_.size(); ++c) buffer_[c * chunk_ + buffered_] = row[c];
   if (++buffered_ == chunk_) write_buffer();
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "cavity_load.hpp"
 #include "deck_reader.hpp"
 #include "element_hex8.hpp"
 #include "mesher.hpp"
@@ -69,7 +70,7 @@ std::string bar_impact_deck(double Lp, double Lt, double r, double h, double v0,
 
 struct ImpactResult {
   double sigma_plateau = 0, pulse_length = 0, W = 0, piston_v_after = 0, max_penetration = 0, max_balance = 0;
-  double ke0 = 0, h = 0;
+  double ke0 = 0, h = 0, area = 0;
 };
 
 // Run the impact and measure at a gauge in the tool, `gauge` below its top.
@@ -94,9 +95,11 @@ ImpactResult run_impact(double Lp, double Lt, double h, double v0, double E_tool
   res.h = h;
   std::vector<double> sig;
   double W = 0.0, above = 0.0;
-  const double A = M_PI * r * r;  // the O-grid's polygon area differs from πr² by < 1 %
-  double mesh_area = 0.0;
-  (void)mesh_area;
+  // The tool's cross-section as meshed (its top face, set 2): the O-grid's
+  // polygon is a few per cent smaller than πr², and W must use the real one.
+  double A = 0.0;
+  for (const auto& seg : m.segment_sets.at(2)) A += fe::segment_area_vector(seg, m.x0).norm();
+  res.area = A;
   const double c_t = std::sqrt(E_tool / kRho);
   while (s.time() < t_end) {
     s.step();
@@ -223,8 +226,10 @@ TEST(Waves, CoaxialImpactEqualImpedanceMatchesOneDimensionalTheory) {
   const double sigma = -kE * v0 / (2.0 * c);
   EXPECT_NEAR(r.sigma_plateau, sigma, 0.02 * std::fabs(sigma)) << "plateau, 2 %: penalty contact and bulk viscosity round the front";
   EXPECT_NEAR(r.pulse_length, 2.0 * Lp / c, 0.05 * 2.0 * Lp / c);
-  const double m_p = kRho * M_PI * 0.01 * 0.01 * Lp;
-  EXPECT_NEAR(r.W, 0.5 * m_p * v0 * v0, 0.05 * 0.5 * m_p * v0 * v0) << "W = (A·c/E)∫σ²dt; 5 %: the O-grid area is not exactly πr²";
+  const double m_p = kRho * r.area * Lp;
+  // W = (A·c/E)∫σ²dt against ½·m·v0²; 3 %: the penalty contact's finite rise
+  // and the bulk viscosity take a little of the pulse's energy.
+  EXPECT_NEAR(r.W, 0.5 * m_p * v0 * v0, 0.03 * 0.5 * m_p * v0 * v0);
   EXPECT_NEAR(r.piston_v_after, 0.0, 0.05 * v0);
   EXPECT_LT(r.max_balance, 0.01 * r.ke0) << "energy balance within 1 % of the impact energy";
 }
@@ -237,8 +242,8 @@ TEST(Waves, CoaxialImpactUnequalImpedanceMatchesOneDimensionalTheory) {
   const double sigma = -(2.0 / 3.0) * kRho * c * v0;
   EXPECT_NEAR(r.sigma_plateau, sigma, 0.02 * std::fabs(sigma));
   EXPECT_NEAR(r.piston_v_after, v0 / 3.0, 0.05 * v0) << "rebound upwards (+z)";
-  const double m_p = kRho * M_PI * 0.01 * 0.01 * Lp;
-  EXPECT_NEAR(r.W, (8.0 / 9.0) * 0.5 * m_p * v0 * v0, 0.05 * 0.5 * m_p * v0 * v0) << "8/9 of the energy is transmitted";
+  const double m_p = kRho * r.area * Lp;
+  EXPECT_NEAR(r.W, (8.0 / 9.0) * 0.5 * m_p * v0 * v0, 0.03 * 0.5 * m_p * v0 * v0) << "8/9 of the energy is transmitted";
 }
 
 TEST(Contact, PenetrationStaysSmallAt15MetresPerSecondAndStiffnessCannotAddEnergy) {

@@ -77,10 +77,10 @@ TEST(DeckReader, ErrorsAndWarningsNameTheLine) {
   EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n").find("has no mass"), std::string::npos);
   fe::DeckWarnings w;
   std::string unknown = std::string(kOscillator);
-  unknown.insert(unknown.find("*END"), "*DATABASE_BINARY_D3PLOT\n1e-4\n");
+  unknown.insert(unknown.find("*END"), "*DATABASE_GLSTAT\n1e-4\n");
   fe::parse_deck(unknown, "deck.k", &w);
   ASSERT_EQ(w.messages.size(), 1u);
-  EXPECT_NE(w.messages[0].find("deck.k:22: warning: keyword *DATABASE_BINARY_D3PLOT"), std::string::npos)
+  EXPECT_NE(w.messages[0].find("deck.k:22: warning: keyword *DATABASE_GLSTAT"), std::string::npos)
       << w.messages[0];
 }
 

@@ -1,5 +1,6 @@
 #include "cavity_load.hpp"
 
+#include <algorithm>
 #include <set>
 
 namespace fe {
@@ -17,6 +18,27 @@ Vec3 segment_area_vector(const Segment& s, const std::vector<Vec3>& x) {
 
 static int corners(const Segment& s) { return s.n[3] == s.n[2] ? 3 : 4; }
 
+double wetted_fraction(const Segment& s, const std::vector<Vec3>& x, double lo, double hi, double ramp) {
+  double zmin = 1e300, zmax = -1e300, zc = 0.0;
+  const int nc = corners(s);
+  for (int k = 0; k < nc; ++k) {
+    const double z = x[static_cast<size_t>(s.n[k])].z();
+    zmin = std::min(zmin, z);
+    zmax = std::max(zmax, z);
+    zc += z / nc;
+  }
+  const double extent = zmax - zmin;
+  if (extent > std::max(1e-12, ramp)) {  // a segment along z: the overlapping share of its length
+    const double overlap = std::min(zmax, hi) - std::max(zmin, lo);
+    return std::clamp(overlap / extent, 0.0, 1.0);
+  }
+  if (ramp <= 0.0) return (zc >= lo && zc <= hi) ? 1.0 : 0.0;
+  // A face normal to z: ramps in over `ramp` centred on each bound.
+  const double in_lo = std::clamp((zc - lo) / ramp + 0.5, 0.0, 1.0);
+  const double in_hi = std::clamp((hi - zc) / ramp + 0.5, 0.0, 1.0);
+  return std::min(in_lo, in_hi);
+}
+
 CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTable& table)
     : model_(model) {
   for (const auto& port : table.ports) {
@@ -30,6 +52,7 @@ CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTab
                                                model.source);
     PortSurface ps;
     ps.port_id = port.id;
+    ps.bounds = *ls;
     ps.segments = model.segment_sets.at(ls->segment_set);
     std::set<int> nodes;
     Vec3 total = Vec3::Zero();
@@ -63,10 +86,16 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
                                std::vector<Vec3>& f_ext) {
   for (size_t i = 0; i < surfaces_.size(); ++i) {
     PortSurface& ps = surfaces_[i];
+    const LoadingSet& b = ps.bounds;
+    const double shift = b.reference_node >= 0 ? x[static_cast<size_t>(b.reference_node)].z() -
+                                                     model_.x0[static_cast<size_t>(b.reference_node)].z()
+                                               : 0.0;
+    const bool bounded = b.z_min > -1e299 || b.z_max < 1e299;
     Vec3 total = Vec3::Zero();
     for (size_t s = 0; s < ps.segments.size(); ++s) {
       const Segment& seg = ps.segments[s];
       Vec3 a = segment_area_vector(seg, x);
+      if (bounded) a *= wetted_fraction(seg, x, b.z_min + shift, b.z_max + shift, b.ramp);
       ps.segment_area[s] = a;
       total += a;
       const int nc = corners(seg);

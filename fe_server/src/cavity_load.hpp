@@ -8,6 +8,14 @@
 // pressure pushes against the normal. The flow q = Σ A·n·v is positive when
 // the surface moves into the cavity, i.e. it pushes oil out of the cavity into
 // the hydraulic node: the host's convention for flow leaving a Q component.
+//
+// Cavity bounds: a port may confine its pressure to z_min ≤ z ≤ z_max
+// (moving with a reference node, e.g. on the housing). Each segment is then
+// weighted by its wetted fraction: the share of its axial extent inside the
+// bounds, or, for a face normal to z, a linear ramp of width `ramp` across
+// each bound. Force and flow use the same weighted area vectors, so a
+// segment sliding past a cavity edge is loaded and unloaded smoothly (no
+// chatter) and p·q still equals the power on the structure.
 #pragma once
 
 #include <vector>
@@ -44,6 +52,7 @@ class CavityPressureLoad : public UserLoad {
     std::vector<int> nodes;  // unique nodes of the set
     std::vector<Vec3> segment_area;  // area vectors of the last apply()
     Vec3 normal0 = Vec3::UnitZ();    // unit normal of the whole set at t = 0
+    LoadingSet bounds;
   };
   const Model& model_;
   std::vector<PortSurface> surfaces_;
@@ -53,5 +62,8 @@ class CavityPressureLoad : public UserLoad {
 
 // Area vector of a segment (|A| = area, direction = normal by node order).
 Vec3 segment_area_vector(const Segment& s, const std::vector<Vec3>& x);
+
+// Share of segment s inside the cavity bounds [lo, hi] along z (0..1).
+double wetted_fraction(const Segment& s, const std::vector<Vec3>& x, double lo, double hi, double ramp);
 
 }  // namespace fe

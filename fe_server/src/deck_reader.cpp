@@ -214,7 +214,10 @@ struct Reader {
       if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
       m.contacts.push_back(d);
     } else if (kw == "*USER_LOADING_SET") {
-      // Co-simulation port on a segment set: SID, LTYPE (PRESSS), PORT.
+      // Co-simulation port on a segment set: SID, LTYPE (PRESSS), PORT, and
+      // optionally the cavity's bounds along z: ZMIN, ZMAX, REFNODE (the bounds
+      // move with this node, e.g. on the housing), RAMP (entry width of faces
+      // normal to z).
       for (const Card& raw : b.cards) {
         Card c = fields_of(raw, kW10);
         LoadingSet ls;
@@ -222,6 +225,12 @@ struct Reader {
         std::string ltype = config::to_upper(c.field(1, "LTYPE"));
         if (ltype != "PRESSS") c.fail("LTYPE '" + c.fields[1] + "': only PRESSS (pressure on a segment set) is supported");
         ls.port_id = static_cast<int>(c.integer(2, "PORT"));
+        ls.z_min = c.real_or(3, "ZMIN", -1e300);
+        ls.z_max = c.real_or(4, "ZMAX", 1e300);
+        const long ref = c.integer_or(5, "REFNODE", 0);
+        ls.reference_node = ref ? m.index_of(static_cast<int>(ref), c.where) : -1;
+        ls.ramp = c.real_or(6, "RAMP", 0.0);
+        if (!(ls.z_min < ls.z_max)) c.fail("ZMIN must be below ZMAX");
         ls.where = c.where;
         m.loading_sets.push_back(ls);
       }

@@ -83,6 +83,11 @@ struct ContactDef {
 struct LoadingSet {
   int port_id = 0;
   int segment_set = 0;
+  // Cavity bounds along z, moving with the reference node (e.g. on the
+  // housing; -1: fixed). A segment is loaded by the fraction of it inside.
+  double z_min = -1e300, z_max = 1e300;
+  int reference_node = -1;
+  double ramp = 0.0;  // m: width over which a face normal to z enters the cavity (0: a step)
   config::SourceLocation where;
 };
 

@@ -1,6 +1,7 @@
 // fe_server: deck reader, central-difference solver and the cavity-pressure hook.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "cavity_load.hpp"
@@ -166,4 +167,54 @@ TEST(CavityPressureLoad, LoadAndFlowUseTheSameAreaSoPowerBalances) {
   double structural = 0.0;
   for (size_t i = 0; i < f.size(); ++i) structural -= f[i].dot(m.v0[i]);
   EXPECT_NEAR(2.0e6 * q, structural, 1e-9);
+}
+
+TEST(CavityPressureLoad, ASegmentSlidingPastTheCavityEdgeIsLoadedByItsWettedFraction) {
+  // A lateral strip (normal +x) 10 mm long in z, sliding up through a cavity
+  // whose upper edge is at z = 0.
+  const char* strip = R"(*KEYWORD
+*NODE
+1, 0, 0, -0.01
+2, 0, 0.01, -0.01
+3, 0, 0.01, 0
+4, 0, 0, 0
+*ELEMENT_MASS
+1, 1, 1.0
+2, 2, 1.0
+3, 3, 1.0
+4, 4, 1.0
+*SET_SEGMENT
+1
+1, 2, 3, 4
+*USER_LOADING_SET
+$ sid, ltype, port, zmin, zmax
+1, PRESSS, 1, -1.0, 0.0
+)";
+  auto m = fe::parse_deck(strip, "strip.k");
+  auto t = config::parse_port_table(
+      "$FMU_SETTINGS\nmodel, p\ntimestep, 1e-4\n$FMU_HOPSAN_PORTS\n1, cav, Hydraulic\n"
+      "$FMU_HOPSAN_SEND\n1, p\n$FMU_HOPSAN_RECEIVE\n1, q\n",
+      "p.cfg");
+  fe::CavityPressureLoad load(m, t);
+  load.set_pressure(0, 1e6);
+  const double full = 1e6 * 1e-4;  // p·A, A = 10 mm × 10 mm
+  std::vector<fe::Vec3> v(4, fe::Vec3(0.2, 0, 0.5));  // moving out of the surface and up
+  double previous = full;
+  for (double dz : {0.0, 0.0025, 0.005, 0.0075, 0.01, 0.012}) {
+    std::vector<fe::Vec3> x = m.x0;
+    for (auto& p : x) p.z() += dz;
+    std::vector<fe::Vec3> f(4, fe::Vec3::Zero());
+    load.apply(0.0, x, v, f);
+    double fx = 0.0, power = 0.0;
+    for (size_t i = 0; i < 4; ++i) {
+      fx += f[i].x();
+      power -= f[i].dot(v[i]);
+    }
+    const double wetted = std::clamp(1.0 - dz / 0.01, 0.0, 1.0);
+    EXPECT_NEAR(-fx, full * wetted, 1e-9 * full) << "dz = " << dz;
+    EXPECT_LE(-fx, previous + 1e-12) << "the load falls monotonically as the strip leaves";
+    previous = -fx;
+    // Flow from the same wetted areas: p·q equals the power on the structure.
+    EXPECT_NEAR(1e6 * load.flow(0, v), power, 1e-9 * full);
+  }
 }

@@ -20,7 +20,7 @@ std::string MassScalingReport::summary() const {
 
 MassScalingReport apply_mass_scaling(Model& m, double dt) {
   MassScalingReport r;
-  for (const auto& e : m.solids) {
+  for (auto& e : m.solids) {
     const Material& mat = m.materials.at(m.parts.at(e.part).material);
     Mat83 x, b;
     for (int k = 0; k < 8; ++k) x.row(k) = m.x0[static_cast<size_t>(e.n[k])].transpose();
@@ -33,11 +33,12 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
     const double f = dt / (m.dt_scale * dt_e);
     if (f <= 1.0) continue;
     const double added = (f * f - 1.0) * mat.rho * volume;
+    e.mass_scale = f * f;
     for (int k = 0; k < 8; ++k) m.mass[static_cast<size_t>(e.n[k])] += added / 8.0;
     part.second += added;
     ++r.elements_scaled;
   }
-  for (const auto& e : m.bars) {
+  for (auto& e : m.bars) {
     const Part& p = m.parts.at(e.part);
     const Material& mat = m.materials.at(p.material);
     const double L = (m.x0[static_cast<size_t>(e.n2)] - m.x0[static_cast<size_t>(e.n1)]).norm();
@@ -47,6 +48,7 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
     const double f = dt / (m.dt_scale * L / std::sqrt(mat.E / mat.rho));
     if (f <= 1.0) continue;
     const double added = (f * f - 1.0) * mat.rho * p.bar_area * L;
+    e.mass_scale = f * f;
     m.mass[static_cast<size_t>(e.n1)] += added / 2.0;
     m.mass[static_cast<size_t>(e.n2)] += added / 2.0;
     part.second += added;

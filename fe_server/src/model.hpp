@@ -62,12 +62,14 @@ struct Part {
 struct SolidElement {
   int id = 0, part = 0;
   int n[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // node indices
+  double mass_scale = 1.0;  // density factor from selective mass scaling
 };
 
 // Two-node 1D bar (truss): axial force only, area from its section.
 struct BarElement {
   int id = 0, part = 0;
   int n1 = 0, n2 = 0;
+  double mass_scale = 1.0;  // density factor from selective mass scaling
 };
 
 // *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE between two segment sets.

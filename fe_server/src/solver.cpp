@@ -57,7 +57,7 @@ StableStep Solver::stable_dt(const Model& m) {
     if (in_rigid_part(m, e.part)) continue;
     const Material& mat = m.materials.at(m.parts.at(e.part).material);
     const double L = (m.x0[static_cast<size_t>(e.n2)] - m.x0[static_cast<size_t>(e.n1)]).norm();
-    consider(L / std::sqrt(mat.E / mat.rho), "bar element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
+    consider(L / std::sqrt(mat.E / (mat.rho * e.mass_scale)), "bar element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
   }
   for (const auto& e : m.solids) {
     if (in_rigid_part(m, e.part)) continue;
@@ -66,7 +66,7 @@ StableStep Solver::stable_dt(const Model& m) {
     double volume = 0.0;
     if (!hex8_gradients(x, b, volume)) continue;  // the reader refused these
     // Courant: the dilatational wave must not cross the element in one step.
-    consider(hex8_characteristic_length(x, volume) / mat.wave_speed(),
+    consider(hex8_characteristic_length(x, volume) * std::sqrt(e.mass_scale) / mat.wave_speed(),
              "solid element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
   }
   return best;

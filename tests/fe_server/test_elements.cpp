@@ -9,6 +9,7 @@
 
 #include "cavity_load.hpp"
 #include "deck_reader.hpp"
+#include "mass_scaling.hpp"
 #include "element_hex8.hpp"
 #include "mesher.hpp"
 #include "solver.hpp"
@@ -292,4 +293,30 @@ TEST(Mesher, StepsShareNodesAndFacesPointOutwards) {
     }
     EXPECT_NEAR(az, expected[f], 0.03 * std::fabs(expected[f])) << "face set " << f + 1;
   }
+}
+
+TEST(MassScaling, OnlyTheElementsBelowTheStepGainMassAndTheStepThenRuns) {
+  // Two cubes in a row, 10 mm and 2 mm: the small one limits the step 5×.
+  std::ostringstream d;
+  d << "*KEYWORD\n*NODE\n";
+  const double zs[3] = {0.0, 0.01, 0.012};
+  int id = 0;
+  for (double z : zs)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) d << ++id << "," << 0.01 * i << "," << 0.01 * j << "," << z << "\n";
+  d << "*PART\nbig\n1,1,1\n*PART\nsmall\n2,1,1\n*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n";
+  d << "*ELEMENT_SOLID\n1,1,1,2,4,3,5,6,8,7\n2,2,5,6,8,7,9,10,12,11\n*CONTROL_TIMESTEP\n0,0.9,0,0,-1e-6\n";
+  fe::Model m = fe::parse_deck(d.str(), "two.k");
+  const fe::StableStep before = fe::Solver::stable_dt(m);
+  EXPECT_NE(before.limited_by.find("solid element 2"), std::string::npos);
+  const double dt = 4.0 * 0.9 * before.dt;  // four times the small element's step
+  EXPECT_THROW(fe::Solver(m, dt), std::runtime_error);
+  const fe::MassScalingReport r = fe::apply_mass_scaling(m, dt);
+  EXPECT_EQ(r.elements_scaled, 1);
+  // Density × (Δt / (TSSFAC·Δt_e))² = 16: the small part gains 15 times its mass, the big one nothing.
+  EXPECT_NEAR(r.per_part.at(2).second / r.per_part.at(2).first, 15.0, 1e-9);
+  EXPECT_EQ(r.per_part.at(1).second, 0.0);
+  EXPECT_NE(r.summary().find("part 2"), std::string::npos);
+  fe::Solver s(m, dt);  // now accepted
+  for (int k = 0; k < 10; ++k) s.step();
 }

@@ -1,5 +1,6 @@
 #include "coupling_server.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -190,7 +191,20 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
         return reject(table_.to_fe[i].name() + " is not finite at step " + std::to_string(h.step), kExitNumerical);
 
     ports.apply_inputs(in);
-    for (int s = 0; s < table_.subcycles; ++s) solver.step();
+    // Heartbeats keep the host's deadline from expiring during a long step.
+    const double beat = std::min(1.0, 0.25 * timeout);
+    auto last_beat = std::chrono::steady_clock::now();
+    for (int s = 0; s < table_.subcycles; ++s) {
+      solver.step();
+      if (std::chrono::duration<double>(std::chrono::steady_clock::now() - last_beat).count() > beat) {
+        rc = pcs_send_frame(&conn_, PCS_MSG_HEARTBEAT, h.step, nullptr, 0, deadline_after(timeout));
+        if (rc != SL_OK) {
+          message = "cannot send HEARTBEAT " + std::to_string(h.step) + ": " + link_error(rc, conn_);
+          return kExitLinkLost;
+        }
+        last_beat = std::chrono::steady_clock::now();
+      }
+    }
     ports.measure_outputs(solver, out);
     for (size_t i = 0; i < out.size(); ++i)
       if (!std::isfinite(out[i])) {

@@ -91,7 +91,13 @@ void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<
   std::string at = " at step " + std::to_string(k) + " (t = " + std::to_string(time) + " s)";
   if (rc != SL_OK) fail(rc, "cannot send STEP" + at);
   pcs_header h{};
-  rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline);
+  int64_t wait_until = deadline;
+  for (;;) {
+    rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), wait_until);
+    // A heartbeat for this step: the server is alive and still computing.
+    if (rc != SL_OK || h.type != PCS_MSG_HEARTBEAT || h.step != k) break;
+    wait_until = deadline_after(timeout_s_);
+  }
   if (rc == SL_OK && h.type == PCS_MSG_ABORT) {
     pcs_abort a{};
     pcs_decode_abort(buf_.data(), h.payload_size, &a);

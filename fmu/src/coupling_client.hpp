@@ -45,7 +45,7 @@ class CouplingClient {
 
  private:
   [[noreturn]] void fail(int code, const std::string& what);
-  const config::PortTable& table_;
+  config::PortTable table_;  // a copy: the client may outlive the table it was given
   sl_socket sock_ = SL_SOCKET_INIT;
   double timeout_s_ = 60.0;
   std::vector<uint8_t> buf_;

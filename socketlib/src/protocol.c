@@ -13,6 +13,7 @@ const char *pcs_msg_name(uint32_t type) {
     case PCS_MSG_RESULT: return "RESULT";
     case PCS_MSG_ABORT: return "ABORT";
     case PCS_MSG_BYE: return "BYE";
+    case PCS_MSG_HEARTBEAT: return "HEARTBEAT";
     default: return "UNKNOWN";
   }
 }

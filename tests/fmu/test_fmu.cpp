@@ -207,3 +207,47 @@ TEST_F(FmuTest, StalledPeerTimesOutAndClosedPeerIsNamed) {
     api->fmi2FreeInstance(c);
   }
 }
+
+TEST_F(FmuTest, EveryFaultOfThePeerEndsTheStepWithItsCause) {
+  struct Case {
+    TestPeer::Behaviour behaviour;
+    bool fails_in_handshake;
+    const char* cause;
+  };
+  const Case cases[] = {
+      {TestPeer::Behaviour::BadMagic, false, "SL_EBADMAGIC"},
+      {TestPeer::Behaviour::NanResult, false, "is not finite"},
+      {TestPeer::Behaviour::OversizeResult, false, "SL_EOVERSIZE"},
+      {TestPeer::Behaviour::OtherVersion, true, "protocol version mismatch"},
+      {TestPeer::Behaviour::OtherTable, true, "port table differs"},
+  };
+  for (const auto& c : cases) {
+    TestPeer peer(table, c.behaviour);
+    Log log;
+    fmi2Component fmu = instantiate("fault", log);
+    point_at(fmu, peer.port(), 2.0);
+    ASSERT_EQ(api->fmi2EnterInitializationMode(fmu), fmi2OK);
+    const auto t0 = std::chrono::steady_clock::now();
+    if (c.fails_in_handshake) {
+      EXPECT_EQ(api->fmi2ExitInitializationMode(fmu), fmi2Error) << c.cause;
+    } else {
+      ASSERT_EQ(api->fmi2ExitInitializationMode(fmu), fmi2OK) << log.all();
+      EXPECT_EQ(api->fmi2DoStep(fmu, 0.0, table.dt, fmi2True), fmi2Error) << c.cause;
+    }
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.5) << "within the deadline";
+    EXPECT_NE(log.all().find(c.cause), std::string::npos) << log.all();
+    api->fmi2FreeInstance(fmu);
+  }
+}
+
+TEST_F(FmuTest, HeartbeatsKeepASlowStepAlive) {
+  // The peer needs 0.6 s for the step but beats every 0.2 s; the deadline is 0.5 s.
+  TestPeer peer(table, TestPeer::Behaviour::Heartbeats);
+  Log log;
+  fmi2Component fmu = instantiate("slow", log);
+  point_at(fmu, peer.port(), 0.5);
+  ASSERT_EQ(api->fmi2EnterInitializationMode(fmu), fmi2OK);
+  ASSERT_EQ(api->fmi2ExitInitializationMode(fmu), fmi2OK);
+  EXPECT_EQ(api->fmi2DoStep(fmu, 0.0, table.dt, fmi2True), fmi2OK) << log.all();
+  api->fmi2FreeInstance(fmu);
+}

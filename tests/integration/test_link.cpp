@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstring>
+#include <thread>
 #include <memory>
 
 #include "config/port_table.hpp"
@@ -83,7 +85,9 @@ TEST(Link, VersionMismatchIsRefusedReadablyOnBothSides) {
   Server server(dir);
   ASSERT_GT(server.port, 0);
   std::string reason = raw_hello_reason(server.port, 99);
-  EXPECT_NE(reason.find("protocol version mismatch: server speaks 1, client 99"), std::string::npos) << reason;
+  EXPECT_NE(reason.find("protocol version mismatch: server speaks " + std::to_string(PCS_PROTOCOL_VERSION) + ", client 99"),
+            std::string::npos)
+      << reason;
   EXPECT_EQ(server.child->wait(kHardTimeout), 5);
   EXPECT_NE(server.child->output().find("protocol version mismatch"), std::string::npos) << server.child->output();
 }
@@ -199,4 +203,126 @@ TEST(Link, FmuThroughTheHostImporterAgainstALiveServer) {
   const double area = 1.0e-3;
   EXPECT_GT(x_last, 0.0) << "the 0.1 m/s kick moves the face into the cavity";
   EXPECT_NEAR(swept, area * x_last, 1e-9 * area * std::fabs(x_last) + 1e-18);
+}
+
+namespace {
+
+// Connect and shake hands by hand; returns the socket ready for STEP frames.
+sl_socket raw_session(int port, const std::string& token = "") {
+  sl_socket s = SL_SOCKET_INIT;
+  EXPECT_EQ(sl_connect("127.0.0.1", port, sl_now_ms() + 5000, &s), SL_OK);
+  config::PortTable t = scene_table();
+  pcs_hello hello{PCS_PROTOCOL_VERSION, t.hash(), t.dt, 1, ""};
+  std::snprintf(hello.token, sizeof hello.token, "%s", token.c_str());
+  uint8_t buf[512];
+  int n = pcs_encode_hello(&hello, buf, sizeof buf);
+  EXPECT_EQ(pcs_send_frame(&s, PCS_MSG_HELLO, 0, buf, static_cast<uint32_t>(n), sl_now_ms() + 5000), SL_OK);
+  pcs_header h{};
+  EXPECT_EQ(pcs_recv_frame(&s, &h, buf, sizeof buf, sl_now_ms() + 5000), SL_OK);
+  EXPECT_EQ(h.type, PCS_MSG_HELLO_ACK);
+  return s;
+}
+
+void send_step(sl_socket& s, uint64_t k, double value) {
+  uint8_t buf[128];
+  int n = pcs_encode_values(0.0, scene_table().dt, &value, 1, buf, sizeof buf);
+  ASSERT_EQ(pcs_send_frame(&s, PCS_MSG_STEP, k, buf, static_cast<uint32_t>(n), sl_now_ms() + 5000), SL_OK);
+}
+
+// The server's ABORT reason, if it sent one before closing.
+std::string abort_reason(sl_socket& s) {
+  uint8_t buf[2048];
+  pcs_header h{};
+  std::string reason;
+  for (int i = 0; i < 4; ++i) {  // skip RESULTs of good steps
+    if (pcs_recv_frame(&s, &h, buf, sizeof buf, sl_now_ms() + 5000) != SL_OK) break;
+    if (h.type == PCS_MSG_ABORT) {
+      pcs_abort a{};
+      pcs_decode_abort(buf, h.payload_size, &a);
+      reason = a.reason;
+      break;
+    }
+  }
+  return reason;
+}
+
+}  // namespace
+
+TEST(ServerFaults, EachBadFrameStopsTheServerWithItsCauseAndDistinctCode) {
+  struct Case {
+    const char* name;
+    int exit_code;
+    const char* cause;
+  };
+  const Case cases[] = {{"bad magic", 6, "SL_EBADMAGIC"},
+                        {"oversize length", 6, "SL_EOVERSIZE"},
+                        {"step out of order", 6, "step index out of order"},
+                        {"NaN in the payload", 8, "is not finite"}};
+  for (const auto& c : cases) {
+    TempDir dir;
+    Server server(dir);
+    ASSERT_GT(server.port, 0);
+    sl_socket s = raw_session(server.port);
+    send_step(s, 0, 1e7);  // one good step first: its history row must survive
+    const std::string name = c.name;
+    if (name == "bad magic" || name == "oversize length") {
+      uint8_t raw[PCS_HEADER_SIZE];
+      pcs_header h{name == "bad magic" ? 0x20544547u /* "GET " */ : PCS_MAGIC, PCS_PROTOCOL_VERSION, PCS_MSG_STEP, 1,
+                   name == "bad magic" ? 0u : 0xfffffff0u};
+      pcs_encode_header(&h, raw);
+      ASSERT_EQ(sl_send_all(&s, raw, sizeof raw, sl_now_ms() + 5000), SL_OK);
+    } else if (name == "step out of order") {
+      send_step(s, 7, 1e7);
+    } else {
+      send_step(s, 1, std::nan(""));
+    }
+    const std::string reason = abort_reason(s);
+    sl_close(&s);
+    EXPECT_EQ(server.child->wait(kHardTimeout), c.exit_code) << c.name << "\n" << server.child->output();
+    EXPECT_NE(server.child->output().find(c.cause), std::string::npos) << c.name << "\n" << server.child->output();
+    EXPECT_NE(reason.find(c.cause), std::string::npos) << c.name << ": the host is told why: '" << reason << "'";
+    EXPECT_EQ(h5io::read_series(server.out, "time").size(), 1u) << c.name << ": the good step's row is kept";
+  }
+}
+
+TEST(ServerFaults, MissingTokenIsRefused) {
+  TempDir dir;
+  Server server(dir, {"--token", "s3cret"});
+  ASSERT_GT(server.port, 0);
+  pcs_fmu::CouplingClient client(scene_table());
+  try {
+    client.connect("127.0.0.1", server.port, "", 5.0);
+    FAIL() << "a missing token must be refused";
+  } catch (const pcs_fmu::LinkError& e) {
+    EXPECT_NE(std::string(e.what()).find("wrong or missing token"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(server.child->wait(kHardTimeout), 5);
+}
+
+TEST(Kill, KillingTheServerMidRunStopsTheHostWithItsResultsKept) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0);
+  ChildProcess host({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server",
+                     "127.0.0.1:" + std::to_string(server.port), "--out", dir.file("host.h5"), "--quiet", "--set",
+                     "simulation.stoptime=100", "--set", "piston.verbose=0"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  kill(server.child->pid(), SIGKILL);
+  EXPECT_EQ(host.wait(kHardTimeout), 4) << host.output();
+  EXPECT_NE(host.output().find("peer closed"), std::string::npos) << host.output();
+  EXPECT_GT(h5io::read_series(dir.file("host.h5"), "time").size(), 10u) << "the host's results up to the loss";
+}
+
+TEST(Kill, KillingTheHostMidRunStopsTheServerWithItsHistoryKept) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0);
+  ChildProcess host({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server",
+                     "127.0.0.1:" + std::to_string(server.port), "--out", dir.file("host.h5"), "--quiet", "--set",
+                     "simulation.stoptime=100"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  kill(host.pid(), SIGKILL);
+  EXPECT_EQ(server.child->wait(kHardTimeout), 6) << server.child->output();
+  EXPECT_NE(server.child->output().find("SL_ECLOSED"), std::string::npos) << server.child->output();
+  EXPECT_GT(h5io::read_series(server.out, "time").size(), 10u);
 }

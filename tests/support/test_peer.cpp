@@ -1,6 +1,8 @@
 #include "test_peer.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -48,9 +50,19 @@ void TestPeer::serve() {
     sl_close(&c);
     return;
   }
-  pcs_hello_ack ack{table_.hash(), table_.dt, static_cast<uint32_t>(table_.subcycles)};
+  pcs_hello_ack ack{table_.hash() + (behaviour_ == Behaviour::OtherTable ? 1 : 0), table_.dt,
+                    static_cast<uint32_t>(table_.subcycles)};
   int n = pcs_encode_hello_ack(&ack, buf.data(), static_cast<uint32_t>(buf.size()));
-  pcs_send_frame(&c, PCS_MSG_HELLO_ACK, 0, buf.data(), static_cast<uint32_t>(n), deadline);
+  if (behaviour_ == Behaviour::OtherVersion) {
+    // A HELLO_ACK in a header of protocol version 99, built by hand.
+    std::vector<uint8_t> frame(PCS_HEADER_SIZE + static_cast<size_t>(n));
+    pcs_header hh{PCS_MAGIC, 99, PCS_MSG_HELLO_ACK, 0, static_cast<uint32_t>(n)};
+    pcs_encode_header(&hh, frame.data());
+    std::copy(buf.begin(), buf.begin() + n, frame.begin() + PCS_HEADER_SIZE);
+    sl_send_all(&c, frame.data(), frame.size(), deadline);
+  } else {
+    pcs_send_frame(&c, PCS_MSG_HELLO_ACK, 0, buf.data(), static_cast<uint32_t>(n), deadline);
+  }
   std::vector<double> in(table_.to_fe.size()), out(table_.to_host.size());
   for (;;) {
     int rc = pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline);
@@ -71,9 +83,24 @@ void TestPeer::serve() {
       sl_send_all(&c, half, sizeof half, deadline);
       break;
     }
+    if (behaviour_ == Behaviour::BadMagic || behaviour_ == Behaviour::OversizeResult) {
+      uint8_t raw[PCS_HEADER_SIZE];
+      pcs_header bad{behaviour_ == Behaviour::BadMagic ? 0x50545448u /* "HTTP" */ : PCS_MAGIC,
+                     PCS_PROTOCOL_VERSION, PCS_MSG_RESULT, h.step, behaviour_ == Behaviour::BadMagic ? 0u : 0xffffffffu};
+      pcs_encode_header(&bad, raw);
+      sl_send_all(&c, raw, sizeof raw, deadline);
+      pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline);  // the client's ABORT or close
+      break;
+    }
+    if (behaviour_ == Behaviour::Heartbeats)
+      for (int beat = 0; beat < 3; ++beat) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        pcs_send_frame(&c, PCS_MSG_HEARTBEAT, h.step, nullptr, 0, deadline);
+      }
     double sum = 0;
     for (double v : in) sum += v;
     for (size_t i = 0; i < out.size(); ++i) out[i] = 2.0 * sum + static_cast<double>(i);
+    if (behaviour_ == Behaviour::NanResult) out[0] = std::nan("");
     n = pcs_encode_values(t + dt, dt, out.data(), static_cast<uint32_t>(out.size()), buf.data(),
                           static_cast<uint32_t>(buf.size()));
     uint64_t step = behaviour_ == Behaviour::WrongStep ? h.step + 1 : h.step;

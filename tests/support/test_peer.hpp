@@ -20,6 +20,12 @@ class TestPeer {
     StallOnStep,    // accept STEP but never answer
     CloseMidFrame,  // answer STEP with half a header, then close
     WrongStep,      // answer STEP k with RESULT k + 1
+    BadMagic,       // answer STEP with a frame of another protocol family
+    NanResult,      // answer STEP with a NaN value
+    OversizeResult, // answer STEP with a length field of 4 GiB
+    OtherVersion,   // answer HELLO with a HELLO_ACK of protocol version 99
+    OtherTable,     // answer HELLO with a HELLO_ACK for another port table
+    Heartbeats,     // send three HEARTBEATs, 0.2 s apart, before each RESULT
   };
   TestPeer(const config::PortTable& table, Behaviour b = Behaviour::Echo, std::string token = "");
   ~TestPeer();

@@ -15,7 +15,9 @@
  * version can still read an ABORT that says why it was refused.
  *
  * Handshake: client sends HELLO, server answers HELLO_ACK or ABORT(reason).
- * Each coupling step: client sends STEP k, server answers RESULT k.
+ * Each coupling step: client sends STEP k, server answers RESULT k; while a
+ * step takes long the server sends HEARTBEAT k now and then, and the client
+ * restarts its receive deadline on each, so a slow step is not a dead peer.
  * Either side may send ABORT(reason) at any time; BYE ends a session cleanly.
  */
 #ifndef SOCKETLIB_PROTOCOL_H
@@ -28,7 +30,7 @@ extern "C" {
 #endif
 
 #define PCS_MAGIC 0x43534350u /* bytes 'P','C','S','C' in little-endian order */
-#define PCS_PROTOCOL_VERSION 1u
+#define PCS_PROTOCOL_VERSION 2u /* 2: HEARTBEAT */
 #define PCS_HEADER_SIZE 24u
 #define PCS_MAX_PAYLOAD (16u * 1024u * 1024u)
 #define PCS_MAX_TOKEN 256u
@@ -40,7 +42,8 @@ typedef enum {
   PCS_MSG_STEP = 3,      /* client → server: time, dt, input values */
   PCS_MSG_RESULT = 4,    /* server → client: time, output values */
   PCS_MSG_ABORT = 5,     /* either way: error code and reason text */
-  PCS_MSG_BYE = 6        /* client → server: session ends cleanly */
+  PCS_MSG_BYE = 6,       /* client → server: session ends cleanly */
+  PCS_MSG_HEARTBEAT = 7  /* server → client during a long step: "still computing step k" */
 } pcs_msg_type;
 
 /* Name of a message type ("HELLO", ...), "UNKNOWN" otherwise. */

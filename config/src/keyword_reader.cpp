@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -26,6 +27,10 @@ std::string to_lower(std::string s) {
 }
 
 std::string read_text_file(const std::string& path, const std::string& what) {
+  // Only regular files: a device (/dev/zero) or a FIFO would never end.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw std::runtime_error("cannot open " + what + " '" + path + "': not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open " + what + " '" + path + "'");
   std::stringstream ss;

@@ -69,6 +69,9 @@ CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTab
     surfaces_.push_back(std::move(ps));
   }
   pressure_.assign(surfaces_.size(), 0.0);
+  wave_.assign(surfaces_.size(), 0.0);
+  impedance_.assign(surfaces_.size(), 0.0);
+  tlm_.assign(surfaces_.size(), 0);
   area_vector_.assign(surfaces_.size(), Vec3::Zero());
   for (const auto& l : model.loading_sets)
     if (slot_of_port(l.port_id) < 0)
@@ -82,7 +85,7 @@ int CavityPressureLoad::slot_of_port(int port_id) const {
   return -1;
 }
 
-void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::vector<Vec3>&,
+void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                                std::vector<Vec3>& f_ext) {
   for (size_t i = 0; i < surfaces_.size(); ++i) {
     PortSurface& ps = surfaces_[i];
@@ -91,15 +94,19 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
                                                      model_.x0[static_cast<size_t>(b.reference_node)].z()
                                                : 0.0;
     const bool bounded = b.z_min > -1e299 || b.z_max < 1e299;
+    // Wetted area vectors first: the TLM pressure needs the flow they carry.
     Vec3 total = Vec3::Zero();
     for (size_t s = 0; s < ps.segments.size(); ++s) {
-      const Segment& seg = ps.segments[s];
-      Vec3 a = segment_area_vector(seg, x);
-      if (bounded) a *= wetted_fraction(seg, x, b.z_min + shift, b.z_max + shift, b.ramp);
+      Vec3 a = segment_area_vector(ps.segments[s], x);
+      if (bounded) a *= wetted_fraction(ps.segments[s], x, b.z_min + shift, b.z_max + shift, b.ramp);
       ps.segment_area[s] = a;
       total += a;
+    }
+    if (tlm_[i]) pressure_[i] = wave_[i] + impedance_[i] * flow(static_cast<int>(i), v);
+    for (size_t s = 0; s < ps.segments.size(); ++s) {
+      const Segment& seg = ps.segments[s];
       const int nc = corners(seg);
-      const Vec3 f_node = -pressure_[i] * a / nc;  // pushes against the normal
+      const Vec3 f_node = -pressure_[i] * ps.segment_area[s] / nc;  // pushes against the normal
       for (int k = 0; k < nc; ++k) f_ext[static_cast<size_t>(seg.n[k])] += f_node;
     }
     area_vector_[i] = total;

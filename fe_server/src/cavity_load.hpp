@@ -32,7 +32,21 @@ class CavityPressureLoad : public UserLoad {
   CavityPressureLoad(const Model& model, const config::PortTable& table);
 
   int slot_of_port(int port_id) const;  // -1 if the port is not hydraulic
-  void set_pressure(int slot, double p) { pressure_[static_cast<size_t>(slot)] = p; }
+  // Pressure coupling: the host's pressure, held over the coupling step.
+  void set_pressure(int slot, double p) {
+    pressure_[static_cast<size_t>(slot)] = p;
+    tlm_[static_cast<size_t>(slot)] = false;
+  }
+  // TLM coupling: the host's wave variable and impedance; each FE step then
+  // applies p = c + Zc·q with the flow q of the surface's current velocity,
+  // exactly as a Q-type component solves its port.
+  void set_wave(int slot, double c, double Zc) {
+    wave_[static_cast<size_t>(slot)] = c;
+    impedance_[static_cast<size_t>(slot)] = Zc;
+    tlm_[static_cast<size_t>(slot)] = true;
+  }
+  size_t slot_count() const { return surfaces_.size(); }
+  // The pressure the last apply() used.
   double pressure(int slot) const { return pressure_[static_cast<size_t>(slot)]; }
 
   void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
@@ -56,7 +70,8 @@ class CavityPressureLoad : public UserLoad {
   };
   const Model& model_;
   std::vector<PortSurface> surfaces_;
-  std::vector<double> pressure_;
+  std::vector<double> pressure_, wave_, impedance_;
+  std::vector<char> tlm_;
   std::vector<Vec3> area_vector_;
 };
 

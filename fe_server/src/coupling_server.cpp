@@ -28,37 +28,69 @@ static std::string link_error(int rc, const sl_socket& s) {
 PortMap::PortMap(const config::PortTable& table, CavityPressureLoad& load) : table_(table), load_(load) {
   for (const auto& v : table.to_fe) {
     int slot = load.slot_of_port(v.port_id);
-    if (v.quantity != Quantity::Pressure || slot < 0)
+    const bool ok = slot >= 0 && (v.quantity == Quantity::Pressure || v.quantity == Quantity::Wave ||
+                                  v.quantity == Quantity::Impedance);
+    if (!ok)
       throw config::InputError(v.where, std::string("fe_server cannot apply ") + config::long_name(v.quantity) +
                                             " at port " + v.port_label +
-                                            " yet: this version applies pressure on hydraulic ports");
+                                            " yet: hydraulic ports take pressure, or wave and impedance");
     in_slot_.push_back(slot);
   }
   for (const auto& v : table.to_host) {
     int slot = load.slot_of_port(v.port_id);
     bool ok = slot >= 0 && (v.quantity == Quantity::Flow || v.quantity == Quantity::Displacement ||
-                            v.quantity == Quantity::Velocity);
+                            v.quantity == Quantity::Velocity || v.quantity == Quantity::Pressure);
     if (!ok)
       throw config::InputError(v.where, std::string("fe_server cannot return ") + config::long_name(v.quantity) +
                                             " at port " + v.port_label +
-                                            " yet: hydraulic ports return flow, displacement and velocity");
+                                            " yet: hydraulic ports return flow, pressure, displacement and velocity");
     out_slot_.push_back(slot);
   }
+  const size_t slots = table.ports.size();
+  wave_.assign(slots, 0.0);
+  impedance_.assign(slots, 0.0);
+  flow_sum_.assign(slots, 0.0);
+  pressure_sum_.assign(slots, 0.0);
 }
 
 void PortMap::apply_inputs(const std::vector<double>& in) {
-  for (size_t i = 0; i < in.size(); ++i) load_.set_pressure(in_slot_[i], in[i]);
+  std::vector<char> tlm(wave_.size(), 0);
+  for (size_t i = 0; i < in.size(); ++i) {
+    const size_t slot = static_cast<size_t>(in_slot_[i]);
+    switch (table_.to_fe[i].quantity) {
+      case Quantity::Pressure: load_.set_pressure(in_slot_[i], in[i]); break;
+      case Quantity::Wave: wave_[slot] = in[i], tlm[slot] = 1; break;
+      case Quantity::Impedance: impedance_[slot] = in[i], tlm[slot] = 1; break;
+      default: break;
+    }
+  }
+  for (size_t slot = 0; slot < tlm.size(); ++slot)
+    if (tlm[slot]) load_.set_wave(static_cast<int>(slot), wave_[slot], impedance_[slot]);
+  std::fill(flow_sum_.begin(), flow_sum_.end(), 0.0);
+  std::fill(pressure_sum_.begin(), pressure_sum_.end(), 0.0);
+  substeps_ = 0;
 }
 
-void PortMap::measure_outputs(const Solver& s, std::vector<double>& out) const {
+void PortMap::accumulate(const Solver& s) {
+  for (size_t slot = 0; slot < flow_sum_.size(); ++slot) {
+    if (load_.slot_count() <= slot) break;
+    flow_sum_[slot] += load_.flow(static_cast<int>(slot), s.v());
+    pressure_sum_[slot] += load_.pressure(static_cast<int>(slot));
+  }
+  ++substeps_;
+}
+
+void PortMap::measure_outputs(const Solver& s, std::vector<double>& out) {
   out.resize(table_.to_host.size());
+  const double n = substeps_ > 0 ? static_cast<double>(substeps_) : 1.0;
   for (size_t i = 0; i < out.size(); ++i) {
     const int slot = out_slot_[i];
     switch (table_.to_host[i].quantity) {
-      case Quantity::Flow: out[i] = load_.flow(slot, s.v()); break;
+      case Quantity::Flow: out[i] = flow_sum_[static_cast<size_t>(slot)] / n; break;
+      case Quantity::Pressure: out[i] = pressure_sum_[static_cast<size_t>(slot)] / n; break;
       case Quantity::Displacement: out[i] = load_.displacement(slot, s.x()); break;
       case Quantity::Velocity: {
-        double a = load_.area(slot);
+        const double a = load_.area(slot);
         out[i] = a > 0.0 ? load_.flow(slot, s.v()) / a : 0.0;
         break;
       }
@@ -196,6 +228,7 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
     auto last_beat = std::chrono::steady_clock::now();
     for (int s = 0; s < table_.subcycles; ++s) {
       solver.step();
+      ports.accumulate(solver);
       if (std::chrono::duration<double>(std::chrono::steady_clock::now() - last_beat).count() > beat) {
         rc = pcs_send_frame(&conn_, PCS_MSG_HEARTBEAT, h.step, nullptr, 0, deadline_after(timeout));
         if (rc != SL_OK) {

@@ -30,16 +30,26 @@ struct ServerOptions {
 // Maps the table's variables to the model: which load each input sets and
 // what each output measures. Throws config::InputError for a variable the
 // model cannot serve.
+//
+// One coupling step: apply_inputs (pressure, or wave and impedance), then
+// after each of the k FE sub-steps accumulate(); measure_outputs returns flow
+// and pressure averaged over the sub-steps (so the oil volume exchanged is
+// the volume the surface swept in the coupling step) and displacement and
+// velocity at its end.
 class PortMap {
  public:
   PortMap(const config::PortTable& table, CavityPressureLoad& load);
   void apply_inputs(const std::vector<double>& in);
-  void measure_outputs(const Solver& s, std::vector<double>& out) const;
+  void accumulate(const Solver& s);
+  void measure_outputs(const Solver& s, std::vector<double>& out);
 
  private:
   const config::PortTable& table_;
   CavityPressureLoad& load_;
   std::vector<int> in_slot_, out_slot_;
+  std::vector<double> wave_, impedance_;         // per slot, TLM mode
+  std::vector<double> flow_sum_, pressure_sum_;  // per slot, over the sub-steps
+  int substeps_ = 0;
 };
 
 class CouplingServer {

@@ -47,6 +47,8 @@ void FmuQ::configure(ParameterSet& prm) {
   if (hports_.empty()) throw config::InputError(prm.where(), name_ + ": the FMU has no hydraulic port (no output named L.q)");
   for (const auto& v : md.variables)
     if (v.causality == "output" && v.type == "Real") outputs_.push_back({v.name, v.value_reference, 0.0});
+  // Every output is also a signal ("piston.cavity.x" can drive a chamber or a groove).
+  for (auto& o : outputs_) add_signal_output(o.name, &o.value);
 }
 
 void FmuQ::initialize(double dt) {

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Fuzz the input readers with libFuzzer (clang, ASan + UBSan):
+#   scripts/fuzz.sh [RUNS]        (default 1000000 executions per target)
+# Targets: frame (wire protocol), port_table, deck (FE keyword deck), model
+# (TLM host model). Any crashing input is copied into tests/fuzz/corpus/<target>/,
+# where the regular test suite replays it from then on.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+runs=${1:-1000000}
+"$root/scripts/install_deps.sh"
+for p in clang libclang-rt-14-dev; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="${missing:-} $p"
+done
+if [ -n "${missing:-}" ]; then
+  sudo=""; [ "$(id -u)" -ne 0 ] && sudo=sudo
+  $sudo apt-get update -qq && DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq $missing
+fi
+build=$root/build-fuzz
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DPCS_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
+cmake --build "$build" --target fuzz_frame fuzz_port_table fuzz_deck fuzz_model
+status=0
+for t in frame port_table deck model; do
+  work=$(mktemp -d)
+  cp -r "$root/tests/fuzz/corpus/$t/." "$work/"
+  mkdir -p "$build/artifacts/$t"
+  echo "== fuzz_$t: $runs runs"
+  if ! (cd "$build/artifacts/$t" && "$build/tests/fuzz/fuzz_$t" -runs="$runs" -max_len=4096 -timeout=10 \
+        -rss_limit_mb=2048 -print_final_stats=1 "$work" 2>&1 | grep -E "stat::number_of_executed_units|ERROR|SUMMARY|Done"); then
+    :
+  fi
+  for crash in "$build/artifacts/$t"/crash-* "$build/artifacts/$t"/timeout-* "$build/artifacts/$t"/oom-*; do
+    [ -e "$crash" ] || continue
+    cp "$crash" "$root/tests/fuzz/corpus/$t/"
+    echo "   kept $(basename "$crash") as a regression input"
+    status=1
+  done
+  rm -rf "$work"
+done
+exit $status

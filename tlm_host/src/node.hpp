@@ -22,4 +22,14 @@ struct HydraulicNode {
   std::string name; // "<C component>.<port>"
 };
 
+// A two-port Q component passing flow q from node 1 to node 2: node 1's C
+// element loses q, node 2's gains it, and each node's pressure follows its
+// characteristic p = c + Zc·q.
+inline void set_through_flow(HydraulicNode& n1, HydraulicNode& n2, double q) {
+  n1.q = -q;
+  n2.q = q;
+  n1.p = n1.c + n1.Zc * n1.q;
+  n2.p = n2.c + n2.Zc * n2.q;
+}
+
 }  // namespace tlm

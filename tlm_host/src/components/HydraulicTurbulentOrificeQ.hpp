@@ -48,10 +48,7 @@ class HydraulicTurbulentOrificeQ : public Component {
     HydraulicNode& n1 = *ports_[0].node;
     HydraulicNode& n2 = *ports_[1].node;
     q_ = turbulent_orifice_flow(n1.c, n2.c, n1.Zc, n2.Zc, K_);
-    n1.q = -q_;
-    n2.q = q_;
-    n1.p = n1.c + n1.Zc * n1.q;
-    n2.p = n2.c + n2.Zc * n2.q;
+    set_through_flow(n1, n2, q_);
     dissipated_ += q_ * (n1.p - n2.p) * dt_;  // always ≥ 0: q runs down Δp
   }
   void log_variables(std::vector<LogVariable>& out) override {

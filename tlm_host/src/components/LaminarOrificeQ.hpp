@@ -24,10 +24,7 @@ class LaminarOrificeQ : public Component {
     HydraulicNode& n1 = *ports_[0].node;
     HydraulicNode& n2 = *ports_[1].node;
     q_ = Kc_ * (n1.c - n2.c) / (1.0 + Kc_ * (n1.Zc + n2.Zc));
-    n1.q = -q_;
-    n2.q = q_;
-    n1.p = n1.c + n1.Zc * n1.q;
-    n2.p = n2.c + n2.Zc * n2.q;
+    set_through_flow(n1, n2, q_);
     dissipated_ += q_ * (n1.p - n2.p) * dt_;
   }
   void log_variables(std::vector<LogVariable>& out) override {

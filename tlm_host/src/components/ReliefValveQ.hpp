@@ -39,10 +39,7 @@ class ReliefValveQ : public Component {
     const double target = (n1.p - n2.p) > p_crack_ ? K_ : 0.0;
     K_eff_ = target + (K_eff_ - target) * decay_;
     q_ = std::max(0.0, K_eff_ * (n1.c - n2.c - p_crack_) / (1.0 + K_eff_ * (n1.Zc + n2.Zc)));
-    n1.q = -q_;
-    n2.q = q_;
-    n1.p = n1.c + n1.Zc * n1.q;
-    n2.p = n2.c + n2.Zc * n2.q;
+    set_through_flow(n1, n2, q_);
   }
   void log_variables(std::vector<LogVariable>& out) override {
     out.push_back({"q", "m3/s", &q_});

@@ -28,10 +28,7 @@ class VariableOrificeQ : public Component {
     HydraulicNode& n2 = *ports_[1].node;
     A_ = area_(*x_);
     q_ = turbulent_orifice_flow(n1.c, n2.c, n1.Zc, n2.Zc, Cd_ * A_ * std::sqrt(2.0 / rho_));
-    n1.q = -q_;
-    n2.q = q_;
-    n1.p = n1.c + n1.Zc * n1.q;
-    n2.p = n2.c + n2.Zc * n2.q;
+    set_through_flow(n1, n2, q_);
   }
   void log_variables(std::vector<LogVariable>& out) override {
     out.push_back({"q", "m3/s", &q_});

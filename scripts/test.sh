@@ -7,7 +7,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/install_deps.sh"
 if [ "${PCS_SANITIZE:-0}" = 1 ]; then
   export PCS_BUILD_DIR=${PCS_BUILD_DIR:-$root/build-asan}
-  "$root/scripts/build.sh" -DPCS_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
+  "$root/scripts/build.sh" -DPCS_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo  # -O2: the FE scenes are too slow at -O0
 else
   "$root/scripts/build.sh"
 fi

@@ -133,10 +133,12 @@ static void read_variables(const Block& b, PortTable& t, std::vector<Variable>& 
              (to_fe ? "send " : "receive ") + long_name(v.quantity) +
              (to_fe ? " to the FE side" : " from the FE side"));
     v.port_label = p->label;
-    for (const auto& other : t.to_fe)
-      if (other.name() == v.name() && to_fe) c.fail("variable " + v.name() + " is listed twice");
-    for (const auto& other : t.to_host)
-      if (other.name() == v.name() && !to_fe) c.fail("variable " + v.name() + " is listed twice");
+    // One name per FMU variable: a quantity cannot go both ways at one port.
+    for (const auto* list : {&t.to_fe, &t.to_host})
+      for (const auto& other : *list)
+        if (other.name() == v.name())
+          c.fail("variable " + v.name() + " is already listed at " + other.where.str() +
+                 (list == &t.to_fe && !to_fe ? " as sent: a port cannot send and receive the same quantity" : ""));
     out.push_back(v);
   }
 }

@@ -45,7 +45,7 @@ CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTab
     if (port.type != config::PortType::Hydraulic) continue;
     const LoadingSet* ls = nullptr;
     for (const auto& l : model.loading_sets)
-      if (l.port_id == port.id) ls = &l;
+      if (l.port_id == port.id && !l.force) ls = &l;
     if (!ls)
       throw config::InputError(port.where, "hydraulic port " + std::to_string(port.id) + " (" +
                                                port.label + ") has no *USER_LOADING_SET in " +
@@ -74,7 +74,7 @@ CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTab
   tlm_.assign(surfaces_.size(), 0);
   area_vector_.assign(surfaces_.size(), Vec3::Zero());
   for (const auto& l : model.loading_sets)
-    if (slot_of_port(l.port_id) < 0)
+    if (!l.force && slot_of_port(l.port_id) < 0)
       throw config::InputError(l.where, "*USER_LOADING_SET names port " + std::to_string(l.port_id) +
                                             ", which is not a hydraulic port of " + table.source);
 }

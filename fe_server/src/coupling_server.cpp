@@ -25,8 +25,18 @@ static std::string link_error(int rc, const sl_socket& s) {
   return m;
 }
 
-PortMap::PortMap(const config::PortTable& table, CavityPressureLoad& load) : table_(table), load_(load) {
+PortMap::PortMap(const config::PortTable& table, CavityPressureLoad& load, MechanicalLoad& mech)
+    : table_(table), load_(load), mech_(mech) {
   for (const auto& v : table.to_fe) {
+    const int m = mech.slot_of_port(v.port_id);
+    in_mech_.push_back(m >= 0);
+    if (m >= 0) {
+      if (v.quantity != Quantity::Force)
+        throw config::InputError(v.where, "a mechanical port takes a force from the host, not " +
+                                              std::string(config::long_name(v.quantity)));
+      in_slot_.push_back(m);
+      continue;
+    }
     int slot = load.slot_of_port(v.port_id);
     const bool ok = slot >= 0 && (v.quantity == Quantity::Pressure || v.quantity == Quantity::Wave ||
                                   v.quantity == Quantity::Impedance);
@@ -37,6 +47,12 @@ PortMap::PortMap(const config::PortTable& table, CavityPressureLoad& load) : tab
     in_slot_.push_back(slot);
   }
   for (const auto& v : table.to_host) {
+    const int m = mech.slot_of_port(v.port_id);
+    out_mech_.push_back(m >= 0);
+    if (m >= 0) {
+      out_slot_.push_back(m);
+      continue;
+    }
     int slot = load.slot_of_port(v.port_id);
     bool ok = slot >= 0 && (v.quantity == Quantity::Flow || v.quantity == Quantity::Displacement ||
                             v.quantity == Quantity::Velocity || v.quantity == Quantity::Pressure);
@@ -56,6 +72,10 @@ PortMap::PortMap(const config::PortTable& table, CavityPressureLoad& load) : tab
 void PortMap::apply_inputs(const std::vector<double>& in) {
   std::vector<char> tlm(wave_.size(), 0);
   for (size_t i = 0; i < in.size(); ++i) {
+    if (in_mech_[i]) {
+      mech_.set_force(in_slot_[i], in[i]);
+      continue;
+    }
     const size_t slot = static_cast<size_t>(in_slot_[i]);
     switch (table_.to_fe[i].quantity) {
       case Quantity::Pressure: load_.set_pressure(in_slot_[i], in[i]); break;
@@ -85,6 +105,15 @@ void PortMap::measure_outputs(const Solver& s, std::vector<double>& out) {
   const double n = substeps_ > 0 ? static_cast<double>(substeps_) : 1.0;
   for (size_t i = 0; i < out.size(); ++i) {
     const int slot = out_slot_[i];
+    if (out_mech_[i]) {
+      switch (table_.to_host[i].quantity) {
+        case Quantity::Displacement: out[i] = mech_.displacement(slot, s.x()); break;
+        case Quantity::Velocity: out[i] = mech_.velocity(slot, s.v()); break;
+        case Quantity::Force: out[i] = mech_.force(slot); break;
+        default: out[i] = 0.0;
+      }
+      continue;
+    }
     switch (table_.to_host[i].quantity) {
       case Quantity::Flow: out[i] = flow_sum_[static_cast<size_t>(slot)] / n; break;
       case Quantity::Pressure: out[i] = pressure_sum_[static_cast<size_t>(slot)] / n; break;

@@ -12,6 +12,7 @@
 #include "config/port_table.hpp"
 #include "exit_codes.hpp"
 #include "history.hpp"
+#include "mechanical_load.hpp"
 #include "socketlib/socketlib.h"
 #include "solver.hpp"
 
@@ -38,7 +39,7 @@ struct ServerOptions {
 // velocity at its end.
 class PortMap {
  public:
-  PortMap(const config::PortTable& table, CavityPressureLoad& load);
+  PortMap(const config::PortTable& table, CavityPressureLoad& load, MechanicalLoad& mech);
   void apply_inputs(const std::vector<double>& in);
   void accumulate(const Solver& s);
   void measure_outputs(const Solver& s, std::vector<double>& out);
@@ -46,7 +47,9 @@ class PortMap {
  private:
   const config::PortTable& table_;
   CavityPressureLoad& load_;
-  std::vector<int> in_slot_, out_slot_;
+  MechanicalLoad& mech_;
+  std::vector<int> in_slot_, out_slot_;  // hydraulic slot, or mechanical slot when *_mech_ is set
+  std::vector<char> in_mech_, out_mech_;
   std::vector<double> wave_, impedance_;         // per slot, TLM mode
   std::vector<double> flow_sum_, pressure_sum_;  // per slot, over the sub-steps
   int substeps_ = 0;

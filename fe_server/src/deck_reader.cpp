@@ -223,7 +223,9 @@ struct Reader {
         LoadingSet ls;
         ls.segment_set = static_cast<int>(c.integer(0, "SID"));
         std::string ltype = config::to_upper(c.field(1, "LTYPE"));
-        if (ltype != "PRESSS") c.fail("LTYPE '" + c.fields[1] + "': only PRESSS (pressure on a segment set) is supported");
+        if (ltype != "PRESSS" && ltype != "FORCE")
+          c.fail("LTYPE '" + c.fields[1] + "': expected PRESSS (pressure on a segment set) or FORCE (force along z on a node set)");
+        ls.force = ltype == "FORCE";
         ls.port_id = static_cast<int>(c.integer(2, "PORT"));
         ls.z_min = c.real_or(3, "ZMIN", -1e300);
         ls.z_max = c.real_or(4, "ZMAX", 1e300);
@@ -341,9 +343,12 @@ struct Reader {
       if (!in_body.count(static_cast<int>(i)) && !m.fixed[i].all() && !(m.mass[i] > 0.0))
         throw InputError({name, 1}, "node " + std::to_string(m.node_ids[i]) +
                                         " has no mass and is neither fixed nor part of a rigid body");
-    for (const auto& ls : m.loading_sets)
-      if (!m.segment_sets.count(ls.segment_set))
+    for (const auto& ls : m.loading_sets) {
+      if (ls.force && !m.node_sets.count(ls.segment_set))
+        throw InputError(ls.where, "node set " + std::to_string(ls.segment_set) + " is not defined in *SET_NODE_LIST");
+      if (!ls.force && !m.segment_sets.count(ls.segment_set))
         throw InputError(ls.where, "segment set " + std::to_string(ls.segment_set) + " is not defined in *SET_SEGMENT");
+    }
     for (const auto& c : m.contacts)
       for (int sid : {c.slave_set, c.master_set})
         if (!m.segment_sets.count(sid))

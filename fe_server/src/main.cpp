@@ -172,10 +172,14 @@ int main(int argc, char** argv) {
   std::unique_ptr<fe::History> history;
   try {
     fe::CavityPressureLoad load(model, table);
-    fe::PortMap ports(table, load);
+    fe::MechanicalLoad mech(model, table);
+    fe::UserLoads loads;
+    loads.add(&load);
+    loads.add(&mech);
+    fe::PortMap ports(table, load, mech);
     prepare_step(model, table.dt / table.subcycles, opt.quiet);
     fe::Solver solver(model, table.dt / table.subcycles);
-    solver.set_user_load(&load);
+    solver.set_user_load(&loads);
     history = std::make_unique<fe::History>(out, model, &table);
     fe::CouplingServer server(opt, table);
     server.bind();

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
       };
       if (a == "--sections") sections = value();
       else if (a == "--size") opt.element_size = std::stod(value());
+      else if (a == "--axial-size") opt.axial_size = std::stod(value());
       else if (a == "--part") opt.part = std::stoi(value());
       else if (a == "--z0") opt.z0 = std::stod(value());
       else if (a == "--node-offset") opt.node_offset = std::stoi(value());

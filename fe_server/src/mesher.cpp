@@ -22,16 +22,23 @@ struct Point2 {
 struct CrossSection {
   std::vector<Point2> nodes;
   std::vector<std::array<int, 4>> quads;
-  std::vector<double> quad_radius;  // radius of the cell's centre
+  // Nominal radius of each cell's ring (mid-way between its ring boundaries;
+  // 0 for the core). Sections are assigned by it, not by the cell centroid,
+  // whose radius shrinks by cos(Δθ/2) on a coarse ring and would put an outer
+  // ring's cells into the section inside it.
+  std::vector<double> quad_radius;
 };
 
 CrossSection o_grid(const std::vector<double>& radii, double h) {
+  // Cells around: at least one per h of the outer circumference, so the
+  // polygon's area stays within ~1 % of the circle's (a 20-gon holds 98.4 %).
   CrossSection cs;
   const double r1 = radii.front();
   // Core square of half-side a, so its corners sit at 0.75·r1 and its edge
   // midpoints at 0.53·r1: cells of the first ring stay reasonably shaped.
   const double a = 0.75 * r1 / std::sqrt(2.0);
-  const int n = std::max(1, static_cast<int>(std::lround(2.0 * a / h)));  // cells per core side
+  const int n = std::max({1, static_cast<int>(std::lround(2.0 * a / h)),
+                          static_cast<int>(std::ceil(2.0 * M_PI * radii.back() / (4.0 * h)))});  // cells per core side
   auto id = [&](int i, int j) { return j * (n + 1) + i; };
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) cs.nodes.push_back({-a + 2.0 * a * i / n, -a + 2.0 * a * j / n});
@@ -50,7 +57,7 @@ CrossSection o_grid(const std::vector<double>& radii, double h) {
   std::vector<Point2> square(m);
   for (size_t k = 0; k < m; ++k) square[k] = cs.nodes[static_cast<size_t>(ring[k])];
   // Rings: the first blends the square into the circle r1, the rest are circles.
-  double r_prev = 0.0;
+  double r_prev = 0.0, r_nominal = 0.5 * r1;  // the core's edge, nominally
   for (size_t level = 0; level < radii.size(); ++level) {
     const double r = radii[level];
     const double span = level == 0 ? r - 0.5 * r1 : r - r_prev;
@@ -71,17 +78,14 @@ CrossSection o_grid(const std::vector<double>& radii, double h) {
         next[k] = static_cast<int>(cs.nodes.size());
         cs.nodes.push_back(p);
       }
+      const double r_next = level == 0 ? (1 - s) * 0.5 * r1 + s * r : r_prev + s * (r - r_prev);
       for (size_t k = 0; k < m; ++k) {
         const size_t k1 = (k + 1) % m;
         // Counter-clockwise: out along θ_k, forward on the outer arc, back in on θ_k+1.
         cs.quads.push_back({ring[k], next[k], next[k1], ring[k1]});
-        Point2 c{0, 0};
-        for (int q : {ring[k], next[k], next[k1], ring[k1]}) {
-          c.x += cs.nodes[static_cast<size_t>(q)].x / 4;
-          c.y += cs.nodes[static_cast<size_t>(q)].y / 4;
-        }
-        cs.quad_radius.push_back(std::hypot(c.x, c.y));
+        cs.quad_radius.push_back(0.5 * (r_nominal + r_next));
       }
+      r_nominal = r_next;
       ring = next;
     }
     r_prev = r;
@@ -137,7 +141,8 @@ RevolutionMesh mesh_revolution(const std::vector<RevolutionSection>& sections, c
   std::vector<size_t> section_of_layer;
   std::vector<size_t> first_station = {0};
   for (size_t i = 0; i < sections.size(); ++i) {
-    const int nz = std::max(1, static_cast<int>(std::lround(sections[i].length / opt.element_size)));
+    const double hz = opt.axial_size > 0.0 ? opt.axial_size : opt.element_size;
+    const int nz = std::max(1, static_cast<int>(std::lround(sections[i].length / hz)));
     for (int k = 1; k <= nz; ++k) {
       z.push_back(z.back() + sections[i].length / nz);
       section_of_layer.push_back(i);

@@ -24,6 +24,7 @@ struct RevolutionSection {
 
 struct RevolutionMeshOptions {
   double element_size = 0.005;  // target edge length, m
+  double axial_size = 0.0;      // element length along the axis (0: element_size), e.g. coarse for a rigid body
   double z0 = 0.0;              // z of the first section's start
   int part = 1;
   int node_offset = 0, element_offset = 0, set_offset = 0;  // ids start after these

@@ -84,7 +84,8 @@ struct ContactDef {
 // A co-simulation port acting on a segment set (*USER_LOADING_SET).
 struct LoadingSet {
   int port_id = 0;
-  int segment_set = 0;
+  int segment_set = 0;  // PRESSS: a segment set; FORCE: a node set
+  bool force = false;   // FORCE: a mechanical port's force along z on a node set
   // Cavity bounds along z, moving with the reference node (e.g. on the
   // housing; -1: fixed). A segment is loaded by the fraction of it inside.
   double z_min = -1e300, z_max = 1e300;

@@ -63,7 +63,8 @@ TEST(PortTable, ErrorsSayWhatAndWhere) {
   EXPECT_NE(error_of(std::string(t).replace(t.find("Mechanic"), 8, "Electric")).find("ports.cfg:8: port type 'Electric'"),
             std::string::npos);
   EXPECT_NE(error_of(std::string(t) + "3, flow\n").find("ports.cfg:16: port id 3 is not listed"), std::string::npos);
-  EXPECT_NE(error_of(std::string(t) + "1, flow\n").find("listed twice"), std::string::npos);
+  EXPECT_NE(error_of(std::string(t) + "1, flow\n").find("is already listed"), std::string::npos);
+  EXPECT_NE(error_of(std::string(t) + "1, pressure\n").find("cannot send and receive the same quantity"), std::string::npos);
   EXPECT_NE(error_of(std::string(t).replace(t.find("1, pressure, 1.0"), 16, "1, force, 1.0")).find("cannot send force"),
             std::string::npos);
   EXPECT_NE(error_of(std::string(t).replace(t.find("mode, pressure"), 14, "mode, tlm")).find("must send wave and impedance"),

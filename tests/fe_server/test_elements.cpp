@@ -270,16 +270,20 @@ TEST(StableStep, ASolidElementLimitsAndIsNamed) {
   }
 }
 
-TEST(Mesher, StepsShareNodesAndFacesPointOutwards) {
+class Mesher : public ::testing::TestWithParam<double> {};
+INSTANTIATE_TEST_SUITE_P(ElementSizes, Mesher, ::testing::Values(0.006, 0.01));  // 0.01: coarse, 3 cells per core side
+
+TEST_P(Mesher, StepsShareNodesAndFacesPointOutwards) {
   fe::RevolutionMeshOptions o;
-  o.element_size = 0.006;
+  o.element_size = GetParam();
   fe::RevolutionMesh mesh = fe::mesh_revolution({{0.33, 0.0305, 0.0}, {0.11, 0.0328, 0.0}, {0.2, 0.028, 0.0}}, o);
   fe::Model m = fe::parse_deck("*KEYWORD\n" + mesh.keyword_text +
                                    "*PART\np\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n",
                                "piston.k");
   // Mass: the stepped piston's volume (the polygonal section is slightly under πr²).
   const double V = M_PI * (0.0305 * 0.0305 * 0.33 + 0.0328 * 0.0328 * 0.11 + 0.028 * 0.028 * 0.2);
-  EXPECT_NEAR(m.total_mass(), 7850 * V, 0.02 * 7850 * V);
+  // The polygonal section holds less than πr²: about 95 % with 12 cells around, 99 % with 20.
+  EXPECT_NEAR(m.total_mass(), 7850 * V, 0.06 * 7850 * V);
   ASSERT_EQ(mesh.faces.size(), 4u);
   // Striking face: area πr², normal −z; the collar's lower annulus π(0.0328² − 0.0305²), normal −z.
   const double expected[4] = {-M_PI * 0.0305 * 0.0305, -M_PI * (0.0328 * 0.0328 - 0.0305 * 0.0305),
@@ -291,7 +295,7 @@ TEST(Mesher, StepsShareNodesAndFacesPointOutwards) {
                                    .cross(m.x0[static_cast<size_t>(seg.n[3])] - m.x0[static_cast<size_t>(seg.n[1])]);
       az += a.z();
     }
-    EXPECT_NEAR(az, expected[f], 0.03 * std::fabs(expected[f])) << "face set " << f + 1;
+    EXPECT_NEAR(az, expected[f], 0.06 * std::fabs(expected[f])) << "face set " << f + 1 << ", h = " << GetParam();
   }
 }
 

@@ -38,6 +38,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"SpoolValveQ", make<SpoolValveQ>()},
       {"ControlSpoolQ", make<ControlSpoolQ>()},
       {"HammerPistonQ", make<HammerPistonQ>()},
+      {"PistonMechanicsSignal", make<PistonMechanicsSignal>()},
       {"SignalStep", make<SignalStep>()},
       {"SignalRamp", make<SignalRamp>()},
       {"SignalTable", make<SignalTable>()},

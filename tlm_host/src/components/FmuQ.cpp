@@ -47,8 +47,22 @@ void FmuQ::configure(ParameterSet& prm) {
   if (hports_.empty()) throw config::InputError(prm.where(), name_ + ": the FMU has no hydraulic port (no output named L.q)");
   for (const auto& v : md.variables)
     if (v.causality == "output" && v.type == "Real") outputs_.push_back({v.name, v.value_reference, 0.0});
+  for (auto& hp : hports_) add_signal_output(ports_[hp.port].name + ".p_node", &hp.p_node);
   // Every output is also a signal ("piston.cavity.x" can drive a chamber or a groove).
   for (auto& o : outputs_) add_signal_output(o.name, &o.value);
+  // Real inputs that no hydraulic port uses (a mechanical port's force, ...) are signal inputs.
+  for (const auto& v : md.variables) {
+    if (v.causality != "input" || v.type != "Real") continue;
+    bool hydraulic = false;
+    for (const auto& hp : hports_)
+      hydraulic |= v.value_reference == hp.vr_p || v.value_reference == hp.vr_c || v.value_reference == hp.vr_Zc;
+    if (!hydraulic) signal_inputs_.push_back({v.value_reference, nullptr});
+  }
+  size_t k = 0;
+  for (const auto& v : md.variables) {
+    if (k >= signal_inputs_.size()) break;
+    if (v.value_reference == signal_inputs_[k].vr) add_signal_input(v.name, &signal_inputs_[k++].value);
+  }
 }
 
 void FmuQ::initialize(double dt) {
@@ -69,6 +83,7 @@ void FmuQ::initialize(double dt) {
 }
 
 void FmuQ::send_inputs() {
+  for (const auto& s : signal_inputs_) fmu_->set_real(s.vr, *s.value);
   for (const auto& hp : hports_) {
     const HydraulicNode& n = *ports_[hp.port].node;
     if (hp.tlm) {
@@ -88,6 +103,7 @@ void FmuQ::simulate_one_step(double t) {
     hp.q = fmu_->get_real(hp.vr_q);
     n.q = hp.q;
     n.p = n.c + n.Zc * hp.q;
+    hp.p_node = n.p;
   }
   for (auto& o : outputs_) o.value = fmu_->get_real(o.vr);
 }

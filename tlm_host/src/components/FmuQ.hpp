@@ -6,7 +6,8 @@
 // Pressure coupling (one step delay): the FMU is sent p = c + Zc·q_prev,
 // returns the flow q it produced over the step, and the node gets q and
 // p = c + Zc·q. TLM coupling: the FMU is sent c and Zc and solves
-// p = c + Zc·q itself, exactly like a Q component.
+// p = c + Zc·q itself, exactly like a Q component. Each hydraulic port's
+// node pressure after the step is offered as the signal "<label>.p_node".
 #pragma once
 
 #include <memory>
@@ -33,6 +34,7 @@ class FmuQ : public Component {
     bool tlm = false;
     unsigned vr_p = 0, vr_c = 0, vr_Zc = 0, vr_q = 0;
     double q = 0.0;
+    double p_node = 0.0;  // the node's pressure after the step (signal "<label>.p_node")
   };
   struct Output {
     std::string name;
@@ -45,6 +47,11 @@ class FmuQ : public Component {
   std::unique_ptr<FmuInstance> fmu_;
   std::vector<HydraulicPort> hports_;
   std::vector<Output> outputs_;
+  struct SignalInput {
+    unsigned vr = 0;
+    const double* value = nullptr;
+  };
+  std::vector<SignalInput> signal_inputs_;  // FMU inputs outside the hydraulic ports (e.g. a force)
   std::string server_, token_;
   double dt_ = 0.0;
   bool verbose_ = false;

@@ -1,0 +1,43 @@
+// Mechanical co-simulation ports: the host's force along z on a node set
+// (*USER_LOADING_SET SID, FORCE, PORT), shared equally by the set's nodes (on
+// a rigid body the whole body feels it). The port reports the set's mean
+// displacement and velocity along z, and the force it applied.
+#pragma once
+
+#include <vector>
+
+#include "config/port_table.hpp"
+#include "user_load.hpp"
+
+namespace fe {
+
+class MechanicalLoad : public UserLoad {
+ public:
+  MechanicalLoad(const Model& model, const config::PortTable& table);
+  int slot_of_port(int port_id) const;  // -1 if the port is not mechanical
+  void set_force(int slot, double F) { force_[static_cast<size_t>(slot)] = F; }
+  double force(int slot) const { return force_[static_cast<size_t>(slot)]; }
+  void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_ext) override;
+  double displacement(int slot, const std::vector<Vec3>& x) const;
+  double velocity(int slot, const std::vector<Vec3>& v) const;
+
+ private:
+  const Model& model_;
+  std::vector<int> ports_;
+  std::vector<std::vector<int>> nodes_;
+  std::vector<double> force_;
+};
+
+// Several hooks called in turn at the user-load stage.
+class UserLoads : public UserLoad {
+ public:
+  void add(UserLoad* l) { loads_.push_back(l); }
+  void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_ext) override {
+    for (UserLoad* l : loads_) l->apply(t, x, v, f_ext);
+  }
+
+ private:
+  std::vector<UserLoad*> loads_;
+};
+
+}  // namespace fe

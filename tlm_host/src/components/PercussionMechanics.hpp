@@ -1,0 +1,95 @@
+// The mechanics around a hammer piston, apart from its hydraulic faces: gravity,
+// seal friction, the top cushion, and the tool with the rock below it. Shared
+// by HammerPistonQ (rigid piston in the host) and PistonMechanicsSignal
+// (piston in fe_server, these forces sent through a mechanical port), so
+// both model the same physics.
+//
+//   seal friction  F = −[(F0 + k_p·max(p_A, p_B))·tanh(v_f/v_s) + c_v·v_f],
+//                  v_f = v low-pass filtered with time constant tau_f
+//   top cushion    from x_cushion: one-sided k_cushion, c_cushion
+//   tool           mass m_tool at height y (0 = resting on the rock), rock a
+//                  compression-only spring-dashpot k_rock, c_rock; a feed force
+//                  presses the tool down
+//   impact         piston face on tool top when x < y: one-sided contact spring
+//                  k_contact with the damping that gives restitution e_contact:
+//                  ζ = −ln e / sqrt(π² + ln² e), c = 2ζ·sqrt(k·m_eff)
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "rigid_body.hpp"
+
+namespace tlm {
+
+struct PercussionMechanics {
+  double m = 0, g = 0, F0 = 0, k_p = 0, c_v = 0, v_s = 0, tau_f = 0;
+  double x_cushion = 0, k_cushion = 0, c_cushion = 0, m_tool = 0, k_rock = 0, c_rock = 0, F_feed = 0;
+  double k_contact = 0, c_contact = 0, v_blow = 0;
+  // State.
+  double v_f = 0, y = 0, w = 0, F_contact = 0, v_impact = 0, blows = 0, overlap_prev = 0, filter = 0, dt = 0;
+  struct Impact {
+    double time, velocity;
+  };
+  std::vector<Impact> impacts;
+
+  void configure(ParameterSet& prm, const std::string& name) {
+    m = prm.positive("m", 14.4);
+    g = prm.real("g", 9.81);
+    F0 = prm.real("F0", 80.0);
+    k_p = prm.real("k_p", 1e-5);
+    c_v = prm.real("c_v", 25.0);
+    v_s = prm.positive("v_s", 0.05);
+    tau_f = prm.positive("tau_f", 2e-4);
+    x_cushion = prm.real("x_cushion", 0.095);
+    k_cushion = prm.positive("k_cushion", 1e8);
+    c_cushion = prm.real("c_cushion", 2e4);
+    m_tool = prm.positive("m_tool", 15.0);
+    k_rock = prm.positive("k_rock", 1e9);
+    c_rock = prm.real("c_rock", 9.7e4);
+    F_feed = prm.real("F_feed", 0.0);
+    k_contact = prm.positive("k_contact", 2e9);
+    const double e = prm.real("e_contact", 0.9);
+    if (!(e > 0.0 && e <= 1.0)) throw config::InputError(prm.where(), name + ": e_contact must be in (0, 1]");
+    const double zeta = -std::log(e) / std::sqrt(M_PI * M_PI + std::log(e) * std::log(e));
+    c_contact = 2.0 * zeta * std::sqrt(k_contact * m * m_tool / (m + m_tool));
+    v_blow = prm.positive("v_blow", 1.0);
+  }
+  void initialize(double step) {
+    dt = step;
+    filter = 1.0 - std::exp(-step / tau_f);
+  }
+  // Force on the piston (all but the hydraulic faces) for piston state x, v
+  // at time t; advances the tool by one step.
+  double step(double t, double x, double v, double pA, double pB) {
+    v_f += filter * (v - v_f);
+    double F = -(F0 + k_p * std::max(pA, pB)) * std::tanh(v_f / v_s) - c_v * v_f - m * g;
+    F -= stop_force(x - x_cushion, v, k_cushion, c_cushion);
+    const double overlap = y - x;
+    F_contact = stop_force(overlap, w - v, k_contact, c_contact);
+    F += F_contact;
+    if (overlap > 0.0 && overlap_prev <= 0.0 && v < -v_blow) {
+      v_impact = v;
+      blows += 1.0;
+      impacts.push_back({t, v});
+    }
+    overlap_prev = overlap;
+    const double F_tool = stop_force(-y, -w, k_rock, c_rock) - F_contact - m_tool * g - F_feed;
+    w += dt * F_tool / m_tool;
+    y += dt * w;
+    return F;
+  }
+  double stable_step(std::string* why, const std::string& name) const {
+    // Explicit one-sided springs: central-difference-like limit 2/ω.
+    const double m_eff = m * m_tool / (m + m_tool);
+    double om = std::sqrt(k_contact / m_eff);
+    std::string what = "piston-tool contact";
+    if (std::sqrt(k_rock / m_tool) > om) om = std::sqrt(k_rock / m_tool), what = "rock spring under the tool";
+    if (std::sqrt(k_cushion / m) > om) om = std::sqrt(k_cushion / m), what = "top cushion";
+    if (why) *why = name + ": " + what;
+    return 2.0 / om;
+  }
+};
+
+}  // namespace tlm

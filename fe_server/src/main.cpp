@@ -13,6 +13,7 @@
 #include <string>
 
 #include "cavity_load.hpp"
+#include "config/cli.hpp"
 #include "config/port_table.hpp"
 #include "coupling_server.hpp"
 #include "deck_reader.hpp"
@@ -120,25 +121,21 @@ int main(int argc, char** argv) {
   fe::ServerOptions opt;
   bool token_given = false;
   try {
-    for (int i = 1; i < argc; ++i) {
-      std::string a = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-        return argv[++i];
-      };
-      if (a == "--model") deck = value();
-      else if (a == "--ports") ports_path = value();
-      else if (a == "--listen") listen = value();
-      else if (a == "--token") {
-        opt.token = value();
+    config::Args args(argc, argv);
+    while (args.next()) {
+      if (args.is("--model")) deck = args.value();
+      else if (args.is("--ports")) ports_path = args.value();
+      else if (args.is("--listen")) listen = args.value();
+      else if (args.is("--token")) {
+        opt.token = args.value();
         token_given = true;
-      } else if (a == "--port-file") opt.port_file = value();
-      else if (a == "--out") out = value();
-      else if (a == "--accept-timeout") opt.accept_timeout = std::stod(value());
-      else if (a == "--step-timeout") opt.step_timeout = std::stod(value());
-      else if (a == "--quiet") opt.quiet = true;
-      else if (a == "-h" || a == "--help") return usage(std::cout, fe::kExitOk);
-      else throw std::invalid_argument("unknown argument " + a);
+      } else if (args.is("--port-file")) opt.port_file = args.value();
+      else if (args.is("--out")) out = args.value();
+      else if (args.is("--accept-timeout")) opt.accept_timeout = args.real();
+      else if (args.is("--step-timeout")) opt.step_timeout = args.real();
+      else if (args.is("--quiet")) opt.quiet = true;
+      else if (args.is("-h") || args.is("--help")) return usage(std::cout, fe::kExitOk);
+      else args.unknown();
     }
     if (deck.empty()) throw std::invalid_argument("--model is required");
     char host[256];

@@ -8,30 +8,27 @@
 #include <fstream>
 #include <iostream>
 
+#include "config/cli.hpp"
 #include "mesher.hpp"
 
 int main(int argc, char** argv) {
   fe::RevolutionMeshOptions opt;
   std::string sections, out;
   try {
-    for (int i = 1; i < argc; ++i) {
-      std::string a = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-        return argv[++i];
-      };
-      if (a == "--sections") sections = value();
-      else if (a == "--size") opt.element_size = std::stod(value());
-      else if (a == "--axial-size") opt.axial_size = std::stod(value());
-      else if (a == "--part") opt.part = std::stoi(value());
-      else if (a == "--z0") opt.z0 = std::stod(value());
-      else if (a == "--node-offset") opt.node_offset = std::stoi(value());
-      else if (a == "--element-offset") opt.element_offset = std::stoi(value());
-      else if (a == "--set-offset") opt.set_offset = std::stoi(value());
-      else if (a == "--title") opt.title = value();
-      else if (a == "--gauge") opt.gauges.push_back(std::stod(value()));
-      else if (a == "-o") out = value();
-      else throw std::invalid_argument("unknown argument " + a);
+    config::Args args(argc, argv);
+    while (args.next()) {
+      if (args.is("--sections")) sections = args.value();
+      else if (args.is("--size")) opt.element_size = args.real();
+      else if (args.is("--axial-size")) opt.axial_size = args.real();
+      else if (args.is("--part")) opt.part = args.integer();
+      else if (args.is("--z0")) opt.z0 = args.real();
+      else if (args.is("--node-offset")) opt.node_offset = args.integer();
+      else if (args.is("--element-offset")) opt.element_offset = args.integer();
+      else if (args.is("--set-offset")) opt.set_offset = args.integer();
+      else if (args.is("--title")) opt.title = args.value();
+      else if (args.is("--gauge")) opt.gauges.push_back(args.real());
+      else if (args.is("-o")) out = args.value();
+      else args.unknown();
     }
     if (sections.empty() || out.empty()) throw std::invalid_argument("--sections and -o are required");
     fe::RevolutionMesh mesh = fe::mesh_revolution(fe::parse_sections(sections), opt);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "config/cli.hpp"
 #include "config/port_table.hpp"
 #include "model_description.hpp"
 
@@ -44,26 +45,20 @@ int usage(std::ostream& os, int rc) {
 int main(int argc, char** argv) {
   std::string ports, out, description = "Co-simulation of a hydraulic percussion unit with fe_server";
   std::string binary = PCS_FMU_BINARY;  // the pcs_fmu module of this build
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    auto value = [&](const char* opt) -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error(std::string(opt) + " needs a value");
-      return argv[++i];
-    };
-    try {
-      if (a == "-o" || a == "--output") out = value("-o");
-      else if (a == "--binary") binary = value("--binary");
-      else if (a == "--description") description = value("--description");
-      else if (a == "-h" || a == "--help") return usage(std::cout, 0);
-      else if (!a.empty() && a[0] == '-') {
-        std::cerr << "fmugen: unknown option " << a << "\n";
-        return usage(std::cerr, 2);
-      } else if (ports.empty()) ports = a;
+  try {
+    config::Args args(argc, argv);
+    while (args.next()) {
+      if (args.is("-o") || args.is("--output")) out = args.value();
+      else if (args.is("--binary")) binary = args.value();
+      else if (args.is("--description")) description = args.value();
+      else if (args.is("-h") || args.is("--help")) return usage(std::cout, 0);
+      else if (args.is_option()) args.unknown();
+      else if (ports.empty()) ports = args.current();
       else return usage(std::cerr, 2);
-    } catch (const std::exception& e) {
-      std::cerr << "fmugen: " << e.what() << "\n";
-      return 2;
     }
+  } catch (const std::exception& e) {
+    std::cerr << "fmugen: " << e.what() << "\n";
+    return usage(std::cerr, 2);
   }
   if (ports.empty() || out.empty()) return usage(std::cerr, 2);
   try {

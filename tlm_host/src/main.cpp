@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "config/cli.hpp"
 #include "model.hpp"
 
 namespace {
@@ -35,23 +36,19 @@ int main(int argc, char** argv) {
   std::vector<std::string> overrides;
   bool quiet = false;
   try {
-    for (int i = 1; i < argc; ++i) {
-      std::string a = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-        return argv[++i];
-      };
-      if (a == "--fmu") fmu = value();
-      else if (a == "--server") server = value();
-      else if (a == "--token") token = value();
-      else if (a == "--out") out = value();
-      else if (a == "--set") overrides.push_back(value());
-      else if (a == "--quiet") quiet = true;
-      else if (a == "--report") report_path = value();
-      else if (a == "--csv") csv_path = value();
-      else if (a == "-h" || a == "--help") return usage(std::cout, 0);
-      else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
-      else if (model_path.empty()) model_path = a;
+    config::Args args(argc, argv);
+    while (args.next()) {
+      if (args.is("--fmu")) fmu = args.value();
+      else if (args.is("--server")) server = args.value();
+      else if (args.is("--token")) token = args.value();
+      else if (args.is("--out")) out = args.value();
+      else if (args.is("--set")) overrides.push_back(args.value());
+      else if (args.is("--quiet")) quiet = true;
+      else if (args.is("--report")) report_path = args.value();
+      else if (args.is("--csv")) csv_path = args.value();
+      else if (args.is("-h") || args.is("--help")) return usage(std::cout, 0);
+      else if (args.is_option()) args.unknown();
+      else if (model_path.empty()) model_path = args.current();
       else throw std::invalid_argument("more than one model given");
     }
     if (model_path.empty()) throw std::invalid_argument("no model file given");

@@ -62,7 +62,7 @@ PortMap::PortMap(const config::PortTable& table, CavityPressureLoad& load, Mecha
                                             " yet: hydraulic ports return flow, pressure, displacement and velocity");
     out_slot_.push_back(slot);
   }
-  const size_t slots = table.ports.size();
+  const size_t slots = load.slot_count();
   wave_.assign(slots, 0.0);
   impedance_.assign(slots, 0.0);
   flow_sum_.assign(slots, 0.0);
@@ -93,7 +93,6 @@ void PortMap::apply_inputs(const std::vector<double>& in) {
 
 void PortMap::accumulate(const Solver& s) {
   for (size_t slot = 0; slot < flow_sum_.size(); ++slot) {
-    if (load_.slot_count() <= slot) break;
     flow_sum_[slot] += load_.flow(static_cast<int>(slot), s.v());
     pressure_sum_[slot] += load_.pressure(static_cast<int>(slot));
   }

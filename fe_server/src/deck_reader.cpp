@@ -51,6 +51,7 @@ std::vector<int> id_list(const Block& b, size_t first_card, const char* what) {
 
 // Keywords this reader reads; anything else is a warning (or an error, below).
 struct Reader {
+  Reader(Model& model, DeckWarnings* w) : m(model), warnings(w) {}
   Model& m;
   DeckWarnings* warnings;
   std::map<int, std::pair<double, double>> spring_mats;  // mid → (k, c)
@@ -486,7 +487,7 @@ struct Reader {
 Model parse_deck(const std::string& text, const std::string& name, DeckWarnings* warnings) {
   Model m;
   m.source = name;
-  Reader r{m, warnings, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+  Reader r(m, warnings);
   auto blocks = config::parse_keyword_text(text, name, true);
   if (!blocks.empty() && blocks.front().keyword != "*KEYWORD" && warnings)
     warnings->messages.push_back(name + ":1: warning: the deck does not start with *KEYWORD");

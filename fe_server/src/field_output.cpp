@@ -14,7 +14,6 @@ FieldWriter::FieldWriter(const std::string& path, const Model& model) : m_(model
   std::vector<double> xyz;
   for (const auto& p : model.x0) xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
   write_dataset("mesh/coordinates", xyz.data(), model.x0.size(), 3);
-  std::vector<double> topo;  // XDMF reads integer topology from doubles too, but store it as int
   std::vector<int> conn;
   for (const auto& e : model.solids) conn.insert(conn.end(), e.n, e.n + 8);
   hsize_t dims[2] = {model.solids.size(), 8};

@@ -245,6 +245,7 @@ void Solver::user_loads() {
 }
 
 void Solver::contact() {
+  if (contacts_.empty()) return;  // f_con_ stays zero: no per-node work in models without contact
   f_con_prev_.swap(f_con_);
   for (auto& f : f_con_) f.setZero();
   for (auto& c : contacts_) c->apply(x_, v_, f_con_, n_);

@@ -71,7 +71,7 @@ std::string bar_impact_deck(double Lp, double Lt, double r, double h, double v0,
 
 struct ImpactResult {
   double sigma_plateau = 0, pulse_length = 0, W = 0, piston_v_after = 0, max_penetration = 0, max_balance = 0;
-  double ke0 = 0, h = 0, area = 0;
+  double ke0 = 0, area = 0;
 };
 
 // Run the impact and measure at a gauge in the tool, `gauge` below its top.
@@ -83,7 +83,6 @@ ImpactResult run_impact(double Lp, double Lt, double h, double v0, double E_tool
   fe::Solver s(m, dt);
   // Gauge: tool elements whose centre lies in the layer at z = −gauge.
   std::vector<size_t> gauge_elems;
-  double area = 0.0;
   for (size_t e = 0; e < m.solids.size(); ++e) {
     if (m.solids[e].part != 2) continue;
     double zc = 0.0;
@@ -91,9 +90,7 @@ ImpactResult run_impact(double Lp, double Lt, double h, double v0, double E_tool
     if (std::fabs(zc + gauge) < 0.5 * h * 1.01) gauge_elems.push_back(e);
   }
   EXPECT_FALSE(gauge_elems.empty());
-  (void)area;
   ImpactResult res;
-  res.h = h;
   std::vector<double> sig;
   double W = 0.0, above = 0.0;
   // The tool's cross-section as meshed (its top face, set 2): the O-grid's
@@ -226,11 +223,15 @@ TEST(Waves, CoaxialImpactEqualImpedanceMatchesOneDimensionalTheory) {
   // 1D theory (DESIGN.md): σ = E·v0/(2c), duration 2·Lp/c, W = ½·m·v0², piston stops.
   const double sigma = -kE * v0 / (2.0 * c);
   EXPECT_NEAR(r.sigma_plateau, sigma, 0.02 * std::fabs(sigma)) << "plateau, 2 %: penalty contact and bulk viscosity round the front";
+  // 5 %: the penalty contact and the bulk viscosity spread the front over a
+  // few elements, each h/c ≈ 1 µs of the 77 µs pulse.
   EXPECT_NEAR(r.pulse_length, 2.0 * Lp / c, 0.05 * 2.0 * Lp / c);
   const double m_p = kRho * r.area * Lp;
   // W = (A·c/E)∫σ²dt against ½·m·v0²; 3 %: the penalty contact's finite rise
   // and the bulk viscosity take a little of the pulse's energy.
   EXPECT_NEAR(r.W, 0.5 * m_p * v0 * v0, 0.03 * 0.5 * m_p * v0 * v0);
+  // 5 % of v0: the contact's damping (VDC 20 %) and the rounded front leave
+  // the piston a small residual velocity; 1D theory says exactly zero.
   EXPECT_NEAR(r.piston_v_after, 0.0, 0.05 * v0);
   EXPECT_LT(r.max_balance, 0.01 * r.ke0) << "energy balance within 1 % of the impact energy";
 }
@@ -242,7 +243,7 @@ TEST(Waves, CoaxialImpactUnequalImpedanceMatchesOneDimensionalTheory) {
   // Force Z_p·Z_t/(Z_p + Z_t)·v0 = (2/3)·A·ρ·c·v0; piston rebounds at v0·(Z_p − Z_t)/(Z_p + Z_t) = −v0/3.
   const double sigma = -(2.0 / 3.0) * kRho * c * v0;
   EXPECT_NEAR(r.sigma_plateau, sigma, 0.02 * std::fabs(sigma));
-  EXPECT_NEAR(r.piston_v_after, v0 / 3.0, 0.05 * v0) << "rebound upwards (+z)";
+  EXPECT_NEAR(r.piston_v_after, v0 / 3.0, 0.05 * v0) << "rebound upwards (+z); 5 % of v0 as above";
   const double m_p = kRho * r.area * Lp;
   EXPECT_NEAR(r.W, (8.0 / 9.0) * 0.5 * m_p * v0 * v0, 0.03 * 0.5 * m_p * v0 * v0) << "8/9 of the energy is transmitted";
 }

@@ -93,7 +93,6 @@ class HydraulicVolumeC : public Component {
     out.push_back({"E_stored", "J", &stored_});
     if (dVdx_ != 0.0) out.push_back({"V", "m3", &V_});
   }
-  double stable_step(std::string*) const override { return 1e300; }  // TLM volumes are unconditionally stable
   long cavitation_events() const { return cavitation_events_; }
 
  private:

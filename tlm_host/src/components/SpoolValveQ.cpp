@@ -48,10 +48,9 @@ void SpoolValveQ::simulate_one_step(double) {
     } else if (residual(hi) >= 0.0) {
       pA = hi;
     } else {
-      // Brent: bracketing, superlinear, never leaves [lo, hi]. One solver per
-      // call keeps the component free of shared state; its cost is measured in bench/.
+      // Brent: bracketing, superlinear, never leaves [lo, hi].
       gsl_function f{&residual_callback, this};
-      gsl_root_fsolver* s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+      gsl_root_fsolver* s = solver_.get();
       gsl_root_fsolver_set(s, &f, lo, hi);
       const double tol = 1e-9 * std::max(1.0, hi);  // Pa: far below any physical resolution
       int status = GSL_CONTINUE;
@@ -61,7 +60,6 @@ void SpoolValveQ::simulate_one_step(double) {
         status = gsl_root_test_interval(gsl_root_fsolver_x_lower(s), gsl_root_fsolver_x_upper(s), tol, 0.0);
       }
       pA = gsl_root_fsolver_root(s);
-      gsl_root_fsolver_free(s);
     }
   }
   q_PA_ = turbulent_orifice_flow(P.c, pA, P.Zc, 0.0, K_PA_);

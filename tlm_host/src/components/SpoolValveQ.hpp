@@ -10,6 +10,10 @@
 // so GSL's Brent solver finds the root in that bracket.
 #pragma once
 
+#include <gsl/gsl_roots.h>
+
+#include <memory>
+
 #include "component.hpp"
 #include "table.hpp"
 
@@ -21,7 +25,9 @@ class SpoolValveQ : public Component {
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "SpoolValveQ"; }
   void configure(ParameterSet& prm) override;
-  void initialize(double) override {}
+  void initialize(double) override {
+    solver_.reset(gsl_root_fsolver_alloc(gsl_root_fsolver_brent));  // once, not on every step
+  }
   void simulate_one_step(double) override;
   void log_variables(std::vector<LogVariable>& out) override;
   // Residual of node A for a trial p_A (public for the root finder's callback).
@@ -33,6 +39,7 @@ class SpoolValveQ : public Component {
   const double* x_ = nullptr;
   double K_PA_ = 0, K_AT_ = 0, q_PA_ = 0, q_AT_ = 0;
   long iterations_ = 0;
+  std::unique_ptr<gsl_root_fsolver, void (*)(gsl_root_fsolver*)> solver_{nullptr, gsl_root_fsolver_free};
 };
 
 }  // namespace tlm

@@ -36,10 +36,17 @@ bool barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, dou
 PenaltyContact::PenaltyContact(const Model& model, const ContactDef& def, double dt,
                                const std::vector<double>& nodal_mass)
     : mass_(nodal_mass), dt_(dt), sfs_(def.stiffness_factor), damping_(def.damping) {
-  const auto& slave = model.segment_sets.at(def.slave_set);
   const auto& master = model.segment_sets.at(def.master_set);
-  sides_.push_back(Side{master, nodes_of(slave), {}});
-  sides_.push_back(Side{slave, nodes_of(master), {}});
+  static const std::vector<Segment> none;
+  const auto& slave = def.slave_nodes ? none : model.segment_sets.at(def.slave_set);
+  if (def.slave_nodes) {
+    std::vector<int> nodes;
+    for (int id : model.node_sets.at(def.slave_set)) nodes.push_back(model.index_of(id, def.where));
+    sides_.push_back(Side{master, nodes, {}});  // one-sided: nodes against the master's segments
+  } else {
+    sides_.push_back(Side{master, nodes_of(slave), {}});
+    sides_.push_back(Side{slave, nodes_of(master), {}});
+  }
   double sum = 0.0;
   int count = 0;
   for (const auto* set : {&slave, &master})

@@ -1,6 +1,7 @@
 // Penalty contact between two segment sets (*CONTACT_AUTOMATIC_SURFACE_TO_
 // SURFACE), symmetric: the nodes of each surface are checked against the
-// segments of the other.
+// segments of the other. With a node set on the slave side (SSTYP 4) it is
+// one-sided: those nodes against the master's segments.
 //
 // A node behind a segment (gap g = (x − x_c)·n < 0, n the segment's outward
 // normal, its projection inside the segment) is pushed out with

@@ -203,8 +203,10 @@ struct Reader {
       d.where = c1.where;
       d.slave_set = static_cast<int>(c1.integer(0, "SSID"));
       d.master_set = static_cast<int>(c1.integer(1, "MSID"));
-      if (c1.integer_or(2, "SSTYP", 0) != 0 || c1.integer_or(3, "MSTYP", 0) != 0)
-        c1.fail("SSTYP and MSTYP must be 0 (segment sets) in this version");
+      const long sstyp = c1.integer_or(2, "SSTYP", 0);
+      if ((sstyp != 0 && sstyp != 4) || c1.integer_or(3, "MSTYP", 0) != 0)
+        c1.fail("SSTYP must be 0 (segment set) or 4 (node set) and MSTYP 0 (segment set) in this version");
+      d.slave_nodes = sstyp == 4;
       if (b.cards.size() > 1) {
         Card c2 = fields_of(b.cards[1], kW10);
         d.friction = c2.real_or(0, "FS", 0.0);
@@ -266,6 +268,8 @@ struct Reader {
       for (int id : id_list(b, 0, "ID")) m.history_nodes.push_back(m.index_of(id, b.where));
     } else if (kw == "*DATABASE_HISTORY_SOLID") {
       for (int id : id_list(b, 0, "ID")) m.history_solids.push_back(id);  // resolved after the elements
+    } else if (kw == "*DATABASE_HISTORY_BEAM") {
+      for (int id : id_list(b, 0, "ID")) m.history_bars.push_back(id);  // resolved after the elements
     } else if (kw == "*ELEMENT_SHELL" || kw == "*LOAD_SEGMENT_SET" || kw == "*LOAD_NODE_SET" ||
                kw.rfind("*CONTACT_", 0) == 0 || kw.rfind("*MAT_", 0) == 0 || kw.rfind("*CONSTRAINED_", 0) == 0) {
       b.fail(kw + " is not supported by this fe_server version; ignoring it would change the physics");
@@ -350,15 +354,25 @@ struct Reader {
       if (!ls.force && !m.segment_sets.count(ls.segment_set))
         throw InputError(ls.where, "segment set " + std::to_string(ls.segment_set) + " is not defined in *SET_SEGMENT");
     }
-    for (const auto& c : m.contacts)
+    for (const auto& c : m.contacts) {
+      if (c.slave_nodes && !m.node_sets.count(c.slave_set))
+        throw InputError(c.where, "contact node set " + std::to_string(c.slave_set) + " is not defined in *SET_NODE_LIST");
       for (int sid : {c.slave_set, c.master_set})
-        if (!m.segment_sets.count(sid))
+        if (!(c.slave_nodes && sid == c.slave_set) && !m.segment_sets.count(sid))
           throw InputError(c.where, "contact segment set " + std::to_string(sid) + " is not defined in *SET_SEGMENT");
+    }
     std::map<int, int> solid_index;
     for (size_t i = 0; i < m.solids.size(); ++i) solid_index[m.solids[i].id] = static_cast<int>(i);
     for (int& id : m.history_solids) {
       auto it = solid_index.find(id);
       if (it == solid_index.end()) throw InputError({name, 1}, "*DATABASE_HISTORY_SOLID names element " + std::to_string(id) + ", which is not a solid element");
+      id = it->second;
+    }
+    std::map<int, int> bar_index;
+    for (size_t i = 0; i < m.bars.size(); ++i) bar_index[m.bars[i].id] = static_cast<int>(i);
+    for (int& id : m.history_bars) {
+      auto it = bar_index.find(id);
+      if (it == bar_index.end()) throw InputError({name, 1}, "*DATABASE_HISTORY_BEAM names element " + std::to_string(id) + ", which is not a 1D bar element");
       id = it->second;
     }
   }

@@ -27,6 +27,8 @@ History::History(const std::string& path, const Model& model, const config::Port
     std::string base = "solids/" + std::to_string(model.solids[static_cast<size_t>(e)].id) + "/";
     for (const char* c : {"sxx", "syy", "szz", "sxy", "syz", "szx"}) writer_.add_series(base + c, "Pa");
   }
+  for (int e : model.history_bars)
+    writer_.add_series("bars/" + std::to_string(model.bars[static_cast<size_t>(e)].id) + "/axial_stress", "Pa");
   if (!model.contacts.empty()) {
     writer_.add_series("contact/force", "N");
     writer_.add_series("contact/max_penetration", "m");
@@ -67,6 +69,7 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
   }
   for (int e : model_.history_solids)
     for (int c = 0; c < 6; ++c) row_[k++] = s.stress(static_cast<size_t>(e))(c);
+  for (int e : model_.history_bars) row_[k++] = s.bar_stress(static_cast<size_t>(e));
   if (!model_.contacts.empty()) {
     row_[k++] = s.contact_force();
     row_[k++] = s.max_penetration();

@@ -72,9 +72,12 @@ struct BarElement {
   double mass_scale = 1.0;  // density factor from selective mass scaling
 };
 
-// *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE between two segment sets.
+// *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE between two segment sets, or
+// between the nodes of a node set (SSTYP 4) and a segment set: one-sided,
+// e.g. the end node of a 1D bar against a solid's face.
 struct ContactDef {
-  int slave_set = 0, master_set = 0;  // segment set ids
+  int slave_set = 0, master_set = 0;  // segment set ids (slave: a node set id when slave_nodes)
+  bool slave_nodes = false;           // SSTYP 4: the slave side is a node set
   double friction = 0.0;              // FS (not used yet: frictionless normal contact)
   double damping = 0.2;               // VDC as a fraction of critical
   double stiffness_factor = 1.0;      // SFS
@@ -112,6 +115,7 @@ struct Model {
   std::vector<ContactDef> contacts;
   std::map<int, std::vector<int>> part_sets;
   std::vector<int> history_solids;  // element indices into solids
+  std::vector<int> history_bars;    // element indices into bars (*DATABASE_HISTORY_BEAM)
   double snapshot_interval = 0.0;  // *DATABASE_BINARY_D3PLOT DT (0: no field output)
   double dt2ms = 0.0;              // *CONTROL_TIMESTEP DT2MS (< 0: mass scaling to |DT2MS|)
   double hourglass_q = 0.1;        // *CONTROL_HOURGLASS QH

@@ -171,6 +171,11 @@ void Solver::bar_forces() {
   }
 }
 
+double Solver::bar_stress(size_t e) const {
+  const Part& part = m_.parts.at(m_.bars[e].part);
+  return bar_force_[e] / part.bar_area;
+}
+
 void Solver::solid_forces() {
   const double q1 = m_.bulk_q1, q2 = m_.bulk_q2;
   for (size_t e = 0; e < m_.solids.size(); ++e) {

@@ -58,6 +58,8 @@ class Solver {
   const Energies& energies() const { return energies_; }
   // Stress (Voigt: xx, yy, zz, xy, yz, zx) of solid element e.
   const Eigen::Matrix<double, 6, 1>& stress(size_t e) const { return sigma_[e]; }
+  // Axial stress of 1D bar element e (tension positive), Pa.
+  double bar_stress(size_t e) const;
   double contact_force() const { return contact_force_; }  // total normal force of the last step, N
   double max_penetration() const;
   // Largest stable step of the model (without safety factor) and what limits it.

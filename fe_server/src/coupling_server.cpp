@@ -257,6 +257,9 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
     for (int s = 0; s < table_.subcycles; ++s) {
       solver.step();
       ports.accumulate(solver);
+      // The history keeps every FE step (a stress pulse is resolved however
+      // long the coupling step); port outputs are the last coupling step's.
+      if (s + 1 < table_.subcycles) history.record(solver, in, out);
       if (std::chrono::duration<double>(std::chrono::steady_clock::now() - last_beat).count() > beat) {
         rc = pcs_send_frame(&conn_, PCS_MSG_HEARTBEAT, h.step, nullptr, 0, deadline_after(timeout));
         if (rc != SL_OK) {

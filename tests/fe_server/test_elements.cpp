@@ -270,7 +270,7 @@ TEST(Contact, RigidMassOnABarThroughANodeSetContactSendsTheOneDimensionalPulse) 
   std::ostringstream d;
   d << "*KEYWORD\n*NODE\n";
   const int n = static_cast<int>(std::lround(L / h));
-  for (int i = 0; i <= n; ++i) d << i + 1 << ",0,0," << -L + h * i << (i == 0 ? ",,7" : "") << "\n";
+  for (int i = 0; i <= n; ++i) d << i + 1 << ",0,0," << -L + h * i << (i == 0 ? ",7" : "") << "\n";
   const double zb = 1e-6;  // the block's face just above the bar's top node
   const double corner[4][2] = {{-a, -a}, {a, -a}, {a, a}, {-a, a}};
   for (int k = 0; k < 2; ++k)

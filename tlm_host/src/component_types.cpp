@@ -39,6 +39,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"ControlSpoolQ", make<ControlSpoolQ>()},
       {"HammerPistonQ", make<HammerPistonQ>()},
       {"PistonMechanicsSignal", make<PistonMechanicsSignal>()},
+      {"SpoolMechanicsSignal", make<SpoolMechanicsSignal>()},
       {"SignalStep", make<SignalStep>()},
       {"SignalRamp", make<SignalRamp>()},
       {"SignalTable", make<SignalTable>()},

@@ -23,6 +23,7 @@ int usage(std::ostream& os, int rc) {
         "                      simulation.timestep / stoptime / log_every too\n"
         "  --csv FILE          also write every logged series as CSV\n"
         "  --report FILE       write the percussion report (model's *REPORT block) to FILE\n"
+        "                      (JSON in SI units when FILE ends in .json)\n"
         "  --quiet             no progress line\n"
         "Exit codes: 0 ok, 2 usage, 3 model rejected, 4 simulation failed.\n";
   return rc;
@@ -86,11 +87,14 @@ int main(int argc, char** argv) {
   }
   if (want_report) {
     try {
-      std::string text = tlm::format_figures(tlm::evaluate_percussion(out, report));
+      const tlm::PercussionFigures figures = tlm::evaluate_percussion(out, report);
+      const std::string text = tlm::format_figures(figures);
       std::cout << "percussion report (" << out << "):\n" << text;
       if (!report_path.empty()) {
+        const bool json = report_path.size() > 5 && report_path.compare(report_path.size() - 5, 5, ".json") == 0;
         std::ofstream f(report_path);
-        f << text;
+        f << (json ? tlm::figures_json(figures) : text);
+        if (!f) throw std::runtime_error("cannot write " + report_path);
       }
     } catch (const std::exception& e) {
       std::cerr << "tlm_host: report: " << e.what() << "\n";

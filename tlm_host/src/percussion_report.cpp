@@ -53,6 +53,7 @@ PercussionFigures evaluate_percussion(const std::string& path, const ReportSetti
                              std::to_string(s.settle) + " s; run longer or check that the hammer cycles");
   PercussionFigures f;
   f.blows = static_cast<int>(blows.size());
+  for (size_t i : blows) f.impact_times.push_back(t[i]);
   const size_t first = blows.front(), last = blows.back();  // whole cycles between these
   f.frequency = static_cast<double>(blows.size() - 1) / (t[last] - t[first]);
   f.v_impact = gsl_stats_mean(v_imp.data(), 1, v_imp.size());
@@ -109,6 +110,23 @@ std::string format_figures(const PercussionFigures& f) {
     std::snprintf(buf, sizeof buf, "  peak %-15s %.1f bar abs\n", label.c_str(), 1e-5 * p);
     o << buf;
   }
+  return o.str();
+}
+
+std::string figures_json(const PercussionFigures& f) {
+  std::ostringstream o;
+  o.precision(10);
+  o << "{\n  \"blows\": " << f.blows << ",\n  \"frequency_Hz\": " << f.frequency
+    << ",\n  \"impact_velocity_m_s\": " << f.v_impact << ",\n  \"impact_velocity_sd_m_s\": " << f.v_impact_sd
+    << ",\n  \"stroke_m\": " << f.stroke << ",\n  \"inlet_pressure_Pa\": " << f.p_in
+    << ",\n  \"inlet_flow_m3_s\": " << f.q_in << ",\n  \"input_power_W\": " << f.P_in
+    << ",\n  \"blow_energy_J\": " << f.W << ",\n  \"output_power_W\": " << f.P_out
+    << ",\n  \"efficiency\": " << f.efficiency << ",\n  \"peak_pressure_Pa\": {";
+  for (size_t i = 0; i < f.peaks.size(); ++i)
+    o << (i ? ", " : "") << "\"" << f.peaks[i].first << "\": " << f.peaks[i].second;
+  o << "},\n  \"impact_times_s\": [";
+  for (size_t i = 0; i < f.impact_times.size(); ++i) o << (i ? ", " : "") << f.impact_times[i];
+  o << "]\n}\n";
   return o.str();
 }
 

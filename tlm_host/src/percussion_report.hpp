@@ -29,11 +29,14 @@ struct PercussionFigures {
   double frequency = 0, v_impact = 0, v_impact_sd = 0, stroke = 0;
   double p_in = 0, q_in = 0, P_in = 0, W = 0, P_out = 0, efficiency = 0;
   std::vector<std::pair<std::string, double>> peaks;  // label, Pa
+  std::vector<double> impact_times;                   // s, the blows evaluated
 };
 
 // Throws std::runtime_error if fewer than 3 blows follow the settle time.
 PercussionFigures evaluate_percussion(const std::string& h5_path, const ReportSettings& s);
 std::string format_figures(const PercussionFigures& f);
+// The same figures in SI units as one JSON object, for scripts.
+std::string figures_json(const PercussionFigures& f);
 
 // Gaussian low-pass of uniformly sampled data (dt apart) at cutoff_hz (−3 dB).
 std::vector<double> lowpass_gaussian(const std::vector<double>& x, double dt, double cutoff_hz);

@@ -13,21 +13,38 @@
 
 namespace tlm {
 
+// A spool's forces apart from its pilot faces and viscous friction b·v:
+// smoothed Coulomb friction and the two end stops. Shared by ControlSpoolQ
+// and SpoolMechanicsSignal (spool in fe_server), so both model the same law.
+struct SpoolMechanics {
+  double m = 0, F_c = 0, v_s = 0, b = 0, stroke = 0, k_stop = 0, c_stop = 0;
+  void configure(ParameterSet& prm) {
+    m = prm.positive("m", 0.2);
+    stroke = prm.positive("stroke", 8e-3);
+    F_c = prm.real("F_c", 10.0);
+    v_s = prm.positive("v_s", 0.01);
+    b = prm.real("b", 15.0);
+    k_stop = prm.positive("k_stop", 5e7);
+    c_stop = prm.real("c_stop", 5e3);
+  }
+  double force(double x, double v) const {
+    double F = -F_c * std::tanh(v / v_s);
+    F += stop_force(-x, -v, k_stop, c_stop);          // stop at x = 0 pushes +x
+    F -= stop_force(x - stroke, v, k_stop, c_stop);   // stop at the stroke pushes −x
+    return F;
+  }
+  double stable_step() const { return 2.0 / std::sqrt(k_stop / m); }
+};
+
 class ControlSpoolQ : public Component {
  public:
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "ControlSpoolQ"; }
   void configure(ParameterSet& prm) override {
-    m_ = prm.positive("m", 0.2);
+    mech_.configure(prm);
     A_s_ = prm.positive("A_s", 1.2e-4);
     A_c_ = prm.positive("A_c", 2.4e-4);
-    stroke_ = prm.positive("stroke", 8e-3);
-    F_c_ = prm.real("F_c", 10.0);
-    v_s_ = prm.positive("v_s", 0.01);
-    b_ = prm.real("b", 15.0);
-    k_stop_ = prm.positive("k_stop", 5e7);
-    c_stop_ = prm.real("c_stop", 5e3);
     x_ = prm.real("x0", 0.0);
     add_port("pilot_s", Kind::Q);
     add_port("pilot_c", Kind::Q);
@@ -37,12 +54,10 @@ class ControlSpoolQ : public Component {
   }
   void initialize(double dt) override { dt_ = dt; }
   void simulate_one_step(double) override {
-    double F = -F_c_ * std::tanh(v_ / v_s_);
-    double B = b_;
+    double F = mech_.force(x_, v_);
+    double B = mech_.b;
     face_forces(ports_, faces_, F, B);
-    F += stop_force(-x_, -v_, k_stop_, c_stop_);            // stop at x = 0 pushes +x
-    F -= stop_force(x_ - stroke_, v_, k_stop_, c_stop_);    // stop at the stroke pushes −x
-    v_ = (m_ * v_ + dt_ * F) / (m_ + dt_ * B);
+    v_ = (mech_.m * v_ + dt_ * F) / (mech_.m + dt_ * B);
     x_ += dt_ * v_;
     face_outputs(ports_, faces_, v_);
   }
@@ -52,13 +67,52 @@ class ControlSpoolQ : public Component {
   }
   double stable_step(std::string* why) const override {
     if (why) *why = name_ + ": end stop k_stop on mass m";
-    return 2.0 / std::sqrt(k_stop_ / m_);
+    return mech_.stable_step();
   }
 
  private:
-  double m_ = 0, A_s_ = 0, A_c_ = 0, stroke_ = 0, F_c_ = 0, v_s_ = 0, b_ = 0, k_stop_ = 0, c_stop_ = 0;
+  SpoolMechanics mech_;
+  double A_s_ = 0, A_c_ = 0;
   double x_ = 0, v_ = 0, dt_ = 0;
   std::vector<HydraulicFace> faces_;
+};
+
+// The same spool living in fe_server: reads its position and velocity (FMU
+// outputs x, v) and offers friction (Coulomb and viscous) and the end-stop
+// forces, F, to send through the FMU's mechanical port. The pilot faces are
+// loaded in fe_server. The forces lag the FE motion by one coupling step;
+// the stop's ω·Δt = sqrt(k_stop/m)·Δt stays below 0.16 up to Δt = 10 us.
+class SpoolMechanicsSignal : public Component {
+ public:
+  using Component::Component;
+  Kind kind() const override { return Kind::Signal; }
+  const char* type_name() const override { return "SpoolMechanicsSignal"; }
+  void configure(ParameterSet& prm) override {
+    mech_.configure(prm);
+    add_signal_input("x", &x_in_);
+    add_signal_input("v", &v_in_);
+    add_signal_output("F", &F_);
+  }
+  void initialize(double) override {}
+  void simulate_one_step(double) override {
+    x_ = *x_in_;
+    v_ = *v_in_;
+    F_ = mech_.force(x_, v_) - mech_.b * v_;
+  }
+  void log_variables(std::vector<LogVariable>& out) override {
+    out.push_back({"x", "m", &x_});
+    out.push_back({"v", "m/s", &v_});
+    out.push_back({"F", "N", &F_});
+  }
+  double stable_step(std::string* why) const override {
+    if (why) *why = name_ + ": end stop k_stop on mass m (explicit, lagged one step)";
+    return mech_.stable_step();
+  }
+
+ private:
+  SpoolMechanics mech_;
+  const double *x_in_ = nullptr, *v_in_ = nullptr;
+  double x_ = 0, v_ = 0, F_ = 0;
 };
 
 }  // namespace tlm

@@ -13,6 +13,10 @@
 //   impact         piston face on tool top when x < y: one-sided contact spring
 //                  k_contact with the damping that gives restitution e_contact:
 //                  ζ = −ln e / sqrt(π² + ln² e), c = 2ζ·sqrt(k·m_eff)
+// With tool = fe the tool, the rock and the impact live in fe_server: the
+// caller sets the tool's y and w from the FE before each step, no contact
+// force is added, and F_contact is the lumped law's value for the FE
+// overlap, kept only so that blows are detected the same way.
 #pragma once
 
 #include <cmath>
@@ -27,6 +31,7 @@ struct PercussionMechanics {
   double m = 0, g = 0, F0 = 0, k_p = 0, c_v = 0, v_s = 0, tau_f = 0;
   double x_cushion = 0, k_cushion = 0, c_cushion = 0, m_tool = 0, k_rock = 0, c_rock = 0, F_feed = 0;
   double k_contact = 0, c_contact = 0, v_blow = 0;
+  bool lumped_tool = true;  // false: tool = fe
   // State.
   double v_f = 0, y = 0, w = 0, F_contact = 0, v_impact = 0, blows = 0, overlap_prev = 0, filter = 0, dt = 0;
   struct Impact {
@@ -45,6 +50,10 @@ struct PercussionMechanics {
     x_cushion = prm.real("x_cushion", 0.095);
     k_cushion = prm.positive("k_cushion", 1e8);
     c_cushion = prm.real("c_cushion", 2e4);
+    const std::string tool = prm.text("tool", "lumped");
+    if (tool != "lumped" && tool != "fe")
+      throw config::InputError(prm.where(), name + ": tool must be 'lumped' (tool and rock here) or 'fe' (in fe_server), not '" + tool + "'");
+    lumped_tool = tool == "lumped";
     m_tool = prm.positive("m_tool", 15.0);
     k_rock = prm.positive("k_rock", 1e9);
     c_rock = prm.real("c_rock", 9.7e4);
@@ -68,13 +77,14 @@ struct PercussionMechanics {
     F -= stop_force(x - x_cushion, v, k_cushion, c_cushion);
     const double overlap = y - x;
     F_contact = stop_force(overlap, w - v, k_contact, c_contact);
-    F += F_contact;
+    if (lumped_tool) F += F_contact;
     if (overlap > 0.0 && overlap_prev <= 0.0 && v < -v_blow) {
       v_impact = v;
       blows += 1.0;
       impacts.push_back({t, v});
     }
     overlap_prev = overlap;
+    if (!lumped_tool) return F;
     const double F_tool = stop_force(-y, -w, k_rock, c_rock) - F_contact - m_tool * g - F_feed;
     w += dt * F_tool / m_tool;
     y += dt * w;
@@ -83,9 +93,9 @@ struct PercussionMechanics {
   double stable_step(std::string* why, const std::string& name) const {
     // Explicit one-sided springs: central-difference-like limit 2/ω.
     const double m_eff = m * m_tool / (m + m_tool);
-    double om = std::sqrt(k_contact / m_eff);
+    double om = lumped_tool ? std::sqrt(k_contact / m_eff) : 0.0;
     std::string what = "piston-tool contact";
-    if (std::sqrt(k_rock / m_tool) > om) om = std::sqrt(k_rock / m_tool), what = "rock spring under the tool";
+    if (lumped_tool && std::sqrt(k_rock / m_tool) > om) om = std::sqrt(k_rock / m_tool), what = "rock spring under the tool";
     if (std::sqrt(k_cushion / m) > om) om = std::sqrt(k_cushion / m), what = "top cushion";
     if (why) *why = name + ": " + what;
     return 2.0 / om;

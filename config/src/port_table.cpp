@@ -1,11 +1,13 @@
 #include "config/port_table.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 namespace config {
 
@@ -268,6 +270,36 @@ std::string fmu_guid(const PortTable& t) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "pcs-%016llx", static_cast<unsigned long long>(t.hash()));
   return buf;
+}
+
+PortTable combine_port_tables(const std::vector<PortTable>& tables) {
+  if (tables.empty()) throw std::invalid_argument("combine_port_tables: no table");
+  if (tables.size() == 1) return tables.front();
+  PortTable all = tables.front();
+  all.model_name.clear();
+  all.source.clear();
+  all.ports.clear();
+  all.to_fe.clear();
+  all.to_host.clear();
+  for (const PortTable& t : tables) {
+    const SourceLocation top{t.source, 1};
+    if (t.dt != all.dt || t.mode != all.mode || t.subcycles != all.subcycles)
+      throw InputError(top, "timestep, mode and subcycles must equal those of " + tables.front().source +
+                                " when both serve one fe_server session");
+    for (const Port& p : t.ports)
+      for (const Port& q : all.ports)
+        if (p.id == q.id || p.label == q.label)
+          throw InputError(p.where, "port " + std::to_string(p.id) + " (" + p.label + ") clashes with port " +
+                                        std::to_string(q.id) + " (" + q.label + ") of " + q.where.str() +
+                                        ": ports of one session need distinct ids and labels");
+    all.model_name += (all.model_name.empty() ? "" : "+") + t.model_name;
+    all.source += (all.source.empty() ? "" : ", ") + t.source;
+    all.timeout = std::max(all.timeout, t.timeout);
+    all.ports.insert(all.ports.end(), t.ports.begin(), t.ports.end());
+    all.to_fe.insert(all.to_fe.end(), t.to_fe.begin(), t.to_fe.end());
+    all.to_host.insert(all.to_host.end(), t.to_host.begin(), t.to_host.end());
+  }
+  return all;
 }
 
 }  // namespace config

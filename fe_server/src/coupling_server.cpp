@@ -127,15 +127,34 @@ void PortMap::measure_outputs(const Solver& s, std::vector<double>& out) {
   }
 }
 
-CouplingServer::CouplingServer(const ServerOptions& opt, const config::PortTable& table)
-    : opt_(opt), table_(table) {
-  size_t n = std::max(table.to_fe.size(), table.to_host.size());
-  buf_.resize(std::max<size_t>(pcs_values_size(static_cast<uint32_t>(n)), PCS_MAX_REASON + PCS_MAX_TOKEN + 64));
+CouplingServer::CouplingServer(const ServerOptions& opt, std::vector<config::PortTable> tables)
+    : opt_(opt), tables_(std::move(tables)) {
+  size_t in = 0, out = 0, widest = 0;
+  for (const auto& t : tables_) {
+    clients_.push_back(Client{&t, SL_SOCKET_INIT, in, out});
+    in += t.to_fe.size();
+    out += t.to_host.size();
+    widest = std::max({widest, t.to_fe.size(), t.to_host.size()});
+  }
+  if (tables_.empty()) throw std::invalid_argument("CouplingServer: no port table");
+  timeout_ = tables_.front().timeout;
+  for (const auto& t : tables_) timeout_ = std::max(timeout_, t.timeout);
+  if (opt_.step_timeout > 0) timeout_ = opt_.step_timeout;
+  buf_.resize(std::max<size_t>(pcs_values_size(static_cast<uint32_t>(widest)), PCS_MAX_REASON + PCS_MAX_TOKEN + 64));
 }
 
 CouplingServer::~CouplingServer() {
-  sl_close(&conn_);
+  for (auto& c : clients_) sl_close(&c.conn);
   sl_close(&listener_);
+}
+
+std::string CouplingServer::name_of(const Client& c) const {
+  return clients_.size() > 1 ? " from " + c.table->model_name : "";
+}
+
+void CouplingServer::abort_all(uint64_t step, uint32_t code, const std::string& why) {
+  for (auto& c : clients_)
+    if (c.conn.fd >= 0) pcs_send_abort(&c.conn, step, code, why.c_str(), deadline_after(1.0));
 }
 
 void CouplingServer::bind() {
@@ -155,13 +174,12 @@ void CouplingServer::bind() {
   }
 }
 
-ExitCode CouplingServer::handshake(std::string& message) {
-  const double timeout = opt_.step_timeout > 0 ? opt_.step_timeout : table_.timeout;
-  const int64_t deadline = deadline_after(timeout);
+ExitCode CouplingServer::handshake(sl_socket& conn, int& which, std::string& message) {
+  const int64_t deadline = deadline_after(timeout_);
   pcs_header h{};
-  int rc = pcs_recv_frame(&conn_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline);
+  int rc = pcs_recv_frame(&conn, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline);
   auto refuse = [&](const std::string& reason) {
-    pcs_send_abort(&conn_, 0, SL_EREFUSED_BY_PEER, reason.c_str(), deadline_after(1.0));
+    pcs_send_abort(&conn, 0, SL_EREFUSED_BY_PEER, reason.c_str(), deadline_after(1.0));
     message = "session refused: " + reason;
     return kExitHandshake;
   };
@@ -169,29 +187,40 @@ ExitCode CouplingServer::handshake(std::string& message) {
     return refuse("protocol version mismatch: server speaks " + std::to_string(PCS_PROTOCOL_VERSION) +
                   ", client " + std::to_string(h.version));
   if (rc != SL_OK) {
-    message = "no valid HELLO from the host: " + link_error(rc, conn_);
+    message = "no valid HELLO from the host: " + link_error(rc, conn);
     return rc == SL_EBADMAGIC ? kExitHandshake : kExitLinkLost;
   }
   if (h.type != PCS_MSG_HELLO) return refuse(std::string("expected HELLO, got ") + pcs_msg_name(h.type));
   pcs_hello hello{};
   if (pcs_decode_hello(buf_.data(), h.payload_size, &hello) != SL_OK) return refuse("malformed HELLO");
-  if (hello.table_hash != table_.hash()) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, " (server %016llx, host %016llx)",
-                  static_cast<unsigned long long>(table_.hash()),
-                  static_cast<unsigned long long>(hello.table_hash));
-    return refuse("port table mismatch" + std::string(buf) + ": host and server must use the same ports.cfg; server has " +
-                  table_.source);
+  which = -1;
+  std::string hashes;
+  for (size_t i = 0; i < clients_.size(); ++i) {
+    const config::PortTable& t = *clients_[i].table;
+    char buf[24];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(t.hash()));
+    hashes += (hashes.empty() ? "" : ", ") + std::string(buf) + " (" + t.source + ")";
+    if (t.hash() != hello.table_hash) continue;
+    if (clients_[i].conn.fd >= 0)
+      return refuse("a second FMU presented the port table of " + t.source + ", which is already connected");
+    which = static_cast<int>(i);
   }
-  if (hello.dt != table_.dt || hello.subcycles != static_cast<uint32_t>(table_.subcycles))
+  if (which < 0) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(hello.table_hash));
+    return refuse("port table mismatch (host " + std::string(buf) + ", server " + hashes +
+                  "): host and server must use the same ports.cfg");
+  }
+  const config::PortTable& table = *clients_[static_cast<size_t>(which)].table;
+  if (hello.dt != table.dt || hello.subcycles != static_cast<uint32_t>(table.subcycles))
     return refuse("time step or subcycles differ between host and server");
   if (!pcs_token_equal(hello.token, opt_.token.c_str()))
     return refuse(opt_.token.empty() ? "this server expects no token" : "wrong or missing token");
-  pcs_hello_ack ack{table_.hash(), table_.dt, static_cast<uint32_t>(table_.subcycles)};
+  pcs_hello_ack ack{table.hash(), table.dt, static_cast<uint32_t>(table.subcycles)};
   int n = pcs_encode_hello_ack(&ack, buf_.data(), static_cast<uint32_t>(buf_.size()));
-  rc = pcs_send_frame(&conn_, PCS_MSG_HELLO_ACK, 0, buf_.data(), static_cast<uint32_t>(n), deadline);
+  rc = pcs_send_frame(&conn, PCS_MSG_HELLO_ACK, 0, buf_.data(), static_cast<uint32_t>(n), deadline);
   if (rc != SL_OK) {
-    message = "cannot send HELLO_ACK: " + link_error(rc, conn_);
+    message = "cannot send HELLO_ACK: " + link_error(rc, conn);
     return kExitLinkLost;
   }
   return kExitOk;
@@ -199,92 +228,133 @@ ExitCode CouplingServer::handshake(std::string& message) {
 
 ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, std::string& message) {
   if (listener_.fd < 0) bind();
-  int rc = sl_accept(&listener_, deadline_after(opt_.accept_timeout), &conn_);
-  if (rc != SL_OK) {
-    message = "no host connected within " + std::to_string(opt_.accept_timeout) + " s: " + link_error(rc, listener_);
-    return rc == SL_ETIMEDOUT ? kExitAcceptTimeout : kExitLinkLost;
+  const int64_t accept_deadline = deadline_after(opt_.accept_timeout);
+  for (size_t n = 0; n < clients_.size(); ++n) {
+    sl_socket conn = SL_SOCKET_INIT;
+    int rc = sl_accept(&listener_, accept_deadline, &conn);
+    if (rc != SL_OK) {
+      message = (n == 0 ? std::string("no host connected") : std::to_string(n) + " of " + std::to_string(clients_.size()) +
+                                                                 " FMUs connected") +
+                " within " + std::to_string(opt_.accept_timeout) + " s: " + link_error(rc, listener_);
+      abort_all(0, SL_ETIMEDOUT, message);
+      return rc == SL_ETIMEDOUT ? kExitAcceptTimeout : kExitLinkLost;
+    }
+    int which = -1;
+    ExitCode code = handshake(conn, which, message);
+    if (code != kExitOk) {
+      sl_close(&conn);
+      abort_all(0, SL_EREFUSED_BY_PEER, message);
+      return code;
+    }
+    clients_[static_cast<size_t>(which)].conn = conn;
   }
   sl_close(&listener_);  // one session per run
-  ExitCode code = handshake(message);
-  if (code != kExitOk) return code;
   if (!opt_.quiet) std::cout << "fe_server: session accepted" << std::endl;
 
-  const double timeout = opt_.step_timeout > 0 ? opt_.step_timeout : table_.timeout;
-  std::vector<double> in(table_.to_fe.size()), out(table_.to_host.size());
+  const size_t n_in = clients_.back().in_offset + clients_.back().table->to_fe.size();
+  const size_t n_out = clients_.back().out_offset + clients_.back().table->to_host.size();
+  std::vector<double> in(n_in), out(n_out);
   uint64_t expected = 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (;;) {
-    pcs_header h{};
-    rc = pcs_recv_frame(&conn_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout));
-    if (rc != SL_OK) {
-      message = "link lost waiting for STEP " + std::to_string(expected) + ": " + link_error(rc, conn_);
-      if (rc == SL_EBADMAGIC || rc == SL_EOVERSIZE || rc == SL_EVERSION)
-        pcs_send_abort(&conn_, expected, static_cast<uint32_t>(-rc), message.c_str(), deadline_after(1.0));
+    size_t byes = 0;
+    for (Client& c : clients_) {
+      pcs_header h{};
+      int rc = pcs_recv_frame(&c.conn, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout_));
+      if (rc != SL_OK) {
+        message = "link lost waiting for STEP " + std::to_string(expected) + name_of(c) + ": " + link_error(rc, c.conn);
+        abort_all(expected, static_cast<uint32_t>(-rc), message);
+        return kExitLinkLost;
+      }
+      if (h.type == PCS_MSG_BYE) {
+        ++byes;
+        continue;
+      }
+      if (h.type == PCS_MSG_ABORT) {
+        pcs_abort a{};
+        pcs_decode_abort(buf_.data(), h.payload_size, &a);
+        message = "host aborted at step " + std::to_string(expected) + name_of(c) + ": " + a.reason;
+        sl_close(&c.conn);
+        abort_all(expected, SL_EREFUSED_BY_PEER, message);
+        return kExitPeerAbort;
+      }
+      auto reject = [&](const std::string& why, ExitCode code) {
+        message = why;
+        abort_all(h.step, SL_EUNEXPECTED, why);
+        return code;
+      };
+      if (h.type != PCS_MSG_STEP)
+        return reject(std::string("expected STEP") + name_of(c) + ", got " + pcs_msg_name(h.type), kExitLinkLost);
+      if (h.step != expected)
+        return reject("step index out of order" + name_of(c) + ": expected " + std::to_string(expected) + ", got " +
+                          std::to_string(h.step),
+                      kExitLinkLost);
+      const size_t want = c.table->to_fe.size();
+      double t = 0, dt = 0;
+      uint32_t count = 0;
+      if (pcs_decode_values(buf_.data(), h.payload_size, &t, &dt, in.data() + c.in_offset, static_cast<uint32_t>(want),
+                            &count) != SL_OK ||
+          count != want)
+        return reject("STEP " + std::to_string(h.step) + name_of(c) + " carries " + std::to_string(count) +
+                          " values, expected " + std::to_string(want),
+                      kExitLinkLost);
+      for (size_t i = 0; i < want; ++i)
+        if (!std::isfinite(in[c.in_offset + i]))
+          return reject(c.table->to_fe[i].name() + " is not finite at step " + std::to_string(h.step), kExitNumerical);
+    }
+    if (byes == clients_.size()) break;
+    if (byes > 0) {
+      message = "at step " + std::to_string(expected) + " some FMUs ended the session while others stepped on";
+      abort_all(expected, SL_EUNEXPECTED, message);
       return kExitLinkLost;
     }
-    if (h.type == PCS_MSG_BYE) break;
-    if (h.type == PCS_MSG_ABORT) {
-      pcs_abort a{};
-      pcs_decode_abort(buf_.data(), h.payload_size, &a);
-      message = "host aborted at step " + std::to_string(expected) + ": " + a.reason;
-      return kExitPeerAbort;
-    }
-    auto reject = [&](const std::string& why, ExitCode c) {
-      pcs_send_abort(&conn_, h.step, SL_EUNEXPECTED, why.c_str(), deadline_after(1.0));
-      message = why;
-      return c;
-    };
-    if (h.type != PCS_MSG_STEP) return reject(std::string("expected STEP, got ") + pcs_msg_name(h.type), kExitLinkLost);
-    if (h.step != expected)
-      return reject("step index out of order: expected " + std::to_string(expected) + ", got " + std::to_string(h.step),
-                    kExitLinkLost);
-    double t = 0, dt = 0;
-    uint32_t count = 0;
-    if (pcs_decode_values(buf_.data(), h.payload_size, &t, &dt, in.data(), static_cast<uint32_t>(in.size()), &count) !=
-            SL_OK ||
-        count != in.size())
-      return reject("STEP " + std::to_string(h.step) + " carries " + std::to_string(count) + " values, expected " +
-                        std::to_string(in.size()),
-                    kExitLinkLost);
-    for (size_t i = 0; i < in.size(); ++i)
-      if (!std::isfinite(in[i]))
-        return reject(table_.to_fe[i].name() + " is not finite at step " + std::to_string(h.step), kExitNumerical);
 
     ports.apply_inputs(in);
     // Heartbeats keep the host's deadline from expiring during a long step.
-    const double beat = std::min(1.0, 0.25 * timeout);
+    const double beat = std::min(1.0, 0.25 * timeout_);
     auto last_beat = std::chrono::steady_clock::now();
-    for (int s = 0; s < table_.subcycles; ++s) {
+    const int subcycles = tables_.front().subcycles;
+    for (int s = 0; s < subcycles; ++s) {
       solver.step();
       ports.accumulate(solver);
       // The history keeps every FE step (a stress pulse is resolved however
       // long the coupling step); port outputs are the last coupling step's.
-      if (s + 1 < table_.subcycles) history.record(solver, in, out);
+      if (s + 1 < subcycles) history.record(solver, in, out);
       if (std::chrono::duration<double>(std::chrono::steady_clock::now() - last_beat).count() > beat) {
-        rc = pcs_send_frame(&conn_, PCS_MSG_HEARTBEAT, h.step, nullptr, 0, deadline_after(timeout));
-        if (rc != SL_OK) {
-          message = "cannot send HEARTBEAT " + std::to_string(h.step) + ": " + link_error(rc, conn_);
-          return kExitLinkLost;
+        for (Client& c : clients_) {
+          int rc = pcs_send_frame(&c.conn, PCS_MSG_HEARTBEAT, expected, nullptr, 0, deadline_after(timeout_));
+          if (rc != SL_OK) {
+            message = "cannot send HEARTBEAT " + std::to_string(expected) + name_of(c) + ": " + link_error(rc, c.conn);
+            abort_all(expected, static_cast<uint32_t>(-rc), message);
+            return kExitLinkLost;
+          }
         }
         last_beat = std::chrono::steady_clock::now();
       }
     }
     ports.measure_outputs(solver, out);
+    history.record(solver, in, out);
     for (size_t i = 0; i < out.size(); ++i)
       if (!std::isfinite(out[i])) {
-        history.record(solver, in, out);
-        return reject(table_.to_host[i].name() + " became non-finite at step " + std::to_string(h.step) +
-                          " (FE instability?)",
-                      kExitNumerical);
+        const config::Variable* v = nullptr;
+        for (const Client& c : clients_)
+          if (i >= c.out_offset && i < c.out_offset + c.table->to_host.size()) v = &c.table->to_host[i - c.out_offset];
+        message = (v ? v->name() : std::string("an output")) + " became non-finite at step " + std::to_string(expected) +
+                  " (FE instability?)";
+        abort_all(expected, SL_EUNEXPECTED, message);
+        return kExitNumerical;
       }
-    history.record(solver, in, out);
-
-    int n = pcs_encode_values(solver.time(), table_.dt, out.data(), static_cast<uint32_t>(out.size()), buf_.data(),
-                              static_cast<uint32_t>(buf_.size()));
-    rc = pcs_send_frame(&conn_, PCS_MSG_RESULT, h.step, buf_.data(), static_cast<uint32_t>(n), deadline_after(timeout));
-    if (rc != SL_OK) {
-      message = "cannot send RESULT " + std::to_string(h.step) + ": " + link_error(rc, conn_);
-      return kExitLinkLost;
+    for (Client& c : clients_) {
+      const size_t count = c.table->to_host.size();
+      int n = pcs_encode_values(solver.time(), c.table->dt, out.data() + c.out_offset, static_cast<uint32_t>(count),
+                                buf_.data(), static_cast<uint32_t>(buf_.size()));
+      int rc = pcs_send_frame(&c.conn, PCS_MSG_RESULT, expected, buf_.data(), static_cast<uint32_t>(n),
+                              deadline_after(timeout_));
+      if (rc != SL_OK) {
+        message = "cannot send RESULT " + std::to_string(expected) + name_of(c) + ": " + link_error(rc, c.conn);
+        abort_all(expected, static_cast<uint32_t>(-rc), message);
+        return kExitLinkLost;
+      }
     }
     ++expected;
   }

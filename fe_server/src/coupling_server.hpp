@@ -1,9 +1,12 @@
-// Server side of the coupling protocol: one session per run. Accepts one
-// host, checks its HELLO (protocol version, port-table hash, time step,
-// subcycles, token), then per coupling step k: block on STEP k → apply the
-// port loads through the user-load hook → advance `subcycles` FE steps →
-// send RESULT k. Ends on BYE, ABORT, a deadline or a link error, always with
-// the history flushed.
+// Server side of the coupling protocol: one session per run. A session has
+// one client per port table: one FMU, or one per co-simulated part (piston,
+// valve) when several tables are given. Accepts them in any order, checks
+// each HELLO (protocol version, port-table hash, time step, subcycles,
+// token), then per coupling step k: block on STEP k from every client →
+// apply all port loads through the user-load hook → advance `subcycles` FE
+// steps → send each client its RESULT k. Ends when every client has said
+// BYE, on an ABORT, a deadline or a link error (every client is told),
+// always with the history flushed.
 #pragma once
 
 #include <string>
@@ -57,7 +60,9 @@ class PortMap {
 
 class CouplingServer {
  public:
-  CouplingServer(const ServerOptions& opt, const config::PortTable& table);
+  // One client per table; the PortMap given to run() serves
+  // config::combine_port_tables(tables), whose variables are the tables' in order.
+  CouplingServer(const ServerOptions& opt, std::vector<config::PortTable> tables);
   ~CouplingServer();
   // Bind now, so the port is known (and written to port_file) before run().
   void bind();
@@ -66,11 +71,22 @@ class CouplingServer {
   ExitCode run(Solver& solver, PortMap& ports, History& history, std::string& message);
 
  private:
-  ExitCode handshake(std::string& message);
+  struct Client {
+    const config::PortTable* table = nullptr;
+    sl_socket conn = SL_SOCKET_INIT;
+    size_t in_offset = 0, out_offset = 0;  // of its variables in the combined table
+  };
+  // Reads one HELLO on `conn` and binds it to the client whose table it
+  // names; kExitOk and `which` set, or a refusal told to the peer.
+  ExitCode handshake(sl_socket& conn, int& which, std::string& message);
+  // Tells every connected client why the session ends (best effort).
+  void abort_all(uint64_t step, uint32_t code, const std::string& why);
+  std::string name_of(const Client& c) const;
   const ServerOptions opt_;
-  const config::PortTable& table_;
+  const std::vector<config::PortTable> tables_;
+  std::vector<Client> clients_;
+  double timeout_ = 60.0;
   sl_socket listener_ = SL_SOCKET_INIT;
-  sl_socket conn_ = SL_SOCKET_INIT;
   int port_ = 0;
   std::vector<uint8_t> buf_;
 };

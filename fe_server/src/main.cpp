@@ -28,7 +28,9 @@ namespace {
 int usage(std::ostream& os, int rc) {
   os << "usage: fe_server --model DECK.k [--ports ports.cfg] [options]\n"
         "  --model FILE          keyword deck of the structure\n"
-        "  --ports FILE          port configuration; without it the deck runs standalone\n"
+        "  --ports FILE          port configuration; without it the deck runs standalone. Repeat it\n"
+        "                        for one FMU per part (piston, valve): the session then waits for\n"
+        "                        one client per file and steps them together\n"
         "  --listen HOST:PORT    where to wait for tlm_host (default 127.0.0.1:0 = any free port)\n"
         "  --token TOKEN         session token the host must present (required off loopback;\n"
         "                        generated and printed once when not given)\n"
@@ -117,14 +119,15 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
 
 int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
-  std::string deck, ports_path, listen = "127.0.0.1:0", out = "fe_results.h5";
+  std::string deck, listen = "127.0.0.1:0", out = "fe_results.h5";
+  std::vector<std::string> ports_paths;
   fe::ServerOptions opt;
   bool token_given = false;
   try {
     config::Args args(argc, argv);
     while (args.next()) {
       if (args.is("--model")) deck = args.value();
-      else if (args.is("--ports")) ports_path = args.value();
+      else if (args.is("--ports")) ports_paths.push_back(args.value());
       else if (args.is("--listen")) listen = args.value();
       else if (args.is("--token")) {
         opt.token = args.value();
@@ -148,13 +151,15 @@ int main(int argc, char** argv) {
   }
 
   fe::Model model;
-  config::PortTable table;
+  std::vector<config::PortTable> tables;
+  config::PortTable table;  // all clients' ports together
   try {
     fe::DeckWarnings warnings;
     model = fe::read_deck(deck, &warnings);
     for (const auto& w : warnings.messages) std::cerr << w << "\n";
-    if (ports_path.empty()) return run_standalone(model, out, opt.quiet);
-    table = config::read_port_table(ports_path);
+    if (ports_paths.empty()) return run_standalone(model, out, opt.quiet);
+    for (const auto& p : ports_paths) tables.push_back(config::read_port_table(p));
+    table = config::combine_port_tables(tables);
   } catch (const std::exception& e) {
     std::cerr << "fe_server: " << e.what() << "\n";
     return fe::kExitInput;
@@ -178,11 +183,12 @@ int main(int argc, char** argv) {
     fe::Solver solver(model, table.dt / table.subcycles);
     solver.set_user_load(&loads);
     history = std::make_unique<fe::History>(out, model, &table);
-    fe::CouplingServer server(opt, table);
+    fe::CouplingServer server(opt, tables);
     server.bind();
     if (!opt.quiet)
       std::cout << "fe_server: listening on " << opt.listen_host << ":" << server.port() << " (model "
-                << table.model_name << ", " << model.node_ids.size() << " nodes, dt " << table.dt / table.subcycles
+                << table.model_name << (tables.size() > 1 ? ", " + std::to_string(tables.size()) + " FMUs" : "") << ", "
+                << model.node_ids.size() << " nodes, dt " << table.dt / table.subcycles
                 << " s × " << table.subcycles << " per coupling step)" << std::endl;
     std::string message;
     fe::ExitCode code = server.run(solver, ports, *history, message);

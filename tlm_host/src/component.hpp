@@ -89,6 +89,9 @@ class Component {
   // Largest stable time step of this component (infinity if it has no
   // limit), and what limits it; the host warns before a run that exceeds it.
   virtual double stable_step(std::string* /*why*/) const { return 1e300; }
+  // True if a step waits on another process (an FMU's fmi2DoStep): several
+  // such Q components are stepped concurrently (PeerGroup).
+  virtual bool waits_on_peer() const { return false; }
 
  protected:
   Port& add_port(const std::string& port_name, Kind side);

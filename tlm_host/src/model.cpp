@@ -1,5 +1,6 @@
 #include "model.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -199,6 +200,15 @@ void System::run(const std::string& out_path, bool progress) {
   const double dt = spec_.dt;
   const long steps = std::lround(spec_.stop_time / dt);
   for (auto& c : components_) c->initialize(dt);
+  std::vector<Component*> peers;
+  for (Component* c : q_type_)
+    if (c->waits_on_peer()) peers.push_back(c);
+  if (peers.size() > 1) {
+    peers_ = std::make_unique<PeerGroup>(peers);
+    q_type_.erase(std::remove_if(q_type_.begin(), q_type_.end(),
+                                 [&](Component* c) { return c->waits_on_peer() && c != peers.front(); }),
+                  q_type_.end());
+  }
   for (const auto& w : stability_warnings(dt)) std::cerr << "tlm_host: warning: " << w << "\n";
 
   h5io::TimeSeriesWriter out(out_path);
@@ -251,7 +261,12 @@ void System::run(const std::string& out_path, bool progress) {
       const double t = static_cast<double>(k) * dt;
       for (Component* c : signal_) c->simulate_one_step(t);
       for (Component* c : c_type_) c->simulate_one_step(t);
-      for (Component* c : q_type_) c->simulate_one_step(t);
+      for (Component* c : q_type_) {
+        if (peers_ && c == peers_->members().front())
+          peers_->step(t);
+        else
+          c->simulate_one_step(t);
+      }
       time = static_cast<double>(k + 1) * dt;
       steps_done_ = k + 1;
       if ((k + 1) % spec_.log_every == 0) record();

@@ -15,6 +15,7 @@
 
 #include "component.hpp"
 #include "h5io/timeseries.hpp"
+#include "peer_group.hpp"
 
 namespace tlm {
 
@@ -70,6 +71,9 @@ class System {
   std::vector<std::unique_ptr<Component>> components_;
   std::vector<std::unique_ptr<HydraulicNode>> nodes_;
   std::vector<Component*> signal_, c_type_, q_type_;
+  // Two or more FMUs: stepped together at the first one's place in q_type_,
+  // which then holds only that first one of them.
+  std::unique_ptr<PeerGroup> peers_;
   long steps_done_ = 0;
   std::set<const SignalPort*> bound_;
   std::string csv_path_;

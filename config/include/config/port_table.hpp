@@ -69,6 +69,12 @@ struct PortTable {
 PortTable parse_port_table(const std::string& text, const std::string& name);
 PortTable read_port_table(const std::string& path);
 
+// One fe_server session serving several FMUs (one per co-simulated part):
+// the tables' ports and variables in one table, in the tables' order. They
+// must agree on time step, coupling mode and sub-cycles, and no port id or
+// label may appear twice (InputError naming both files otherwise).
+PortTable combine_port_tables(const std::vector<PortTable>& tables);
+
 // ---- the FMU's variables, derived from the table (value references too) ----
 enum class FmuCausality { Input, Output, Parameter };
 enum class FmuType { Real, Integer, String };

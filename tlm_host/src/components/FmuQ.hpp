@@ -27,6 +27,7 @@ class FmuQ : public Component {
   void simulate_one_step(double t) override;
   void finalize() override;
   void log_variables(std::vector<LogVariable>& out) override;
+  bool waits_on_peer() const override { return true; }
 
  private:
   struct HydraulicPort {

@@ -28,8 +28,9 @@ E, RHO, AREA = 2.1e11, 7850.0, 3.3183e-3
 C0 = (E / RHO) ** 0.5
 GAUGE = "200040"                  # bar element 200 mm below the tool's top
 GAUGE_NODES = ("200040", "200041")  # its two nodes
-MODES = ("pressure", "tlm", "tlm10")
-MODE_TEXT = {"pressure": "pressure, 1 us", "tlm": "TLM, 1 us", "tlm10": "TLM, 10 us, k = 10"}
+MODES = ("pressure", "tlm", "tlm10", "pressure10")
+MODE_TEXT = {"pressure": "pressure, 1 us", "tlm": "TLM, 1 us", "tlm10": "TLM, 10 us, k = 10",
+             "pressure10": "pressure, 10 us, k = 10"}
 
 
 def primary_pulses(fe, impact_times):

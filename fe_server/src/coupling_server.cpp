@@ -65,12 +65,13 @@ PortMap::PortMap(const config::PortTable& table, CavityPressureLoad& load, Mecha
   const size_t slots = load.slot_count();
   wave_.assign(slots, 0.0);
   impedance_.assign(slots, 0.0);
+  tlm_.assign(slots, 0);
   flow_sum_.assign(slots, 0.0);
   pressure_sum_.assign(slots, 0.0);
 }
 
 void PortMap::apply_inputs(const std::vector<double>& in) {
-  std::vector<char> tlm(wave_.size(), 0);
+  std::fill(tlm_.begin(), tlm_.end(), 0);
   for (size_t i = 0; i < in.size(); ++i) {
     if (in_mech_[i]) {
       mech_.set_force(in_slot_[i], in[i]);
@@ -79,13 +80,13 @@ void PortMap::apply_inputs(const std::vector<double>& in) {
     const size_t slot = static_cast<size_t>(in_slot_[i]);
     switch (table_.to_fe[i].quantity) {
       case Quantity::Pressure: load_.set_pressure(in_slot_[i], in[i]); break;
-      case Quantity::Wave: wave_[slot] = in[i], tlm[slot] = 1; break;
-      case Quantity::Impedance: impedance_[slot] = in[i], tlm[slot] = 1; break;
+      case Quantity::Wave: wave_[slot] = in[i], tlm_[slot] = 1; break;
+      case Quantity::Impedance: impedance_[slot] = in[i], tlm_[slot] = 1; break;
       default: break;
     }
   }
-  for (size_t slot = 0; slot < tlm.size(); ++slot)
-    if (tlm[slot]) load_.set_wave(static_cast<int>(slot), wave_[slot], impedance_[slot]);
+  for (size_t slot = 0; slot < tlm_.size(); ++slot)
+    if (tlm_[slot]) load_.set_wave(static_cast<int>(slot), wave_[slot], impedance_[slot]);
   std::fill(flow_sum_.begin(), flow_sum_.end(), 0.0);
   std::fill(pressure_sum_.begin(), pressure_sum_.end(), 0.0);
   substeps_ = 0;

@@ -54,6 +54,7 @@ class PortMap {
   std::vector<int> in_slot_, out_slot_;  // hydraulic slot, or mechanical slot when *_mech_ is set
   std::vector<char> in_mech_, out_mech_;
   std::vector<double> wave_, impedance_;         // per slot, TLM mode
+  std::vector<char> tlm_;                        // per slot: wave/impedance given this step
   std::vector<double> flow_sum_, pressure_sum_;  // per slot, over the sub-steps
   int substeps_ = 0;
 };

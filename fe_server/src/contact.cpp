@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <sstream>
+#include <stdexcept>
 
 #include "cavity_load.hpp"
 
@@ -74,61 +76,98 @@ void PenaltyContact::search(Side& s, const std::vector<Vec3>& x) {
         s.candidates[i].push_back(static_cast<int>(j));
 }
 
+bool PenaltyContact::behind(const Segment& seg, size_t node, const std::vector<Vec3>& x, double depth_limit,
+                            Contact& c) const {
+  const int nc = corners(seg);
+  for (int k = 0; k < nc; ++k)
+    if (static_cast<size_t>(seg.n[k]) == node) return false;
+  const Vec3 area = segment_area_vector(seg, x);
+  const double a = area.norm();
+  if (!(a > 0.0)) return false;
+  c.n = area / a;
+  Vec3 centre = Vec3::Zero();
+  for (int k = 0; k < nc; ++k) centre += x[static_cast<size_t>(seg.n[k])];
+  centre /= nc;
+  c.g = (x[node] - centre).dot(c.n);
+  if (c.g >= 0.0 || c.g < -depth_limit) return false;  // outside, or too deep to be this segment
+  const Vec3 p = x[node] - c.g * c.n;
+  // Weights over the segment's corners: split the quad into two triangles.
+  double w[3];
+  for (double& wk : c.w) wk = 0.0;
+  const Vec3& x0 = x[static_cast<size_t>(seg.n[0])];
+  const Vec3& x1 = x[static_cast<size_t>(seg.n[1])];
+  const Vec3& x2 = x[static_cast<size_t>(seg.n[2])];
+  const Vec3& x3 = x[static_cast<size_t>(seg.n[3])];
+  if (barycentric(p, x0, x1, x2, w)) {
+    c.w[0] = w[0], c.w[1] = w[1], c.w[2] = w[2];
+  } else if (nc == 4 && barycentric(p, x0, x2, x3, w)) {
+    c.w[0] = w[0], c.w[2] = w[1], c.w[3] = w[2];
+  } else {
+    return false;
+  }
+  return true;
+}
+
 int PenaltyContact::side_forces(Side& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                                 std::vector<Vec3>& f) {
   int active = 0;
+  Contact c;
   for (size_t i = 0; i < s.nodes.size(); ++i) {
     const size_t node = static_cast<size_t>(s.nodes[i]);
     for (int j : s.candidates[i]) {
       const Segment& seg = s.segments[static_cast<size_t>(j)];
+      if (!behind(seg, node, x, 0.5 * size_, c)) continue;
       const int nc = corners(seg);
-      bool shares_node = false;
-      for (int k = 0; k < nc; ++k) shares_node |= static_cast<size_t>(seg.n[k]) == node;
-      if (shares_node) continue;
-      const Vec3 area = segment_area_vector(seg, x);
-      const double a = area.norm();
-      if (!(a > 0.0)) continue;
-      const Vec3 n = area / a;
-      Vec3 c = Vec3::Zero();
-      for (int k = 0; k < nc; ++k) c += x[static_cast<size_t>(seg.n[k])];
-      c /= nc;
-      const double g = (x[node] - c).dot(n);
-      if (g >= 0.0 || g < -0.5 * size_) continue;  // outside, or too deep to be this segment
-      const Vec3 p = x[node] - g * n;
-      // Weights over the segment's corners: split the quad into two triangles.
-      double w4[4] = {0, 0, 0, 0}, w[3];
-      const Vec3& x0 = x[static_cast<size_t>(seg.n[0])];
-      const Vec3& x1 = x[static_cast<size_t>(seg.n[1])];
-      const Vec3& x2 = x[static_cast<size_t>(seg.n[2])];
-      const Vec3& x3 = x[static_cast<size_t>(seg.n[3])];
-      if (barycentric(p, x0, x1, x2, w)) {
-        w4[0] = w[0], w4[1] = w[1], w4[2] = w[2];
-      } else if (nc == 4 && barycentric(p, x0, x2, x3, w)) {
-        w4[0] = w[0], w4[2] = w[1], w4[3] = w[2];
-      } else {
-        continue;
-      }
       double m_seg = 0.0;
       Vec3 v_seg = Vec3::Zero();
       for (int k = 0; k < nc; ++k) {
-        m_seg += w4[k] * mass_[static_cast<size_t>(seg.n[k])];
-        v_seg += w4[k] * v[static_cast<size_t>(seg.n[k])];
+        m_seg += c.w[k] * mass_[static_cast<size_t>(seg.n[k])];
+        v_seg += c.w[k] * v[static_cast<size_t>(seg.n[k])];
       }
       const double m_node = mass_[node];
       const double m_eff = (m_node > 0.0 && m_seg > 0.0) ? m_node * m_seg / (m_node + m_seg) : std::max(m_node, m_seg);
       if (!(m_eff > 0.0)) continue;
       const double k = std::min(sfs_ * 0.1, 0.2) * m_eff / (dt_ * dt_);
-      const double gdot = (v[node] - v_seg).dot(n);
-      const double F = k * (-g) - damping_ * 2.0 * std::sqrt(k * m_eff) * gdot;
+      const double gdot = (v[node] - v_seg).dot(c.n);
+      const double F = k * (-c.g) - damping_ * 2.0 * std::sqrt(k * m_eff) * gdot;
       if (F <= 0.0) continue;
-      f[node] += F * n;
-      for (int k2 = 0; k2 < nc; ++k2) f[static_cast<size_t>(seg.n[k2])] -= w4[k2] * F * n;
-      max_penetration_ = std::max(max_penetration_, -g);
+      f[node] += F * c.n;
+      for (int k2 = 0; k2 < nc; ++k2) f[static_cast<size_t>(seg.n[k2])] -= c.w[k2] * F * c.n;
+      max_penetration_ = std::max(max_penetration_, -c.g);
       ++active;
       break;  // one segment per node
     }
   }
   return active;
+}
+
+void PenaltyContact::refuse_initial_penetration(const Model& model, const ContactDef& def,
+                                                const std::vector<Vec3>& x) {
+  // A node that starts behind a segment would be thrown out by the penalty
+  // spring, releasing k·g²/2 of energy that is in no load: at g = 1 mm and
+  // the usual k = 0.1·m/Δt² that is a launch at 0.3·g/Δt, km/s. Geometric
+  // round-off (1e-6 of a segment) is allowed; anything deeper, up to two
+  // segment sizes, is refused with the node and its depth.
+  const double tolerance = 1e-6 * size_;
+  double worst = 0.0;
+  int worst_node = -1;
+  Contact c;
+  for (auto& s : sides_) {
+    search(s, x);
+    for (size_t i = 0; i < s.nodes.size(); ++i)
+      for (int j : s.candidates[i])
+        if (behind(s.segments[static_cast<size_t>(j)], static_cast<size_t>(s.nodes[i]), x, 2.0 * size_, c) &&
+            -c.g > worst) {
+          worst = -c.g;
+          worst_node = s.nodes[i];
+        }
+  }
+  if (worst <= tolerance) return;
+  std::ostringstream m;
+  m << def.where.str() << ": contact between segment sets " << def.slave_set << " and " << def.master_set
+    << " starts penetrated: node " << model.node_ids[static_cast<size_t>(worst_node)] << " is " << worst * 1e3
+    << " mm behind the other surface at t = 0; move the parts apart by at least that much";
+  throw std::runtime_error(m.str());
 }
 
 int PenaltyContact::apply(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f, long step) {

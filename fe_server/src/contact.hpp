@@ -31,6 +31,9 @@ class PenaltyContact {
   // Largest penetration of the last apply(), m.
   double max_penetration() const { return max_penetration_; }
   double element_size() const { return size_; }
+  // Throws std::runtime_error naming the deepest node if, at positions x, a
+  // node is already behind a segment of the other surface (beyond round-off).
+  void refuse_initial_penetration(const Model& model, const ContactDef& def, const std::vector<Vec3>& x);
 
  private:
   struct Side {
@@ -38,6 +41,13 @@ class PenaltyContact {
     std::vector<int> nodes;  // unique nodes of the other surface, checked against `segments`
     std::vector<std::vector<int>> candidates;  // per node: nearby segment indices
   };
+  struct Contact {
+    double g = 0.0;  // gap along n, negative behind the segment
+    Vec3 n;          // the segment's outward unit normal
+    double w[4];     // the projection's weights over the segment's corners
+  };
+  // Is `node` behind `seg` (0 > g ≥ −depth_limit) with its projection inside it?
+  bool behind(const Segment& seg, size_t node, const std::vector<Vec3>& x, double depth_limit, Contact& c) const;
   void search(Side& s, const std::vector<Vec3>& x);
   int side_forces(Side& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f);
   const std::vector<double>& mass_;

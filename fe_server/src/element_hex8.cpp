@@ -1,7 +1,10 @@
 #include "element_hex8.hpp"
 
 #include <Eigen/Geometry>
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <cmath>
 #include <algorithm>
 
 namespace fe {
@@ -51,6 +54,31 @@ double hex8_characteristic_length(const Mat83& x, double volume) {
     a_max = std::max(a_max, 0.5 * d1.cross(d2).norm());
   }
   return a_max > 0.0 ? volume / a_max : 0.0;
+}
+
+double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2) {
+  Mat83 b;
+  double volume = 0.0;
+  if (!hex8_gradients(x, b, volume)) return 0.0;
+  // B (6×24, engineering shear) and the 6×6 product B·Bᵀ.
+  Eigen::Matrix<double, 6, 24> B = Eigen::Matrix<double, 6, 24>::Zero();
+  for (int a = 0; a < 8; ++a) {
+    const double bx = b(a, 0), by = b(a, 1), bz = b(a, 2);
+    B(0, 3 * a) = bx, B(1, 3 * a + 1) = by, B(2, 3 * a + 2) = bz;
+    B(3, 3 * a) = by, B(3, 3 * a + 1) = bx;
+    B(4, 3 * a + 1) = bz, B(4, 3 * a + 2) = by;
+    B(5, 3 * a) = bz, B(5, 3 * a + 2) = bx;
+  }
+  const Eigen::Matrix<double, 6, 6> G = B * B.transpose();
+  Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
+  D.topLeftCorner<3, 3>().setConstant(lambda);
+  for (int i = 0; i < 3; ++i) D(i, i) = lambda + 2.0 * mu, D(i + 3, i + 3) = mu;
+  // λ_max(D·G) = λ_max(Lᵀ·G·L) with D = L·Lᵀ, a symmetric problem.
+  const Eigen::Matrix<double, 6, 6> L = D.llt().matrixL();
+  const Eigen::Matrix<double, 6, 6> S = L.transpose() * G * L;
+  const double lmax = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(S, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+  const double omega = std::sqrt(8.0 * lmax / rho);
+  return 2.0 / omega * (std::sqrt(1.0 + q2 * q2) - q2);
 }
 
 }  // namespace fe

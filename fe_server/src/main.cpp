@@ -112,6 +112,8 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
               << "), " << wall << " s wall; " << energy << "; " << history.rows() << " history rows, "
               << history.snapshots() << " field snapshots in " << out << "\n";
   if (drift) std::cerr << "fe_server: warning: the " << energy << " exceeds its bound: check contacts and hourglass energy\n";
+  const std::string hourglass = fe::hourglass_warning(solver.energies());
+  if (!hourglass.empty()) std::cerr << "fe_server: warning: " << hourglass << "\n";
   return fe::kExitOk;
 }
 
@@ -199,6 +201,8 @@ int main(int argc, char** argv) {
                   << "fe_server: " << history->energy_summary(solver, nullptr) << "; history (" << history->rows()
                   << " rows) in " << out << std::endl;
       }
+      const std::string hourglass = fe::hourglass_warning(solver.energies());
+      if (!hourglass.empty()) std::cerr << "fe_server: warning: " << hourglass << "\n";
     } else {
       std::cerr << "fe_server: " << message << "; history up to the last completed step (" << history->rows()
                 << " rows) kept in " << out << std::endl;

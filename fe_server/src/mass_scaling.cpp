@@ -29,7 +29,7 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
     auto& part = r.per_part[e.part];
     part.first += mat.rho * volume;
     if (mat.rigid) continue;
-    const double dt_e = hex8_characteristic_length(x, volume) / mat.wave_speed();
+    const double dt_e = hex8_stable_step(x, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2);
     const double f = dt / (m.dt_scale * dt_e);
     if (f <= 1.0) continue;
     const double added = (f * f - 1.0) * mat.rho * volume;

@@ -36,6 +36,16 @@ double moving_mass(const Model& m, int i) {
 
 }  // namespace
 
+std::string hourglass_warning(const Energies& e) {
+  if (!(e.hourglass > 0.1 * std::fabs(e.internal))) return "";
+  std::ostringstream s;
+  s << "hourglass energy " << e.hourglass << " J is " << (e.internal != 0.0 ? 100.0 * e.hourglass / std::fabs(e.internal) : 1e9)
+    << " % of the internal energy " << e.internal
+    << " J (bound 10 %): zero-energy modes carry part of the deformation; refine the mesh where the load is "
+       "concentrated or spread the load over several nodes";
+  return s.str();
+}
+
 StableStep Solver::stable_dt(const Model& m) {
   StableStep best;
   auto consider = [&](double dt, const std::string& what) {
@@ -65,8 +75,7 @@ StableStep Solver::stable_dt(const Model& m) {
     Mat83 x = gather(m.x0, e), b;
     double volume = 0.0;
     if (!hex8_gradients(x, b, volume)) continue;  // the reader refused these
-    // Courant: the dilatational wave must not cross the element in one step.
-    consider(hex8_characteristic_length(x, volume) * std::sqrt(e.mass_scale) / mat.wave_speed(),
+    consider(hex8_stable_step(x, mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2),
              "solid element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
   }
   return best;
@@ -75,7 +84,9 @@ StableStep Solver::stable_dt(const Model& m) {
 Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt) {
   if (!(dt > 0.0) || !std::isfinite(dt)) throw std::runtime_error("FE time step must be positive");
   const StableStep crit = stable_dt(model);
-  if (dt > model.dt_scale * crit.dt) {
+  // 1e-12 relative: mass scaling sets the density for exactly dt = TSSFAC·Δt_e,
+  // and the round-off of that density must not refuse its own step.
+  if (dt > model.dt_scale * crit.dt * (1.0 + 1e-12)) {
     std::ostringstream s;
     s << "FE time step " << dt << " s exceeds the stable step " << crit.dt << " s × safety factor " << model.dt_scale
       << " (TSSFAC), limited by " << crit.limited_by
@@ -124,7 +135,10 @@ Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt) {
   for (size_t i = 0; i < n; ++i)
     if (body_of_[i] >= 0) contact_mass[i] = model.rigid_bodies[static_cast<size_t>(body_of_[i])].mass;
   contact_mass_ = contact_mass;
-  for (const auto& c : model.contacts) contacts_.push_back(std::make_unique<PenaltyContact>(model, c, dt, contact_mass_));
+  for (const auto& c : model.contacts) {
+    contacts_.push_back(std::make_unique<PenaltyContact>(model, c, dt, contact_mass_));
+    contacts_.back()->refuse_initial_penetration(model, c, x_);
+  }
 }
 
 double Solver::max_penetration() const {
@@ -319,6 +333,14 @@ void Solver::energy_account() {
   const double total = ke + e.internal + spring_energy_ + e.hourglass + e.contact + e.damping - e.external_work;
   if (n_ == 0) energy0_ = total;
   energies_.balance_error = total - energy0_;
+  // A blow-up ends here with its step named, before a NaN reaches a position,
+  // a history row or the coupling partner.
+  if (!std::isfinite(total)) {
+    std::ostringstream s;
+    s << "the FE state is no longer finite at t = " << t_ << " s, step " << n_ << " (kinetic energy " << ke
+      << " J): the step is unstable for this model; lower the time step or check the loads";
+    throw std::runtime_error(s.str());
+  }
 }
 
 void Solver::step() {

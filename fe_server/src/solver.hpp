@@ -35,6 +35,12 @@ struct Energies {
   double balance_error = 0.0;
 };
 
+// Empty, or a warning when the hourglass energy exceeds 10 % of the internal
+// energy: the rule of thumb of the LS-DYNA theory and user manuals, beyond
+// which the zero-energy modes have taken a visible part of the deformation
+// and the mesh or the load needs changing (refine, spread the load).
+std::string hourglass_warning(const Energies& e);
+
 // What limits the stable time step.
 struct StableStep {
   double dt = 1e300;

@@ -1,0 +1,265 @@
+// Hard cases for fe_server (issue 6): each ends in a stable result or a
+// clear diagnostic, never a silent blow-up or a NaN in the results.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "cavity_load.hpp"
+#include "config/port_table.hpp"
+#include "deck_reader.hpp"
+#include "impact_decks.hpp"
+#include "mass_scaling.hpp"
+#include "solver.hpp"
+
+namespace {
+
+using fe_test::kE;
+using fe_test::kRho;
+
+// A block of nx × ny × nz hexes of edge h, bottom face fixed, steel.
+std::string block_deck(int nx, int ny, int nz, double h, const std::string& extra = "") {
+  std::ostringstream d;
+  d << "*KEYWORD\n*NODE\n";
+  auto id = [&](int i, int j, int k) { return 1 + i + (nx + 1) * (j + (ny + 1) * k); };
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) d << id(i, j, k) << "," << i * h << "," << j * h << "," << k * h << (k == 0 ? ",7" : "") << "\n";
+  d << "*PART\nblock\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1," << kRho << "," << kE << ",0.3\n*ELEMENT_SOLID\n";
+  int e = 0;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        d << ++e << ",1," << id(i, j, k) << "," << id(i + 1, j, k) << "," << id(i + 1, j + 1, k) << ","
+          << id(i, j + 1, k) << "," << id(i, j, k + 1) << "," << id(i + 1, j, k + 1) << "," << id(i + 1, j + 1, k + 1)
+          << "," << id(i, j + 1, k + 1) << "\n";
+  d << extra;
+  return d.str();
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Forces on a few nodes, ramped up over `rise`: one node is the point load
+// that excites hourglass modes in one-point-integrated hexes.
+class NodalLoads : public fe::UserLoad {
+ public:
+  NodalLoads(std::vector<std::pair<size_t, fe::Vec3>> loads, double rise) : loads_(std::move(loads)), rise_(rise) {}
+  void apply(double t, const std::vector<fe::Vec3>&, const std::vector<fe::Vec3>&,
+             std::vector<fe::Vec3>& f) override {
+    for (const auto& [node, force] : loads_) f[node] += std::min(1.0, t / rise_) * force;
+  }
+
+ private:
+  std::vector<std::pair<size_t, fe::Vec3>> loads_;
+  double rise_;
+};
+
+}  // namespace
+
+TEST(HardCase, AStepAboveTheCourantLimitIsRefusedNamingTheElementOrRunsWithMassScaling) {
+  fe::Model m = fe::parse_deck(fe_test::bar_impact_deck(0.1, 0.2, 0.01, 0.005, 8.0, kE), "impact.k");
+  const fe::StableStep crit = fe::Solver::stable_dt(m);
+  const double dt = 2.0 * crit.dt;
+  const std::string e = error_of([&] { fe::Solver s(m, dt); });
+  EXPECT_NE(e.find("exceeds the stable step"), std::string::npos) << e;
+  EXPECT_NE(e.find("solid element"), std::string::npos) << e;
+  EXPECT_NE(e.find("DT2MS"), std::string::npos) << "the message names the way out: " << e;
+  // With mass scaling (*CONTROL_TIMESTEP DT2MS < 0) the same step runs and
+  // stays bounded: the kinetic energy never exceeds the impact energy by
+  // more than the balance error fe_server reports. (Measured: the balance
+  // error then reaches 7-9 % of the impact energy at 1.2-3× the step, against
+  // 0.01 % without scaling; fe_server's end-of-run check flags it. Every
+  // scaled element runs at exactly TSSFAC of its own limit, where the
+  // half-step-lagged viscous forces are least accurate; see the notes of
+  // issue 6.)
+  fe::apply_mass_scaling(m, dt);
+  fe::Solver s(m, dt);
+  double ke0 = 0.0, ke_max = 0.0;
+  for (int k = 0; k < 2000; ++k) {
+    s.step();
+    if (k == 0) ke0 = s.energies().kinetic;
+    ke_max = std::max(ke_max, s.energies().kinetic);
+    ASSERT_TRUE(std::isfinite(s.energies().kinetic)) << "step " << k;
+  }
+  EXPECT_LT(ke_max, ke0 + std::fabs(s.energies().balance_error) + 0.2 * ke0);
+}
+
+TEST(HardCase, AnInvertedOrDegenerateElementIsRefusedAtItsLine) {
+  // Node order 5-6-7-8 first: the element is inside out.
+  const std::string nodes = "*KEYWORD\n*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n5,0,0,1\n6,1,0,1\n7,1,1,1\n8,0,1,1\n"
+                            "*PART\nb\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n*ELEMENT_SOLID\n";
+  std::string e = error_of([&] { fe::parse_deck(nodes + "1,1,5,6,7,8,1,2,3,4\n", "inverted.k"); });
+  EXPECT_NE(e.find("inverted.k:19"), std::string::npos) << e;
+  EXPECT_NE(e.find("inverted or degenerate"), std::string::npos) << e;
+  // Top face collapsed onto the bottom one: zero volume.
+  e = error_of([&] { fe::parse_deck(nodes + "1,1,1,2,3,4,1,2,3,4\n", "flat.k"); });
+  EXPECT_NE(e.find("flat.k:19"), std::string::npos) << e;
+  EXPECT_NE(e.find("node order"), std::string::npos) << e;
+}
+
+TEST(HardCase, AnElementCrushedInsideOutStopsTheRunNamingElementTimeAndStep) {
+  // One 10 mm cube, bottom fixed, top driven down at 4 km/s (beyond any
+  // physical impact): it turns inside out within a few steps.
+  std::string deck = block_deck(1, 1, 1, 0.01, "*INITIAL_VELOCITY_NODE\n5,0,0,-4000\n6,0,0,-4000\n7,0,0,-4000\n8,0,0,-4000\n");
+  fe::Model m = fe::parse_deck(deck, "crush.k");
+  fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
+  const std::string e = error_of([&] {
+    for (int k = 0; k < 1000; ++k) s.step();
+  });
+  EXPECT_NE(e.find("solid element 1"), std::string::npos) << e;
+  EXPECT_NE(e.find("inverted at t ="), std::string::npos) << e;
+  EXPECT_NE(e.find("step"), std::string::npos) << e;
+  for (const auto& x : s.x()) ASSERT_TRUE(x.allFinite()) << "the state before the failing step is kept finite";
+}
+
+// A point load on the top centre of a coarse block. Viscous hourglass
+// control (LS-DYNA's default type, QH = 0.1) resists hourglass rates, not
+// hourglass shapes, so under a sustained point load the zero-energy mode
+// keeps creeping: the run must stay finite and say so (hourglass energy
+// above LS-DYNA's 10 % of the internal energy). The same force spread over
+// the top face as a uniform pressure excites no hourglass mode: no warning.
+TEST(HardCase, APointLoadOnACoarseBlockIsReportedAsHourglassingAndASpreadLoadIsNot) {
+  const int n = 4;
+  const double h = 0.01, F = 2e4;
+  auto run = [&](bool point, double* ratio) {
+    fe::Model m = fe::parse_deck(block_deck(n, n, 2, h), "block.k");
+    auto node = [&](int i, int j) { return static_cast<size_t>(m.index_of(1 + i + (n + 1) * (j + (n + 1) * 2), {})); };
+    std::vector<std::pair<size_t, fe::Vec3>> loads;
+    if (point) {
+      loads.push_back({node(n / 2, n / 2), fe::Vec3(0, 0, -F)});
+    } else {
+      for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {  // a uniform pressure's nodal shares: ¼ at corners, ½ on edges
+          const double w = (i == 0 || i == n ? 0.5 : 1.0) * (j == 0 || j == n ? 0.5 : 1.0);
+          loads.push_back({node(i, j), fe::Vec3(0, 0, -F * w / (n * n))});
+        }
+    }
+    NodalLoads load(loads, 200e-6);  // slow against the 3.4 µs wave transit: quasi-static
+    fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
+    s.set_user_load(&load);
+    while (s.time() < 600e-6) s.step();
+    for (const auto& x : s.x()) EXPECT_TRUE(x.allFinite());
+    *ratio = s.energies().hourglass / s.energies().internal;
+    return fe::hourglass_warning(s.energies());
+  };
+  double point = 0.0, spread = 0.0;
+  const std::string warning = run(true, &point);
+  EXPECT_GT(point, 0.1);
+  EXPECT_NE(warning.find("hourglass energy"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("spread the load"), std::string::npos) << "the warning names the remedy";
+  EXPECT_EQ(run(false, &spread), "") << "hourglass/internal = " << spread;
+  EXPECT_LT(spread, 0.1);
+}
+
+TEST(HardCase, InitialPenetrationInAContactIsRefusedWithTheNodeAndDepth) {
+  // The piston starts 0.5 mm inside the tool instead of 0.1 mm above it.
+  std::string deck = fe_test::bar_impact_deck(0.1, 0.2, 0.01, 0.005, 8.0, kE);
+  fe::Model m = fe::parse_deck(deck, "impact.k");
+  for (size_t i = 0; i < m.x0.size(); ++i)
+    if (m.node_ids[i] > 100000) m.x0[i].z() -= 0.6e-3;
+  const std::string e = error_of([&] { fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt); });
+  EXPECT_NE(e.find("impact.k:"), std::string::npos) << e;
+  EXPECT_NE(e.find("starts penetrated"), std::string::npos) << e;
+  EXPECT_NE(e.find(" 0.5 mm"), std::string::npos) << e;
+  // Touching (gap 0) is not penetration.
+  for (size_t i = 0; i < m.x0.size(); ++i)
+    if (m.node_ids[i] > 100000) m.x0[i].z() += 0.5e-3;
+  EXPECT_NO_THROW(fe::Solver(m, 0.9 * fe::Solver::stable_dt(m).dt));
+}
+
+TEST(HardCase, ImpactAtTwentyMetresPerSecondStaysOneDimensionalAndConservesEnergy) {
+  const double Lp = 0.1, Lt = 0.3, v0 = 20.0, c = std::sqrt(kE / kRho);
+  const fe_test::ImpactResult r = fe_test::run_impact(Lp, Lt, 0.005, v0, kE, 0.1, 2.5 * Lp / c);
+  // Equal impedance, ν = 0: σ = ρ·c·v0/2 = 406 MPa, still elastic steel. 2 %
+  // as at 8 m/s (the median over the plateau; the front's ringing is symmetric).
+  const double sigma = -0.5 * kRho * c * v0;
+  EXPECT_NEAR(r.sigma_plateau, sigma, 0.02 * std::fabs(sigma));
+  // Penalty contact: penetration below 5 % of the element size even at 20 m/s.
+  EXPECT_LT(r.max_penetration, 0.05 * 0.005);
+  EXPECT_LT(r.max_balance, 0.01 * r.ke0);
+  EXPECT_NEAR(r.piston_v_after, 0.0, 0.05 * v0) << "equal impedance: the piston stops";
+}
+
+// A rigid plate whose pressurised face sits at its cavity's edge: the oil
+// pushes it out, a spring pulls it back, and the equilibrium lies where the
+// face straddles the edge. A load that switched on and off with the face's
+// side of the edge would chatter by p·A every step; the wetted-fraction ramp
+// lets it settle.
+TEST(HardCase, AFaceStraddlingItsCavityEdgeSettlesWithoutLoadChatter) {
+  const double a = 0.01, p = 1e6, k = 5e4, ramp = 1e-3;  // p·A = 100 N
+  std::ostringstream d;
+  d << "*KEYWORD\n*NODE\n1,0,0,-0.0005\n2," << a << ",0,-0.0005\n3," << a << "," << a << ",-0.0005\n4,0," << a
+    << ",-0.0005\n5,0,0,-0.1,7\n"
+    << "*ELEMENT_MASS\n1,1,0.25\n2,2,0.25\n3,3,0.25\n4,4,0.25\n"
+    << "*SET_NODE_LIST\n1\n1,2,3,4\n*CONSTRAINED_NODAL_RIGID_BODY\n1,0,1\n"
+    << "*BOUNDARY_SPC_SET\n1,0,1,1,0\n"
+    // Face normal −z (node order clockwise seen from +z): the cavity is below it.
+    << "*SET_SEGMENT\n1\n1,4,3,2\n*USER_LOADING_SET\n1,PRESSS,1,-1.0,0.0,0," << ramp << "\n"
+    << "*PART\nspring\n1,1,1\n*SECTION_DISCRETE\n1,0\n*MAT_SPRING_ELASTIC\n1," << k << "\n"
+    << "*PART\ndamper\n2,1,2\n*MAT_DAMPER_VISCOUS\n2,200\n"
+    << "*ELEMENT_DISCRETE\n1,1,5,1\n2,2,5,1\n";
+  fe::Model m = fe::parse_deck(d.str(), "edge.k");
+  auto t = config::parse_port_table(
+      "$FMU_SETTINGS\nmodel, p\ntimestep, 1e-5\n$FMU_HOPSAN_PORTS\n1, cav, Hydraulic\n"
+      "$FMU_HOPSAN_SEND\n1, p\n$FMU_HOPSAN_RECEIVE\n1, q\n",
+      "p.cfg");
+  fe::CavityPressureLoad load(m, t);
+  load.set_pressure(0, p);
+  fe::Solver s(m, 1e-5);
+  s.set_user_load(&load);
+  const int steps = 40000;  // 0.4 s: 20 decay times 2m/c of the damper
+  double last_force = 0.0, worst_jump = 0.0;
+  for (int n = 0; n < steps; ++n) {
+    s.step();
+    const double force = p * load.area(0);
+    if (n > steps / 2) worst_jump = std::max(worst_jump, std::fabs(force - last_force));
+    last_force = force;
+  }
+  const double z = s.x()[0].z(), ext = z + 0.0005;  // spring extension from its free length
+  EXPECT_GT(z, -0.5 * ramp);
+  EXPECT_LT(z, 0.5 * ramp) << "the face settles inside the edge's ramp";
+  // Settled: the load equals the spring's pull, the load changes by less than
+  // 0.1 % of p·A per step (a step load would flip by 100 %).
+  EXPECT_NEAR(last_force, k * ext, 0.01 * p * a * a);
+  EXPECT_LT(worst_jump, 1e-3 * p * a * a);
+  EXPECT_LT(std::fabs(s.v()[0].z()), 1e-4);
+}
+
+// 10^6 steps (about 4,000 periods) of a free steel bar ringing in its first
+// axial mode: central difference conserves a modified energy, so the
+// balance error must stay bounded, without drift, within the 1 % bound
+// fe_server reports against. (A kick on one node would excite the mesh's
+// highest mode, ω·Δt = 1.8, where the kinetic energy taken from the mean of
+// two half-step velocities is itself off by tens of per cent: the smooth
+// mode tests the integrator, not that estimate.)
+TEST(HardCase, AMillionStepsStayWithinTheEnergyBalanceBound) {
+  const int n = 20;
+  const double L = 0.2, A = 1e-4;
+  std::ostringstream d;
+  d << "*KEYWORD\n*NODE\n";
+  for (int i = 0; i <= n; ++i) d << i + 1 << ",0,0," << L * i / n << "\n";
+  d << "*PART\nbar\n1,1,1\n*SECTION_BEAM\n1,3\n" << A << "\n*MAT_ELASTIC\n1," << kRho << "," << kE << ",0.3\n*ELEMENT_BEAM\n";
+  for (int i = 0; i < n; ++i) d << i + 1 << ",1," << i + 1 << "," << i + 2 << "\n";
+  d << "*INITIAL_VELOCITY_NODE\n";
+  for (int i = 0; i <= n; ++i) d << i + 1 << ",0,0," << 5.0 * std::cos(M_PI * i / n) << "\n";
+  fe::Model m = fe::parse_deck(d.str(), "bar.k");
+  fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
+  double worst = 0.0, ke0 = 0.0;
+  for (long k = 0; k < 1000000; ++k) {
+    s.step();
+    if (k == 0) ke0 = s.energies().kinetic;
+    worst = std::max(worst, std::fabs(s.energies().balance_error));
+  }
+  ASSERT_TRUE(std::isfinite(s.energies().kinetic));
+  EXPECT_LT(worst, 0.01 * ke0) << "after " << s.step_count() << " steps";
+}

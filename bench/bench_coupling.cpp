@@ -154,5 +154,7 @@ int main(int argc, char** argv) {
   std::printf("  plain TCP ping-pong (blocking)   %8.2f us   1.00\n", a * 1e6);
   std::printf("  socketlib frames with deadlines  %8.2f us   %.2f\n", b * 1e6, b / a);
   std::printf("  fmi2DoStep against fe_server     %8.2f us   %.2f\n", c * 1e6, c / a);
+  std::printf("csv:coupling,tcp,%.3f,1\ncsv:coupling,socketlib,%.3f,%.4f\ncsv:coupling,fmi2DoStep,%.3f,%.4f\n", a * 1e6,
+              b * 1e6, b / a, c * 1e6, c / a);
   return 0;
 }

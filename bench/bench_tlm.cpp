@@ -24,5 +24,6 @@ int main(int argc, char** argv) {
   std::printf("monolithic hammer: %zu components, %.0f steps of %g s, %.3f s wall\n", components, steps, dt, s);
   std::printf("  %.1f ns per component-step, %.3f us per step, %.2f s wall per simulated second\n",
               1e9 * s / (steps * static_cast<double>(components)), 1e6 * s / steps, s / stop);
+  std::printf("csv:tlm_cost,%zu,%.3f,%.4f\n", components, 1e9 * s / (steps * static_cast<double>(components)), s / stop);
   return 0;
 }

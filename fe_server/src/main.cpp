@@ -15,6 +15,7 @@
 #include "cavity_load.hpp"
 #include "config/cli.hpp"
 #include "config/port_table.hpp"
+#include "coupling_advice.hpp"
 #include "coupling_server.hpp"
 #include "deck_reader.hpp"
 #include "exit_codes.hpp"
@@ -181,6 +182,8 @@ int main(int argc, char** argv) {
     loads.add(&load);
     loads.add(&mech);
     fe::PortMap ports(table, load, mech);
+    // Printed before mass scaling: the estimate is about the physical piston.
+    if (!opt.quiet) std::cout << fe::coupling_stability_text(fe::coupling_stability(model, table, 1.4e9), table, 1.4e9);
     prepare_step(model, table.dt / table.subcycles, opt.quiet);
     fe::Solver solver(model, table.dt / table.subcycles);
     solver.set_user_load(&loads);

@@ -338,7 +338,8 @@ void Solver::energy_account() {
   if (!std::isfinite(total)) {
     std::ostringstream s;
     s << "the FE state is no longer finite at t = " << t_ << " s, step " << n_ << " (kinetic energy " << ke
-      << " J): the step is unstable for this model; lower the time step or check the loads";
+      << " J): the step is unstable for this model; lower the time step or check the loads (in a co-simulation, "
+         "compare the chamber volumes with the coupling estimate fe_server printed before the run)";
     throw std::runtime_error(s.str());
   }
 }

@@ -120,3 +120,34 @@ TEST(HardCase, CavitationInCavityAIsHeldAtVapourPressureAndTheHammerKeepsCycling
   for (size_t i = first + 1; i < v.size(); ++i) reversals += (v[i] > 0.0) != (v[i - 1] > 0.0);
   EXPECT_GE(reversals, 4);
 }
+
+// A tiny chamber (0.01 cm³) under the one-DOF piston: ω·T = 1.7 at the
+// 10 µs coupling step, beyond what a held pressure can follow (the
+// added-mass-like case of partitioned coupling). The run must not pass
+// silently: fe_server prints before the run the smallest stable chamber
+// (0.028 cm³, above this one), and when the loop diverges it stops naming
+// the step, and the host stops naming the same step with its results kept.
+TEST(HardCase, ATinyChamberMakingTheFluidStiffAgainstThePistonIsForetoldAndStopsWithADiagnostic) {
+  testing_support::TempDir dir;
+  const std::string scene = PCS_SCENES_DIR "/one_dof";
+  testing_support::ChildProcess server({PCS_FE_SERVER_EXE, "--model", scene + "/piston.k", "--ports",
+                                        scene + "/ports.cfg", "--listen", "127.0.0.1:0", "--port-file",
+                                        dir.file("port"), "--out", dir.file("fe.h5"), "--accept-timeout", "20"});
+  const int port = testing_support::read_port_file(dir.file("port"), 10.0);
+  ASSERT_GT(port, 0) << server.output();
+  testing_support::ChildProcess host({PCS_TLM_HOST_EXE, scene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server",
+                                      "127.0.0.1:" + std::to_string(port), "--out", dir.file("host.h5"), "--quiet",
+                                      "--set", "chamber.V=1e-8", "--set", "simulation.stoptime=0.02"});
+  EXPECT_NE(host.wait(60.0), 0);
+  EXPECT_NE(server.wait(30.0), 0);
+  const std::string fe = server.output(), h = host.output();
+  EXPECT_NE(fe.find("needs a chamber of at least 0.028 cm³"), std::string::npos) << fe;
+  const size_t at = fe.find("no longer finite");
+  ASSERT_NE(at, std::string::npos) << fe;
+  const std::string step = fe.substr(fe.find("step ", at) + 5, fe.find(" (", at) - fe.find("step ", at) - 5);
+  EXPECT_NE(h.find("at step " + step), std::string::npos) << "host and server name the same step " << step << "\n" << h;
+  // What was written is kept, and it is finite.
+  const auto x = h5io::read_series(dir.file("host.h5"), "time");
+  EXPECT_GT(x.size(), 10u);
+  for (double v : h5io::read_series(dir.file("host.h5"), "nodes/chamber.P2/p")) ASSERT_TRUE(std::isfinite(v));
+}

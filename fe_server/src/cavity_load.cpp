@@ -1,6 +1,8 @@
 #include "cavity_load.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
+#include <map>
 #include <set>
 
 namespace fe {
@@ -66,11 +68,17 @@ CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTab
     ps.normal0 = total.normalized();
     ps.nodes.assign(nodes.begin(), nodes.end());
     ps.segment_area.assign(ps.segments.size(), Vec3::Zero());
+    for (const auto& seg : ps.segments)
+      for (int k = 0; k < 4; ++k)
+        ps.corner_node.push_back(static_cast<int>(std::lower_bound(ps.nodes.begin(), ps.nodes.end(), seg.n[k]) -
+                                                  ps.nodes.begin()));
+    ps.node_weight.assign(ps.nodes.size(), Vec3::Zero());
     surfaces_.push_back(std::move(ps));
   }
   pressure_.assign(surfaces_.size(), 0.0);
   wave_.assign(surfaces_.size(), 0.0);
   impedance_.assign(surfaces_.size(), 0.0);
+  tlm_flow_.assign(surfaces_.size(), 0.0);
   tlm_.assign(surfaces_.size(), 0);
   area_vector_.assign(surfaces_.size(), Vec3::Zero());
   for (const auto& l : model.loading_sets)
@@ -85,7 +93,7 @@ int CavityPressureLoad::slot_of_port(int port_id) const {
   return -1;
 }
 
-void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::vector<Vec3>&,
                                std::vector<Vec3>& f_ext) {
   for (size_t i = 0; i < surfaces_.size(); ++i) {
     PortSurface& ps = surfaces_[i];
@@ -102,14 +110,107 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
       ps.segment_area[s] = a;
       total += a;
     }
-    if (tlm_[i]) pressure_[i] = wave_[i] + impedance_[i] * flow(static_cast<int>(i), v);
+    area_vector_[i] = total;
+    if (tlm_[i]) continue;  // solved at the end-of-step velocity, in apply_implicit
     for (size_t s = 0; s < ps.segments.size(); ++s) {
       const Segment& seg = ps.segments[s];
       const int nc = corners(seg);
       const Vec3 f_node = -pressure_[i] * ps.segment_area[s] / nc;  // pushes against the normal
       for (int k = 0; k < nc; ++k) f_ext[static_cast<size_t>(seg.n[k])] += f_node;
     }
-    area_vector_[i] = total;
+  }
+}
+
+void CavityPressureLoad::build_groups(const Mobility& mob) {
+  for (PortSurface& ps : surfaces_) {
+    std::map<int, int> slot;  // group → index in ps.groups
+    ps.node_group.clear();
+    for (int n : ps.nodes) {
+      const int g = (*mob.group)[static_cast<size_t>(n)];
+      auto it = slot.emplace(g, static_cast<int>(ps.groups.size())).first;
+      if (it->second == static_cast<int>(ps.groups.size())) ps.groups.push_back(g);
+      ps.node_group.push_back(it->second);
+    }
+    ps.group_weight.assign(ps.groups.size(), Vec3::Zero());
+  }
+  for (size_t a = 0; a < surfaces_.size(); ++a)
+    for (size_t b = a + 1; b < surfaces_.size(); ++b)
+      for (size_t ga = 0; ga < surfaces_[a].groups.size(); ++ga)
+        for (size_t gb = 0; gb < surfaces_[b].groups.size(); ++gb)
+          if (surfaces_[a].groups[ga] == surfaces_[b].groups[gb]) shared_.push_back({a, b, ga, gb});
+  groups_built_ = true;
+}
+
+void CavityPressureLoad::apply_implicit(const Mobility& mob, const std::vector<Vec3>& v_old,
+                                        const std::vector<Vec3>& v_pred, std::vector<NodalForce>& out) {
+  tlm_slots_.clear();
+  for (size_t i = 0; i < surfaces_.size(); ++i)
+    if (tlm_[i]) tlm_slots_.push_back(i);
+  if (tlm_slots_.empty()) return;
+  if (!groups_built_) build_groups(mob);
+  const auto& inv_mass = *mob.inv_mass;
+  const auto& free = *mob.free;
+  // Weights per node and per group, and the predicted flows q̂.
+  const size_t np = tlm_slots_.size();
+  const Eigen::Index n_ports = static_cast<Eigen::Index>(np);
+  rhs_.resize(n_ports);
+  mobility_.setZero(n_ports, n_ports);
+  const double a = mob.theta, b = 1.0 - mob.theta;  // v_n = b·v_{n-1/2} + a·v_{n+1/2}
+  for (size_t j = 0; j < np; ++j) {
+    PortSurface& ps = surfaces_[tlm_slots_[j]];
+    std::fill(ps.node_weight.begin(), ps.node_weight.end(), Vec3::Zero());
+    for (size_t s = 0; s < ps.segments.size(); ++s) {
+      const int nc = corners(ps.segments[s]);
+      const Vec3 share = ps.segment_area[s] / nc;
+      for (int k = 0; k < nc; ++k) ps.node_weight[static_cast<size_t>(ps.corner_node[4 * s + static_cast<size_t>(k)])] += share;
+    }
+    std::fill(ps.group_weight.begin(), ps.group_weight.end(), Vec3::Zero());
+    double q_pred = 0.0;
+    for (size_t n = 0; n < ps.nodes.size(); ++n) {
+      ps.group_weight[static_cast<size_t>(ps.node_group[n])] += ps.node_weight[n];
+      const size_t node = static_cast<size_t>(ps.nodes[n]);
+      q_pred += ps.node_weight[n].dot(b * v_old[node] + a * v_pred[node]);
+    }
+    double S = 0.0;
+    for (size_t g = 0; g < ps.groups.size(); ++g) {
+      const size_t G = static_cast<size_t>(ps.groups[g]);
+      S += inv_mass[G] * ps.group_weight[g].dot(free[G].cwiseProduct(ps.group_weight[g]));
+    }
+    mobility_(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)) = S;
+    tlm_flow_[tlm_slots_[j]] = q_pred;  // the flow without these forces, corrected below
+    rhs_(static_cast<Eigen::Index>(j)) = wave_[tlm_slots_[j]] + impedance_[tlm_slots_[j]] * q_pred;
+  }
+  // Couplings between ports that move together (e.g. two faces of one piston).
+  for (const SharedGroup& sg : shared_) {
+    if (!tlm_[sg.a] || !tlm_[sg.b]) continue;
+    const Eigen::Index ja = std::find(tlm_slots_.begin(), tlm_slots_.end(), sg.a) - tlm_slots_.begin();
+    const Eigen::Index jb = std::find(tlm_slots_.begin(), tlm_slots_.end(), sg.b) - tlm_slots_.begin();
+    const size_t G = static_cast<size_t>(surfaces_[sg.a].groups[sg.ga]);
+    const double Sab = inv_mass[G] * surfaces_[sg.a].group_weight[sg.ga].dot(
+                                         free[G].cwiseProduct(surfaces_[sg.b].group_weight[sg.gb]));
+    mobility_(ja, jb) += Sab;
+    mobility_(jb, ja) += Sab;
+  }
+  // (I + a·h·Z·S)·p = c + Z·q̂
+  system_.setIdentity(n_ports, n_ports);
+  for (Eigen::Index j = 0; j < n_ports; ++j)
+    system_.row(j) += a * mob.h * impedance_[tlm_slots_[static_cast<size_t>(j)]] * mobility_.row(j);
+  if (np == 1) {
+    pressure_[tlm_slots_[0]] = rhs_(0) / system_(0, 0);
+  } else {
+    lu_.compute(system_);
+    solution_ = lu_.solve(rhs_);
+    for (size_t j = 0; j < np; ++j) pressure_[tlm_slots_[j]] = solution_(static_cast<Eigen::Index>(j));
+  }
+  // q = q̂ − a·h·S·p: the flow the pressure was solved with.
+  for (size_t j = 0; j < np; ++j)
+    for (size_t k = 0; k < np; ++k)
+      tlm_flow_[tlm_slots_[j]] -= a * mob.h * mobility_(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(k)) *
+                                  pressure_[tlm_slots_[k]];
+  for (size_t j = 0; j < np; ++j) {
+    const PortSurface& ps = surfaces_[tlm_slots_[j]];
+    const double p = pressure_[tlm_slots_[j]];
+    for (size_t n = 0; n < ps.nodes.size(); ++n) out.push_back({ps.nodes[n], Vec3(-p * ps.node_weight[n])});
   }
 }
 

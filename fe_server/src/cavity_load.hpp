@@ -16,8 +16,31 @@
 // each bound. Force and flow use the same weighted area vectors, so a
 // segment sliding past a cavity edge is loaded and unloaded smoothly (no
 // chatter) and p·q still equals the power on the structure.
+//
+// TLM ports are implicit. A port's surface has nodal weights w_n = Σ A_s/n_c
+// over its segments (force −p·w_n, flow q = Σ w_n·v_n: the same weights, so
+// p·q is the power). The port's pressure at t_n takes the flow of the
+// velocity at t_n, v_n = ½(v_{n-1/2} + v_{n+1/2}), as a Q-type component
+// takes the flow of its own step. With v_{n+1/2} = v̂ − h·M⁻¹·Σ_k p_k·w_k
+// (v̂: the solver's prediction without these forces; M⁻¹ the lumped
+// mobility, a rigid body's for its nodes) the port pressures solve the small
+// system
+//   (I + ½h·Z·S)·p = c + Z·q̂,   S_jk = w_j·M⁻¹·w_k,   q̂_j = w_j·½(v_{n-1/2} + v̂),
+// one equation per TLM port (ports on one body couple through S_jk). For a
+// single port that is the rank-one (Sherman–Morrison) update
+// p = (c + Zc·q̂)/(1 + ½h·Zc·S). The port reports that same q_n to the host,
+// so the host's p = c + Zc·q is the pressure that acted.
+//
+// Why this form (bench/stability_map.py, and a linear model of the loop in
+// bench/RESULTS.md): with q from v_{n-1/2} (an explicit damper Zc·A², the
+// first implementation) TLM coupling was bounded like pressure coupling;
+// with q from v_{n+1/2} alone it is stable for every coupling step but
+// shrinks the FE side's own stable step to ω·Δt < √2; with v_n it is
+// stable for every coupling step and chamber size up to the FE's own limit
+// ω·Δt < 2. The coupling step then sets accuracy only.
 #pragma once
 
+#include <Eigen/Dense>
 #include <vector>
 
 #include "config/port_table.hpp"
@@ -51,6 +74,14 @@ class CavityPressureLoad : public UserLoad {
 
   void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
              std::vector<Vec3>& f_ext) override;
+  // The TLM ports' pressures and forces at the velocity of t_n (see above).
+  void apply_implicit(const Mobility& mob, const std::vector<Vec3>& v_old, const std::vector<Vec3>& v_pred,
+                      std::vector<NodalForce>& out) override;
+  // The flow of the last step as the host should see it: for a TLM port the
+  // q_n its pressure was solved with, else the flow of velocities v.
+  double step_flow(int slot, const std::vector<Vec3>& v) const {
+    return tlm_[static_cast<size_t>(slot)] ? tlm_flow_[static_cast<size_t>(slot)] : flow(slot, v);
+  }
 
   // Volume rate displaced into the cavity by the port's surface, m³/s.
   double flow(int slot, const std::vector<Vec3>& v) const;
@@ -67,12 +98,32 @@ class CavityPressureLoad : public UserLoad {
     std::vector<Vec3> segment_area;  // area vectors of the last apply()
     Vec3 normal0 = Vec3::UnitZ();    // unit normal of the whole set at t = 0
     LoadingSet bounds;
+    // For the implicit TLM solve: per segment corner, the index into `nodes`;
+    // per node its weight w_n; per mobility group (a body, or a free node)
+    // the summed weight; per node the index of its group in `groups`.
+    std::vector<int> corner_node;  // 4 per segment
+    std::vector<Vec3> node_weight;
+    std::vector<int> groups, node_group;
+    std::vector<Vec3> group_weight;
   };
+  // Builds the groups of every surface and the pairs of TLM surfaces that
+  // share a group, on the first implicit step (the grouping never changes).
+  void build_groups(const Mobility& mob);
   const Model& model_;
   std::vector<PortSurface> surfaces_;
-  std::vector<double> pressure_, wave_, impedance_;
+  std::vector<double> pressure_, wave_, impedance_, tlm_flow_;
   std::vector<char> tlm_;
   std::vector<Vec3> area_vector_;
+  bool groups_built_ = false;
+  struct SharedGroup {
+    size_t a, b;    // surfaces
+    size_t ga, gb;  // group slots in each
+  };
+  std::vector<SharedGroup> shared_;
+  std::vector<size_t> tlm_slots_;  // scratch: the TLM surfaces of this step
+  Eigen::MatrixXd mobility_, system_;  // S and I + ½h·Z·S, one row per TLM port
+  Eigen::VectorXd rhs_, solution_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
 // Area vector of a segment (|A| = area, direction = normal by node order).

@@ -10,7 +10,7 @@ namespace fe {
 
 std::vector<PortStability> coupling_stability(const Model& model, const config::PortTable& table, double beta) {
   std::vector<PortStability> out;
-  const double T = table.dt, dt_fe = table.dt / table.subcycles;
+  const double T = table.dt;
   for (const auto& ls : model.loading_sets) {
     if (ls.force) continue;
     const config::Port* port = table.find_port(ls.port_id);
@@ -31,7 +31,8 @@ std::vector<PortStability> coupling_stability(const Model& model, const config::
       for (int n : nodes) s.mass += model.mass[static_cast<size_t>(n)];
     if (s.mass > 0.0) {
       s.v_min_pressure = beta * s.area * s.area * T * T / s.mass;
-      s.v_min_tlm = beta * s.area * s.area * T * dt_fe / (2.0 * s.mass);
+      // |Δf/f| = e·(ω·T)² ≤ 1 %  ⇔  ω·T ≤ sqrt(0.01/e)  ⇔  V ≥ β·A²·T²·e/(0.01·m).
+      s.v_accurate_tlm = s.v_min_pressure * kTlmErrorPerOmegaT2 / 0.01;
     }
     out.push_back(s);
   }
@@ -44,10 +45,14 @@ std::string coupling_stability_text(const std::vector<PortStability>& ports, con
   const bool tlm = table.mode == config::CouplingMode::Tlm;
   for (const auto& p : ports) {
     o << "fe_server: coupling estimate, port " << p.label << " (" << p.mass << " kg behind " << p.area * 1e4
-      << " cm²): " << (tlm ? "TLM" : "pressure") << " coupling at " << table.dt << " s needs a chamber of at least "
-      << (tlm ? p.v_min_tlm : p.v_min_pressure) * 1e6 << " cm³ at β = " << beta / 1e9 << " GPa";
-    o << " (" << (tlm ? "pressure" : "TLM") << " coupling: " << (tlm ? p.v_min_pressure : p.v_min_tlm) * 1e6
-      << " cm³)\n";
+      << " cm², β = " << beta / 1e9 << " GPa): ";
+    if (tlm)
+      o << "TLM coupling at " << table.dt << " s is stable for any chamber; a chamber of at least "
+        << p.v_accurate_tlm * 1e6 << " cm³ keeps its frequency error below 1 % (pressure coupling would need "
+        << p.v_min_pressure * 1e6 << " cm³ to be stable)\n";
+    else
+      o << "pressure coupling at " << table.dt << " s needs a chamber of at least " << p.v_min_pressure * 1e6
+        << " cm³ (ω·T ≤ 1); TLM coupling is stable for any chamber\n";
   }
   return o.str();
 }

@@ -2,18 +2,20 @@
 //
 // A rigid piston of mass m on a chamber of volume V (bulk modulus β) through
 // a wetted area A oscillates at ω² = β·A²/(V·m). The two coupling modes
-// fail in different ways:
-//  - pressure coupling holds the host's pressure over the coupling step T
-//    while the structure moves, a zero-order hold with one step of delay.
-//    The estimate asks ω·T ≤ 1 (the explicit-coupling rule of thumb; an
-//    undamped delayed loop has no strict bound, the host's volume damps it),
-//    i.e. V ≥ β·A²·T²/m;
-//  - TLM coupling applies p = c + Zc·q in every FE step, a damper Zc·A² on
-//    the piston that central difference integrates explicitly: stable for
-//    Zc·A²·Δt_FE/m < 2. A two-port host volume has Zc = β·T/V
-//    (HydraulicVolumeC), so V ≥ β·A²·T·Δt_FE/(2·m).
-// fe_server knows m, A, T and Δt_FE but not the host's V or β, so it prints
-// the smallest stable chamber volume per port (at a stated β).
+// differ in kind:
+//  - pressure coupling holds the host's pressure, computed from the last
+//    step's flow, over the coupling step T: a delayed loop. A linear model
+//    of the exact discrete loop (two-port host volume, central difference,
+//    one step of delay; bench/RESULTS.md) has its stability limit at
+//    ω·T = 1.00 ± 0.02 for every m and V of the stability map, so the
+//    estimate asks ω·T ≤ 1, i.e. V ≥ β·A²·T²/m;
+//  - TLM coupling solves p = c + Zc·q implicitly on the FE side
+//    (cavity_load.hpp) and is stable for any T and V. The step sets the
+//    accuracy instead: the frequency error of the stability map grows as
+//    about kTlmErrorPerOmegaT2·(ω·T)², so the estimate prints the chamber
+//    for which it stays below 1 %.
+// fe_server knows m, A and T but not the host's V or β, so it prints the
+// smallest chamber volume per port (at a stated β).
 #pragma once
 
 #include <string>
@@ -29,8 +31,12 @@ struct PortStability {
   double mass = 0.0;            // kg moving with the port's surface (its rigid body, else its nodes)
   double area = 0.0;            // m², the surface's area (bounds ignored)
   double v_min_pressure = 0.0;  // m³, smallest chamber for ω·T ≤ 1 in pressure coupling
-  double v_min_tlm = 0.0;       // m³, smallest chamber for a stable TLM damper
+  double v_accurate_tlm = 0.0;  // m³, smallest chamber for a 1 % frequency error in TLM coupling
 };
+
+// Frequency error of TLM coupling per (ω·T)², measured on the stability map
+// (bench/RESULTS.md): |Δf/f| ≈ kTlmErrorPerOmegaT2·(ω·T)².
+constexpr double kTlmErrorPerOmegaT2 = 0.2;
 
 // Per hydraulic port of the table, at bulk modulus beta.
 std::vector<PortStability> coupling_stability(const Model& model, const config::PortTable& table, double beta);

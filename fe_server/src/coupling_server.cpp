@@ -94,7 +94,7 @@ void PortMap::apply_inputs(const std::vector<double>& in) {
 
 void PortMap::accumulate(const Solver& s) {
   for (size_t slot = 0; slot < flow_sum_.size(); ++slot) {
-    flow_sum_[slot] += load_.flow(static_cast<int>(slot), s.v());
+    flow_sum_[slot] += load_.step_flow(static_cast<int>(slot), s.v());
     pressure_sum_[slot] += load_.pressure(static_cast<int>(slot));
   }
   ++substeps_;

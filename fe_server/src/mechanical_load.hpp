@@ -35,6 +35,12 @@ class UserLoads : public UserLoad {
   void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_ext) override {
     for (UserLoad* l : loads_) l->apply(t, x, v, f_ext);
   }
+  // Each load solves against the same prediction: exact while at most one of
+  // them has implicit ports on a given body (the cavity load holds them all).
+  void apply_implicit(const Mobility& m, const std::vector<Vec3>& v_old, const std::vector<Vec3>& v_pred,
+                      std::vector<NodalForce>& out) override {
+    for (UserLoad* l : loads_) l->apply_implicit(m, v_old, v_pred, out);
+  }
 
  private:
   std::vector<UserLoad*> loads_;

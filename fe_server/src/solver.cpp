@@ -128,6 +128,23 @@ Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt) {
     for (int i : model.rigid_bodies[b].nodes) v_[static_cast<size_t>(i)] = vb;
   }
   v_prev_ = v_;
+  group_.resize(n);
+  group_inv_mass_.assign(n + model.rigid_bodies.size(), 0.0);
+  group_free_.assign(n + model.rigid_bodies.size(), Vec3::Ones());
+  for (size_t i = 0; i < n; ++i) {
+    const int b = body_of_[i];
+    group_[i] = b >= 0 ? static_cast<int>(n) + b : static_cast<int>(i);
+    if (b < 0) {
+      group_inv_mass_[i] = mass_[i] > 0.0 ? 1.0 / mass_[i] : 0.0;
+      for (int k = 0; k < 3; ++k) group_free_[i][k] = model.fixed[i][k] ? 0.0 : 1.0;
+    }
+  }
+  for (size_t b = 0; b < model.rigid_bodies.size(); ++b) {
+    const double mb = model.rigid_bodies[b].mass;
+    group_inv_mass_[n + b] = mb > 0.0 ? 1.0 / mb : 0.0;
+    for (int k = 0; k < 3; ++k) group_free_[n + b][k] = body_fixed_[b][k] ? 0.0 : 1.0;
+  }
+  group_force_.assign(group_free_.size(), Vec3::Zero());
   // Contact sees the mass that moves with each node (a rigid body's whole mass).
   std::vector<double> contact_mass = mass_;
   for (size_t i = 0; i < n; ++i)
@@ -306,6 +323,40 @@ void Solver::velocities() {
   for (size_t i = 0; i < v_.size(); ++i) v_[i] += h * a_[i];
 }
 
+void Solver::implicit_loads() {
+  if (!user_load_) return;
+  implicit_forces_.clear();
+  Mobility mob;
+  mob.h = n_ == 0 ? 0.5 * dt_ : dt_;
+  mob.theta = n_ == 0 ? 0.0 : 0.5;
+  mob.group = &group_;
+  mob.inv_mass = &group_inv_mass_;
+  mob.free = &group_free_;
+  user_load_->apply_implicit(mob, v_prev_, v_, implicit_forces_);
+  if (implicit_forces_.empty()) return;
+  // The forces join f_ext (their work is accounted with the other user
+  // loads) and correct the velocity of whatever moves with their node.
+  const size_t n = x_.size();
+  for (const NodalForce& nf : implicit_forces_) {
+    const size_t i = static_cast<size_t>(nf.node);
+    f_ext_[i] += nf.f;
+    const size_t g = static_cast<size_t>(group_[i]);
+    if (group_force_[g].isZero()) touched_groups_.push_back(static_cast<int>(g));
+    group_force_[g] += nf.f;
+  }
+  for (int gi : touched_groups_) {
+    const size_t g = static_cast<size_t>(gi);
+    const Vec3 dv = mob.h * group_inv_mass_[g] * group_free_[g].cwiseProduct(group_force_[g]);
+    if (g < n) {
+      v_[g] += dv;
+    } else {
+      for (int i : m_.rigid_bodies[g - n].nodes) v_[static_cast<size_t>(i)] += dv;
+    }
+    group_force_[g].setZero();
+  }
+  touched_groups_.clear();
+}
+
 void Solver::positions() {
   x_prev_ = x_;
   for (size_t i = 0; i < x_.size(); ++i) x_[i] += dt_ * v_[i];
@@ -349,6 +400,7 @@ void Solver::step() {
   accelerations();
   boundary_conditions();
   velocities();
+  implicit_loads();
   energy_account();
   positions();
   t_ += dt_;

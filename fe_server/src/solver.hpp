@@ -8,8 +8,10 @@
 //   4 accelerations        a_n = (f_ext + f_int + f_contact) / m, rigid bodies as one mass
 //   5 boundary_conditions  a = 0, v = 0 on fixed DOFs
 //   6 velocities           v_{n+1/2} = v_{n-1/2} + Δt·a_n (Δt/2 on the first step)
-//   7 energy_account       kinetic + internal + hourglass + contact + damping − external work
-//   8 positions            x_{n+1} = x_n + Δt·v_{n+1/2}
+//   7 implicit_loads       forces that depend on v_{n+1/2} (TLM ports), solved with the
+//                          corrected velocity and added to f_ext and v_{n+1/2}
+//   8 energy_account       kinetic + internal + hourglass + contact + damping − external work
+//   9 positions            x_{n+1} = x_n + Δt·v_{n+1/2}
 // The stable step is checked once at construction (fixed Δt).
 #pragma once
 
@@ -78,6 +80,7 @@ class Solver {
   void accelerations();
   void boundary_conditions();
   void velocities();
+  void implicit_loads();
   void energy_account();
   void positions();
   void solid_forces();
@@ -96,6 +99,13 @@ class Solver {
   std::vector<double> mass_, contact_mass_;
   std::vector<int> body_of_;  // rigid body index per node, -1 if none
   std::vector<Eigen::Matrix<bool, 3, 1>> body_fixed_;
+  // Mobility for stage 7: group per node (the node, or N + its body), and per group.
+  std::vector<int> group_;
+  std::vector<double> group_inv_mass_;
+  std::vector<Vec3> group_free_;
+  std::vector<NodalForce> implicit_forces_;
+  std::vector<Vec3> group_force_;   // scratch, zero outside implicit_loads()
+  std::vector<int> touched_groups_;
   // Element state, one array per quantity.
   std::vector<Eigen::Matrix<double, 6, 1>> sigma_;
   std::vector<double> bar_force_;

@@ -2,6 +2,15 @@
 // stage 2 of the explicit step (after internal forces, before contact and
 // accelerations) with the positions x_n and the velocities v_{n-1/2}. It adds
 // its external forces to f_ext. The solver accounts their work.
+//
+// A load whose force depends on the velocity it produces (a TLM port:
+// p = c + Zc·q with q from the velocity at t_n, v_n = ½(v_{n-1/2} + v_{n+1/2}))
+// also answers apply_implicit, called at stage 7, after the velocity
+// predictor: it gets v_{n-1/2}, the predicted v_{n+1/2} (every other force
+// applied) and the mobility of the nodes, and returns nodal forces; the
+// solver adds them to f_ext and to the velocities. Solving for the force
+// with the corrected velocity is what makes such a port unconditionally
+// stable (see cavity_load.hpp).
 #pragma once
 
 #include <vector>
@@ -10,11 +19,33 @@
 
 namespace fe {
 
+// How the end-of-step velocity answers a force added at stage 7: a force f
+// on node i changes the velocity of everything that moves with i (its rigid
+// body, or the node alone) by h·free∘f/m. Groups 0..N-1 are the nodes that
+// are not in a rigid body; group N + b is rigid body b.
+struct Mobility {
+  double h = 0.0;                        // the step of the velocity update (Δt, Δt/2 on the first step)
+  // v_n = (1 − theta)·v_{n-1/2} + theta·v_{n+1/2}: ½, and 0 on the first step, where v_0 is known.
+  double theta = 0.5;
+  const std::vector<int>* group = nullptr;       // per node
+  const std::vector<double>* inv_mass = nullptr; // per group, 1/kg (0: massless or immovable)
+  const std::vector<Vec3>* free = nullptr;       // per group: 1 for a DOF that can move, 0 for a fixed one
+};
+
+struct NodalForce {
+  int node = 0;
+  Vec3 f = Vec3::Zero();
+};
+
 class UserLoad {
  public:
   virtual ~UserLoad() = default;
   virtual void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                      std::vector<Vec3>& f_ext) = 0;
+  // Stage 7 (see above). `v_old` is v_{n-1/2} (v_0 on the first step),
+  // `v_pred` is v_{n+1/2} without this load's forces.
+  virtual void apply_implicit(const Mobility&, const std::vector<Vec3>& /*v_old*/, const std::vector<Vec3>& /*v_pred*/,
+                              std::vector<NodalForce>& /*out*/) {}
 };
 
 }  // namespace fe

@@ -13,6 +13,7 @@
 #include "components/ReliefValveQ.hpp"
 #include "components/SignalSources.hpp"
 #include "components/SpoolValveQ.hpp"
+#include "components/SpringPistonQ.hpp"
 #include "components/VariableOrificeQ.hpp"
 
 namespace tlm {
@@ -38,6 +39,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"SpoolValveQ", make<SpoolValveQ>()},
       {"ControlSpoolQ", make<ControlSpoolQ>()},
       {"HammerPistonQ", make<HammerPistonQ>()},
+      {"SpringPistonQ", make<SpringPistonQ>()},
       {"PistonMechanicsSignal", make<PistonMechanicsSignal>()},
       {"SpoolMechanicsSignal", make<SpoolMechanicsSignal>()},
       {"SignalStep", make<SignalStep>()},

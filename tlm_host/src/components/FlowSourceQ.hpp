@@ -1,5 +1,6 @@
 // Ideal flow source (Q-type), e.g. a fixed-displacement pump: it pushes q_set
-// into its node whatever the pressure, so p = c + Zc·q_set.
+// into its node whatever the pressure, so p = c + Zc·q_set. The optional
+// signal input q (e.g. a SignalTable) replaces the parameter when connected.
 #pragma once
 
 #include "component.hpp"
@@ -12,18 +13,20 @@ class FlowSourceQ : public Component {
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "FlowSourceQ"; }
   void configure(ParameterSet& prm) override {
-    q_ = prm.real("q");  // m³/s into the node
+    q_ = prm.real("q", 0.0);  // m³/s into the node
     add_port("P1", Kind::Q);
+    add_signal_input("q", &q_in_, &q_);
   }
   void initialize(double) override {}
   void simulate_one_step(double) override {
     HydraulicNode& n = *ports_[0].node;
-    n.q = q_;
-    n.p = n.c + n.Zc * q_;
+    n.q = *q_in_;
+    n.p = n.c + n.Zc * n.q;
   }
 
  private:
   double q_ = 0.0;
+  const double* q_in_ = nullptr;
 };
 
 }  // namespace tlm

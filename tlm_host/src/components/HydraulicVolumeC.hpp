@@ -19,14 +19,24 @@
 // piston position); only the compliance follows V, the displaced volume
 // arrives as the piston port's flow. V is kept above V_min.
 //
-// Cavitation: p_m is never let below the vapour pressure p_vap. When it
-// would be, every c_i is lifted by the same amount, i.e. vapour fills the
-// missing oil volume instead of a negative pressure being stored; each entry
-// into that state is counted and reported.
+// Cavitation conserves oil: the volume carries a vapour (void) volume
+// V_void ≥ 0 beside its liquid. The incoming waves give the pressure the
+// liquid would have, p_wave = p_prev + β·Σq·Δt/V; any void is refilled
+// first, so the liquid's pressure is
+//   p_liquid = p_wave − V_void·β/V,
+// and if that is below p_vap the volume holds p_vap with
+//   V_void = (p_vap − p_liquid)·V/β      (= V_void,prev + Σ(q_out − q_in)·Δt),
+// else V_void = 0 and the pressure is p_liquid: liquid behaviour resumes in
+// the step the void is refilled, with exactly the oil that is left over.
+// Every c_i is shifted by the same amount (p_m − p_wave) to hold that
+// pressure. (Lifting the pressure to p_vap without a void, as this volume
+// did before, creates the missing oil out of nothing.) Each cavitation event
+// is recorded with its start, duration and largest void, and reported.
 #pragma once
 
 #include <algorithm>
 #include <iostream>
+#include <vector>
 
 #include "component.hpp"
 
@@ -62,16 +72,24 @@ class HydraulicVolumeC : public Component {
     p_mean_ = p0_;
     stored_ = V_ * p0_ * p0_ / (2.0 * beta_);
   }
-  void simulate_one_step(double) override {
+  void simulate_one_step(double t) override {
     double sum = 0.0;
     for (auto& port : ports_) sum += port.node->c + 2.0 * Zc_ * port.node->q;
     const double p_wave = sum / static_cast<double>(ports_.size());
-    // c_new = 2·p_m − (c + 2·Zc·q) has mean p_m, so lifting every c_new by
-    // the same amount lifts the volume's pressure to p_vap.
-    const double lift = p_wave < p_vap_ ? p_vap_ - p_wave : 0.0;
-    if (lift > 0.0 && !cavitating_) ++cavitation_events_;
-    cavitating_ = lift > 0.0;
-    p_mean_ = p_wave + lift;
+    // The void first (see above), at the volume and compliance the last flows met.
+    const double compliance = V_ / beta_;  // m³/Pa
+    const double p_liquid = p_wave - void_ / compliance;
+    if (p_liquid < p_vap_) {
+      void_ = (p_vap_ - p_liquid) * compliance;
+      p_mean_ = p_vap_;
+    } else {
+      void_ = 0.0;
+      p_mean_ = p_liquid;
+    }
+    track_events(t);
+    // c_new = 2·p_m − (c + 2·Zc·q) has mean p_wave; shifting every c_new by
+    // the same amount gives the volume's pressure p_m.
+    const double lift = p_mean_ - p_wave;
     const double Zc_arrived = Zc_;  // the impedance the last flows met
     update_impedance();
     for (auto& port : ports_) {
@@ -84,27 +102,60 @@ class HydraulicVolumeC : public Component {
     stored_ = V_ * p_mean_ * p_mean_ / (2.0 * beta_);
   }
   void finalize() override {
-    if (cavitation_events_ > 0)
-      std::cerr << "tlm_host: " << name_ << ": pressure reached the vapour pressure " << cavitation_events_
-                << " time(s) (cavitation; the volume was held at p_vap)\n";
+    if (void_ > 0.0) events_.back().duration = t_last_ - events_.back().start;  // still cavitating at the end
+    if (events_.empty()) return;
+    double total = 0.0, longest = 0.0, largest = 0.0;
+    for (const auto& e : events_) {
+      total += e.duration;
+      longest = std::max(longest, e.duration);
+      largest = std::max(largest, e.max_void);
+    }
+    std::cerr << "tlm_host: " << name_ << ": cavitation " << events_.size() << " time(s), " << total * 1e3
+              << " ms in all (longest " << longest * 1e3 << " ms, largest vapour volume " << largest * 1e6
+              << " cm³; held at p_vap = " << p_vap_ << " Pa while vapour was present)\n";
+    const size_t shown = std::min<size_t>(events_.size(), 5);
+    for (size_t i = 0; i < shown; ++i)
+      std::cerr << "tlm_host: " << name_ << ":   event " << i + 1 << ": t = " << events_[i].start << " s, "
+                << events_[i].duration * 1e3 << " ms, vapour volume up to " << events_[i].max_void * 1e6 << " cm³\n";
+    if (events_.size() > shown) std::cerr << "tlm_host: " << name_ << ":   ... (" << events_.size() - shown << " more)\n";
   }
   void log_variables(std::vector<LogVariable>& out) override {
     out.push_back({"p_mean", "Pa", &p_mean_});
     out.push_back({"E_stored", "J", &stored_});
+    out.push_back({"V_void", "m3", &void_});
     if (dVdx_ != 0.0) out.push_back({"V", "m3", &V_});
   }
-  long cavitation_events() const { return cavitation_events_; }
+  // A stretch of time with vapour in the volume.
+  struct CavitationEvent {
+    double start = 0.0, duration = 0.0, max_void = 0.0;  // s, s, m³
+  };
+  long cavitation_events() const { return static_cast<long>(events_.size()); }
+  const std::vector<CavitationEvent>& events() const { return events_; }
+  double void_volume() const { return void_; }
+  double pressure() const { return p_mean_; }
 
  private:
+  void track_events(double t) {
+    t_last_ = t + dt_;
+    if (void_ > 0.0) {
+      if (!cavitating_) events_.push_back({t + dt_, 0.0, 0.0});
+      events_.back().max_void = std::max(events_.back().max_void, void_);
+    } else if (cavitating_) {
+      events_.back().duration = t + dt_ - events_.back().start;
+    }
+    cavitating_ = void_ > 0.0;
+  }
   void update_impedance() {
     V_ = x_ ? std::max(V_min_, V0_ + dVdx_ * *x_) : V0_;
     Zc_ = static_cast<double>(ports_.size()) * beta_ * dt_ / (2.0 * V_ * (1.0 - alpha_));
   }
   double V0_ = 0, beta_ = 0, p0_ = 0, alpha_ = 0, p_vap_ = 0, dVdx_ = 0, V_min_ = 0;
   double V_ = 0, Zc_ = 0, p_mean_ = 0, dt_ = 0, stored_ = 0;
+  double void_ = 0.0;  // m³ of vapour
+  double t_last_ = 0.0;
   const double* x_ = nullptr;
   bool cavitating_ = false;
-  long cavitation_events_ = 0;
+  std::vector<CavitationEvent> events_;
 };
 
 }  // namespace tlm

@@ -31,13 +31,14 @@
 // p = (c + Zc·q̂)/(1 + ½h·Zc·S). The port reports that same q_n to the host,
 // so the host's p = c + Zc·q is the pressure that acted.
 //
-// Why this form (bench/stability_map.py, and a linear model of the loop in
-// bench/RESULTS.md): with q from v_{n-1/2} (an explicit damper Zc·A², the
-// first implementation) TLM coupling was bounded like pressure coupling;
-// with q from v_{n+1/2} alone it is stable for every coupling step but
-// shrinks the FE side's own stable step to ω·Δt < √2; with v_n it is
-// stable for every coupling step and chamber size up to the FE's own limit
-// ω·Δt < 2. The coupling step then sets accuracy only.
+// Why this form (measured by bench/stability_map.py, explained by the
+// linear loop model bench/coupling_loop_model.py): with q from v_{n-1/2} (an
+// explicit damper Zc·A², the first implementation) TLM coupling was bounded
+// like pressure coupling; with q from v_{n+1/2} alone the loop is stable for
+// every coupling step but shrinks the FE side's own stable step to
+// ω·Δt < √2; with v_n it is stable for every coupling step and chamber size
+// up to the FE's own limit ω·Δt < 2. The coupling step then sets accuracy
+// only.
 #pragma once
 
 #include <Eigen/Dense>

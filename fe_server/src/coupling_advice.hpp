@@ -4,11 +4,10 @@
 // a wetted area A oscillates at ω² = β·A²/(V·m). The two coupling modes
 // differ in kind:
 //  - pressure coupling holds the host's pressure, computed from the last
-//    step's flow, over the coupling step T: a delayed loop. A linear model
-//    of the exact discrete loop (two-port host volume, central difference,
-//    one step of delay; bench/RESULTS.md) has its stability limit at
-//    ω·T = 1.00 ± 0.02 for every m and V of the stability map, so the
-//    estimate asks ω·T ≤ 1, i.e. V ≥ β·A²·T²/m;
+//    step's flow, over the coupling step T: a delayed loop. The stability
+//    map (bench/RESULTS.md: m = 0.05–5 kg, V = 0.1–100 cm³) measures its
+//    limit between ω·T = 1.33 and 1.46 in every case; the estimate asks
+//    ω·T ≤ 1, i.e. V ≥ β·A²·T²/m, a margin of 1.33–1.46 on the measured limit;
 //  - TLM coupling solves p = c + Zc·q implicitly on the FE side
 //    (cavity_load.hpp) and is stable for any T and V. The step sets the
 //    accuracy instead: the frequency error of the stability map grows as

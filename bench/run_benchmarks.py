@@ -32,6 +32,8 @@ QUICK = "--quick" in sys.argv
 FE_SERVER = BUILD / "fe_server" / "fe_server"
 TLM_HOST = BUILD / "tlm_host" / "tlm_host"
 FMUGEN = BUILD / "fmugen" / "fmugen"
+sys.path.insert(0, str(ROOT / "bench"))
+import stability_map as smap_module  # noqa: E402
 
 
 def log(msg):
@@ -89,80 +91,6 @@ def cosim(name, deck_dir, deck, ports_text, model, host_args, timeout=900):
     return {"ok": host.returncode == 0 and code == 0, "wall": wall, "log": text, "dir": d}
 
 
-# ------------------------------------------------------------ stability map
-def stability_map():
-    """Piston on a fluid volume (scene one_dof): the largest stable coupling
-    step per mode as the chamber shrinks and the piston gets lighter, beside
-    fe_server's printed estimate."""
-    base = {"pressure": (ROOT / "scenes/one_dof/ports.cfg").read_text(),
-            "tlm": (ROOT / "scenes/one_dof_tlm/ports.cfg").read_text()}
-    deck0 = (ROOT / "scenes/one_dof/piston.k").read_text()
-    volumes = [1e-4, 1e-5, 1e-6] if not QUICK else [1e-5]
-    masses = [5.0, 0.5] if not QUICK else [5.0]
-    steps = [1e-6, 2e-6, 5e-6, 1e-5, 2e-5, 5e-5, 1e-4, 2e-4]
-    rows = []
-    for mode in ("pressure", "tlm"):
-        for m in masses:
-            deck_dir = WORK / f"deck_m{m}"
-            deck_dir.mkdir(exist_ok=True)
-            (deck_dir / "piston.k").write_text(re.sub(r"^1, 5, 5\.0$", f"1, 5, {m}", deck0, flags=re.M))
-            for V in volumes:
-                beta, A, k = 1.4e9, 1e-3, 1e6
-                omega = np.sqrt(beta * A * A / (V * m) + k / m)
-                largest, estimate = None, None
-                for dt in steps:
-                    stop = min(0.05, max(2000 * dt, 100 * 2 * np.pi / omega))
-                    ports = set_key(set_key(base[mode], "timestep", f"{dt:g}"), "timeout", "20")
-                    r = cosim(f"map_{mode}_{m}_{V:g}_{dt:g}", deck_dir, "piston.k", ports,
-                              ROOT / "scenes/one_dof/model.tlm",
-                              ["--set", f"chamber.V={V:g}", "--set", f"simulation.timestep={dt:g}",
-                               "--set", f"simulation.stoptime={stop:g}"], timeout=300)
-                    if estimate is None:
-                        mm = re.search(r"needs a chamber of at least ([0-9.eE+-]+) cm", r["log"])
-                        if mm:
-                            v_min = float(mm.group(1)) * 1e-6
-                            estimate = dt * np.sqrt(V / v_min)
-                    stable = r["ok"]
-                    if stable:
-                        with h5py.File(r["dir"] / "fe.h5") as f:
-                            uz = f["nodes/5/uz"][:]
-                        n = len(uz)
-                        if not np.all(np.isfinite(uz)) or n < 8:
-                            stable = False
-                        else:
-                            a0 = np.ptp(uz[: n // 4])
-                            a1 = np.ptp(uz[-n // 4:])
-                            stable = a1 <= 1.5 * a0
-                    shutil.rmtree(r["dir"], ignore_errors=True)
-                    if not stable:
-                        break
-                    largest = dt
-                rows.append({"mode": mode, "m": m, "V": V, "omega": omega, "largest": largest, "estimate": estimate,
-                             "tested_to": steps[-1]})
-                log(f"  map {mode} m={m} V={V*1e6:g} cm3: largest stable {largest}, estimate {estimate}")
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for mode, marker in (("pressure", "o"), ("tlm", "s")):
-        for m, color in zip(masses, ("C0", "C1", "C2")):
-            sel = [r for r in rows if r["mode"] == mode and r["m"] == m]
-            x = [r["V"] * 1e6 for r in sel]
-            ax.plot(x, [r["largest"] or np.nan for r in sel], marker=marker, color=color,
-                    linestyle="-" if mode == "pressure" else "--", label=f"{mode}, m = {m} kg: measured")
-            if mode == "pressure":
-                ax.plot(x, [r["estimate"] or np.nan for r in sel], marker="x", color=color, linestyle=":",
-                        label=f"pressure, m = {m} kg: fe_server's estimate")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("chamber volume V [cm³]")
-    ax.set_ylabel("largest stable coupling step [s]")
-    ax.set_title(f"Piston on a fluid volume (tested up to {steps[-1]:g} s)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(OUT / "stability_map.png", dpi=120)
-    plt.close(fig)
-    return rows
-
-
 # ----------------------------------------------- hammer: coupling step and mode
 def without_report(model):
     """A copy of a host model without its *REPORT block: these runs are
@@ -182,7 +110,9 @@ def hammer_coupling(stop):
     with h5py.File(ref) as f:
         t_ref, x_ref = f["time"][:], f["components/piston/x"][:]
     stroke = np.ptp(x_ref)
-    points = [(1e-6, 1), (2e-6, 2), (5e-6, 5), (1e-5, 10)] if not QUICK else [(1e-6, 1), (1e-5, 10)]
+    # FE step 1 µs throughout, k = T/1 µs FE steps per exchange, host step T.
+    points = ([(1e-6, 1), (2e-6, 2), (5e-6, 5), (1e-5, 10), (2e-5, 20), (5e-5, 50), (1e-4, 100)] if not QUICK
+              else [(1e-6, 1), (1e-5, 10), (1e-4, 100)])
     rows, traces = [], {}
     for mode, base in (("pressure", "ports.cfg"), ("tlm", "ports_tlm.cfg")):
         text = (ROOT / "scenes/hammer" / base).read_text()
@@ -198,7 +128,8 @@ def hammer_coupling(stop):
                 x = np.interp(t_ref, f["time"][:], f["components/mech/x"][:])
             traces[(mode, T)] = x
             err_ref = 100 * np.sqrt(np.mean((x - x_ref) ** 2)) / stroke
-            rows.append({"mode": mode, "T": T, "k": k, "wall": r["wall"] / stop, "err_ref": err_ref})
+            rows.append({"mode": mode, "T": T, "k": k, "wall": r["wall"] / stop, "err_ref": err_ref,
+                         "warning": host_warning(r["log"])})
             log(f"  hammer {mode} T={T*1e6:g} us k={k}: {r['wall']/stop:.0f} s/sim-s, lift error {err_ref:.2f} % of stroke")
             shutil.rmtree(r["dir"], ignore_errors=True)
     for r in rows:
@@ -208,8 +139,14 @@ def hammer_coupling(stop):
 
 
 # ------------------------------------------------------ TLM step, monolithic
+def host_warning(text):
+    """tlm_host's stable-step warning, shortened to what limits the step ('' if none)."""
+    m = re.search(r"exceeds the stable step ([0-9.eE+-]+) s of ([^;\n]*)", text)
+    return f"above the host's stable step {float(m.group(1))*1e6:.0f} µs ({m.group(2).strip()})" if m else ""
+
+
 def tlm_step():
-    steps = [5e-7, 1e-6, 2e-6, 5e-6, 1e-5] if not QUICK else [5e-7, 1e-6, 1e-5]
+    steps = [5e-7, 1e-6, 2e-6, 5e-6, 1e-5, 2e-5, 5e-5, 1e-4] if not QUICK else [5e-7, 1e-6, 1e-5, 1e-4]
     rows = []
     for dt in steps:
         rep = WORK / f"mono_{dt:g}.json"
@@ -223,7 +160,7 @@ def tlm_step():
             continue
         js = json.loads(rep.read_text())
         rows.append({"dt": dt, "wall": wall / 0.6, "f": js["frequency_Hz"], "v": js["impact_velocity_m_s"],
-                     "E": js["blow_energy_J"]})
+                     "E": js["blow_energy_J"], "warning": host_warning(r.stderr)})
         log(f"  monolithic dt={dt*1e6:g} us: {wall/0.6:.2f} s/sim-s, {js['frequency_Hz']:.3f} Hz, {js['impact_velocity_m_s']:.4f} m/s")
     ref = rows[0]
     for r in rows:
@@ -243,16 +180,7 @@ def pareto(path, title, points, recommended, xlabel="wall time", ylabel="error")
     if recommended is not None:
         w, e, lab = points[recommended]
         ax.plot(w, max(abs(e), 1e-4), "*", color="C3", markersize=16, label=f"recommended: {lab}")
-        ax.legend(fontsize=8)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.set_title(title, fontsize=10)
-    ax.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    smap_module.finish(fig, ax, path, title, xlabel, ylabel)
 
 
 def cheapest(rows, ok, wall):
@@ -260,8 +188,19 @@ def cheapest(rows, ok, wall):
     return min(good, key=lambda i: wall(rows[i])) if good else None
 
 
-# How to read the map (measured 2026-11-22; the figures it names are in the table).
-MAP_READING = ('The true limit lies between the largest stable step and the next one tried (×2 or ×2.5). Read that way, the pressure-mode estimate (ω·T ≤ 1) falls inside the measured bracket in 3 of 6 cases, is conservative in 2 (by up to 2.6×) and lies beyond the largest step tried in 1. The TLM estimate (the FE-side damper alone) is inside the bracket in 3 cases, beyond the largest step tried in 2, and optimistic in 1: m = 5 kg, V = 10 cm³ (267 µs against a limit between 100 and 200 µs). The two modes measure the same limits: at k = 1 the loop through the host volume bounds TLM coupling as it bounds pressure coupling, so ω·T ≤ 1 is the safer rule for both. The hammer sits far inside: cavity A at impact (40 cm³ under 14.4 kg, ω ≈ 1,400 rad/s) gives ω·T = 0.014 at 10 µs.\n')
+def cavitation():
+    """tlm_host against the continuous model with a void state, and the
+    oil-creating model beside them (tests/tlm_host/cavitation_reference.py)."""
+    r = subprocess.run(["/usr/bin/python3", str(ROOT / "tests/tlm_host/cavitation_reference.py"), str(TLM_HOST),
+                        str(WORK / "cavitation"), "--plot", str(OUT / "cavitation.png")], capture_output=True,
+                       text=True, timeout=600)
+    return r.stdout.strip(), r.returncode
+
+
+def loop_model():
+    r = subprocess.run(["/usr/bin/python3", str(ROOT / "bench/coupling_loop_model.py")], capture_output=True,
+                       text=True, timeout=600, check=True)
+    return r.stdout.strip()
 
 
 def main():
@@ -275,8 +214,10 @@ def main():
     mono = tlm_step()
     log("hammer co-simulation: coupling step, sub-cycling, mode ...")
     hammer = hammer_coupling(0.05 if QUICK else 0.08)
-    log("stability map ...")
-    smap = stability_map()
+    smap = smap_module.stability_map(FE_SERVER, TLM_HOST, FMUGEN, QUICK)
+    log("cavitation against the continuous model ...")
+    cav_text, cav_code = cavitation()
+    loop_text = loop_model()
 
     # Plots.
     hex_rows = [r for r in fe_cost if r[0] == "hex8"]
@@ -301,14 +242,19 @@ def main():
     pareto(OUT / "pareto_bar_impact.png", "(a) bar impact: mesh size h and step factor dt/dt_crit",
            [(r["wall"], max(abs(r["es"]), abs(r["eW"])), f"h={r['h']:g} mm, {r['f']:g}") for r in fe_rows], fe_rec,
            "wall time [s]", "max(|peak stress error|, |W error|) [%]")
-    ham_rec = cheapest(hammer, lambda r: r["err_ref"] <= 1.05 * min(h["err_ref"] for h in hammer), lambda r: r["wall"])
+    # Recommended: the largest TLM step within 0.5 % of stroke of the 1 µs TLM co-simulation.
+    tlm_ok = [i for i, r in enumerate(hammer) if r["mode"] == "tlm" and r["err_fine"] <= 0.5 and not r["warning"]]
+    ham_rec = max(tlm_ok, key=lambda i: hammer[i]["T"]) if tlm_ok else None
     pareto(OUT / "pareto_hammer_coupling.png", "(b) hammer co-simulation: coupling step T (k = T/1 µs), mode",
            [(r["wall"], r["err_ref"], f"{r['mode']} {r['T']*1e6:g} µs") for r in hammer], ham_rec,
            "wall time per simulated second [s]", "piston-lift RMS error vs monolithic [% of stroke]")
+    fine_points = [i for i, r in enumerate(hammer) if r["T"] > 1.5e-6]
     pareto(OUT / "pareto_hammer_vs_fine.png", "(b) hammer co-simulation against the 1 µs co-simulation",
-           [(r["wall"], r["err_fine"], f"{r['mode']} {r['T']*1e6:g} µs") for r in hammer if r["T"] > 1.5e-6], None,
+           [(hammer[i]["wall"], hammer[i]["err_fine"], f"{hammer[i]['mode']} {hammer[i]['T']*1e6:g} µs")
+            for i in fine_points], fine_points.index(ham_rec) if ham_rec in fine_points else None,
            "wall time per simulated second [s]", "piston-lift RMS difference [% of stroke]")
-    mono_rec = cheapest(mono[1:], lambda r: abs(r["err_f"]) <= 0.5 and abs(r["err_v"]) <= 0.5, lambda r: r["wall"])
+    mono_rec = cheapest(mono[1:], lambda r: abs(r["err_f"]) <= 0.5 and abs(r["err_v"]) <= 0.5 and not r["warning"],
+                        lambda r: r["wall"])
     pareto(OUT / "pareto_tlm_step.png", "(c) monolithic hammer: TLM time step (error vs 0.5 µs)",
            [(r["wall"], max(abs(r["err_f"]), abs(r["err_v"])), f"{r['dt']*1e6:g} µs") for r in mono[1:]], mono_rec,
            "wall time per simulated second [s]", "max(|frequency error|, |impact velocity error|) [%]")
@@ -362,33 +308,84 @@ def main():
     L.append("| mode | T [µs] | k | wall per sim. s [s] | error vs monolithic % | vs 1 µs co-sim % |\n|---|---|---|---|---|---|")
     for i, r in enumerate(hammer):
         star = " **(recommended)**" if i == ham_rec else ""
-        L.append(f"| {r['mode']}{star} | {r['T']*1e6:g} | {r['k']} | {r['wall']:.1f} | {r['err_ref']:.2f} | {r['err_fine']:.2f} |")
-    L.append("\nRecommended: the cheapest run within 5 % of the best error against the reference.\n")
+        note = f" ({r['warning']})" if r.get("warning") else ""
+        L.append(f"| {r['mode']}{star} | {r['T']*1e6:g} | {r['k']} | {r['wall']:.1f} | {r['err_ref']:.2f} | "
+                 f"{r['err_fine']:.2f}{note} |")
+    L.append("\nRecommended (by accuracy): the largest TLM coupling step whose piston lift stays within 0.5 % of "
+             "the stroke of the 1 µs TLM co-simulation. The host steps at T too, so these errors include the "
+             "host's own TLM step (its lines' delays are rounded to whole steps, and above 61 µs the spool's "
+             "damped end stop is unstable, which tlm_host warns of; see (c) for the host alone). The FE side "
+             "steps at 1 µs in every run, so above 10 µs the wall time barely falls: the exchanges are already "
+             "a small part of it.\n")
     L.append("![hammer Pareto](results/pareto_hammer_coupling.png) ![against fine](results/pareto_hammer_vs_fine.png)\n")
     L.append("## (c) Monolithic hammer: TLM time step\n")
     L.append("| Δt [µs] | wall per sim. s [s] | frequency [Hz] | impact velocity [m/s] | blow energy [J] | errors vs 0.5 µs: f, v, E [%] |\n|---|---|---|---|---|---|")
     for i, r in enumerate(mono):
         star = " **(recommended)**" if mono_rec is not None and i == mono_rec + 1 else ""
+        note = f" ({r['warning']})" if r.get("warning") else ""
         L.append(f"| {r['dt']*1e6:g}{star} | {r['wall']:.2f} | {r['f']:.3f} | {r['v']:.4f} | {r['E']:.1f} | "
-                 f"{r['err_f']:.2f}, {r['err_v']:.2f}, {r['err_E']:.2f} |")
+                 f"{r['err_f']:.2f}, {r['err_v']:.2f}, {r['err_E']:.2f}{note} |")
     L.append("\nRecommended: the cheapest step with frequency and impact velocity within 0.5 % of the 0.5 µs run.\n")
     L.append("![TLM step Pareto](results/pareto_tlm_step.png)\n")
     L.append("## Coupling stability map\n")
-    L.append("Scene one_dof (rigid piston, A = 10 cm², on a spring of 1 MN/m and a chamber of volume V, β = 1.4 GPa), "
-             "kicked at 0.1 m/s. A run is stable if both processes end cleanly and the piston's swing over the last "
-             "quarter is at most 1.5 times that over the first. Steps tried: 1, 2, 5, 10, 20, 50, 100, 200 µs "
-             "(sub-cycling k = 1). The estimate is what fe_server prints before the run (smallest stable chamber at "
-             "the configured step, converted to the largest step at this V; pressure: ω·T ≤ 1, TLM: the explicit "
-             "damper Zc·A²·Δt/m < 2).\n")
-    L.append("| mode | m [kg] | V [cm³] | ω [rad/s] | largest stable T [µs] | fe_server's estimate [µs] |\n|---|---|---|---|---|---|")
-    for r in smap:
-        largest = f"{r['largest']*1e6:g}" if r["largest"] else "< 1"
-        if r["largest"] == r["tested_to"]:
-            largest = f"≥ {largest}"
-        est = f"{r['estimate']*1e6:.1f}" if r["estimate"] else "n/a"
-        L.append(f"| {r['mode']} | {r['m']:g} | {r['V']*1e6:g} | {r['omega']:.0f} | {largest} | {est} |")
-    L.append("\n" + MAP_READING)
+    L.append("Scene one_dof (rigid piston, A = 10 cm², on a spring of 1 MN/m and a shut chamber of volume V, "
+             "β = 1.4 GPa), kicked at 0.1 m/s; ω² = β·A²/(V·m) + k/m. `bench/stability_map.py` runs every point "
+             "as two processes.\n")
+    tl = smap["tlm"]
+    n_stable = sum(1 for r in tl if r["stable"])
+    L.append(f"**TLM coupling: {n_stable} of {len(tl)} runs stable** (m = 0.05–5 kg, V = 0.1–100 cm³, T = 1–1000 µs, "
+             f"ω·T = {min(r['omega']*r['T'] for r in tl):.3g}–{max(r['omega']*r['T'] for r in tl):.3g}, k = 1 where "
+             "the FE step allows it and k = 10). Stable: the swing over the last quarter of the run is at most 1.5 "
+             "times that over the first (runs of ≥ 2000 steps and ≥ 10 periods). The step sets the accuracy: the "
+             "frequency error against the analytic ω grows as about 0.2·(ω·T)² (1 % at ω·T = 0.22; the TLM link "
+             "adds an oil inertance m·(ω·T)², a line's own mass). fe_server prints, per port, the chamber for which "
+             "that error stays below 1 %.\n")
+    L.append("| m [kg] | V [cm³] | T [µs] | k | ω·T | stable | frequency error [%] |\n|---|---|---|---|---|---|---|")
+    for r in tl:
+        if r["k"] == 10 and r["T"] <= 1e-4 and r["V"] in (1e-7, 1e-5):
+            cav = " (the kick cavitates this chamber: not the linear frequency)" if r.get("cavitates") else ""
+            L.append(f"| {r['m']:g} | {r['V']*1e6:g} | {r['T']*1e6:g} | {r['k']} | {r['omega']*r['T']:.3g} | "
+                     f"{'yes' if r['stable'] else '**no**'} | {r['err']:.2f}{cav} |")
+    L.append("\n(The table shows k = 10 for two volumes; `bench/results/stability_map.json` holds all runs. At "
+             "ω·T above about 3 the error is no longer small: the link's delay dominates and the frequency is "
+             "the loop's, not the piston's. With k = 1 the FE output is sampled every T, so above ω·T = π its "
+             "frequency is aliased. The 0.1 m/s kick swings the 0.1 cm³ chamber under 5 kg by 265 bar, below "
+             "vapour pressure: those runs are stable but not linear, and the plot leaves them out.)\n")
+    L.append("![TLM error against ω·T](results/stability_tlm_error.png)\n")
+    pr = smap["pressure"]
+    L.append("**Pressure coupling is bounded.** The largest stable step, bracketed on a ×1.1 grid (runs of "
+             "≥ 4000 steps and ≥ 30 periods; unstable: the swing grows by more than 10 %), beside the estimate "
+             "fe_server prints before the session (ω·T ≤ 1 with the fluid's ω):\n")
+    L.append("| m [kg] | V [cm³] | ω [rad/s] | stable at T [µs] | unstable at T [µs] | fe_server's estimate [µs] | "
+             "limit / estimate |\n|---|---|---|---|---|---|---|")
+    for r in pr:
+        lo, hi, est = r["stable_T"], r["unstable_T"], r["estimate"]
+        ratio = f"{lo/est:.2f}–{hi/est:.2f}" if lo and hi and est else "n/a"
+        L.append(f"| {r['m']:g} | {r['V']*1e6:g} | {r['omega']:.0f} | {lo*1e6 if lo else float('nan'):.3g} | "
+                 f"{hi*1e6 if hi else float('nan'):.3g} | {est*1e6 if est else float('nan'):.3g} | {ratio} |")
+    L.append("\nThe measured limit lies at ω·T ≈ 1.3–1.5 in every case: the estimate is inside ×1.5 of it, on the "
+             "safe side. The hammer sits far inside either way: cavity A at impact (40 cm³ under 14.4 kg, "
+             "ω ≈ 1,400 rad/s) gives ω·T = 0.14 at 100 µs.\n")
     L.append("![stability map](results/stability_map.png)\n")
+    L.append("**Why TLM coupling used to be bounded too.** The first TLM implementation took the port's flow from "
+             "the velocity at the start of the FE step, an explicit damper Zc·A² on the surface; with the host "
+             "volume's Zc = β·T/V that is the same delayed loop as pressure coupling, and the old map measured the "
+             "same limits for both modes. Measured with that build: m = 0.5 kg, V = 1 cm³ unstable at T = 100 µs "
+             "(ω·T = 5.3) with k = 1 and k = 10, and m = 0.5 kg, V = 100 cm³ unstable at 1 ms. fe_server now "
+             "solves p = c + Zc·q with q from the velocity at t_n (implicitly, a rank-one update per port; "
+             "`fe_server/src/cavity_load.hpp`). A linear model of the loop (`bench/coupling_loop_model.py`, "
+             "spectral radius ρ of one step) shows why that form and not the end-of-step velocity:\n")
+    L.append(loop_text + "\n")
+    L.append("(The model reproduces the TLM variants; for pressure coupling it puts the limit at ω·T = 1.0, "
+             "below the measured 1.3–1.5, so it misses some damping of the real loop.)\n")
+    L.append("## Cavitation that conserves oil\n")
+    L.append("A piston circuit (supply 100 bar, 1 mm² orifice, 10 cm³ chamber, 5 kg piston on a return spring; "
+             "`tests/tlm_host/cavitation_reference.py`, a CTest) against a continuous model with a void state. "
+             "The chamber cavitates four or five times after the launch; the piston then strokes at the orifice's "
+             "flow to its stop at 10 mm. A model that forgets the vapour volume creates that oil and reaches the "
+             "stop early.\n")
+    L.append("```\n" + cav_text + "\n```\n")
+    L.append("![cavitation](results/cavitation.png)\n")
     (ROOT / "bench" / "RESULTS.md").write_text("\n".join(L) + "\n")
     log(f"bench/RESULTS.md written ({(time.monotonic() - started) / 60:.1f} min)")
     shutil.rmtree(WORK, ignore_errors=True)

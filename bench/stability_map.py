@@ -51,6 +51,15 @@ def omega(m, V):
     return math.sqrt(BETA * AREA * AREA / (V * m) + SPRING / m)
 
 
+KICK, P0 = 0.1, 1e7  # the deck's initial velocity (m/s) and the chamber's pressure (Pa)
+
+
+def cavitates(m, V):
+    """The kick's pressure swing β·A·(v0/ω)/V exceeds the chamber's pressure:
+    the chamber cavitates and the oscillation is no longer the linear one."""
+    return BETA * AREA * KICK / (V * omega(m, V)) > P0
+
+
 def fe_stable_step(m):
     """The FE side's own limit (the spring on the piston), × TSSFAC 0.9."""
     return 0.9 * 2.0 / math.sqrt(SPRING / m)
@@ -147,7 +156,8 @@ def tlm_map(r, quick):
                         continue  # the FE step itself would be unstable: the FE refuses it
                     stable, f, _ = r.run("tlm", m, V, T, k)
                     err = 100 * (2 * math.pi * f / w - 1) if math.isfinite(f) else float("nan")
-                    rows.append({"m": m, "V": V, "T": T, "k": k, "omega": w, "stable": stable, "f": f, "err": err})
+                    rows.append({"m": m, "V": V, "T": T, "k": k, "omega": w, "stable": stable, "f": f, "err": err,
+                                 "cavitates": cavitates(m, V)})
                     log(f"  tlm m={m} V={V*1e6:g} cm3 T={T*1e6:g} us k={k}: "
                         f"{'stable' if stable else 'UNSTABLE'}, ωT = {w*T:.3g}, frequency error {err:.2f} %")
     return rows
@@ -194,26 +204,33 @@ def pressure_map(r, quick):
     return rows
 
 
+def finish(fig, ax, path, title, xlabel, ylabel, legend_size=8):
+    """Log-log axes, labels, grid, legend (when something is labelled); save and close."""
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    if ax.get_legend_handles_labels()[1]:
+        ax.legend(fontsize=legend_size)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def plots(tlm_rows, p_rows):
     OUT.mkdir(parents=True, exist_ok=True)
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for k, marker in ((1, "o"), (10, "s")):
-        sel = [x for x in tlm_rows if x["k"] == k and math.isfinite(x["err"])]
+        sel = [x for x in tlm_rows if x["k"] == k and math.isfinite(x["err"]) and not x["cavitates"]]
         ax.scatter([x["omega"] * x["T"] for x in sel], [max(abs(x["err"]), 1e-3) for x in sel], marker=marker,
                    s=18, label=f"tlm, k = {k}", alpha=0.7)
     bad = [x for x in tlm_rows if not x["stable"]]
     if bad:
         ax.scatter([x["omega"] * x["T"] for x in bad], [1e3] * len(bad), marker="x", color="C3", label="unstable")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("ω·T (coupling step against the piston's period)")
-    ax.set_ylabel("|frequency error| against analytic [%]")
-    ax.set_title("TLM coupling: stable for every step; the step sets the accuracy", fontsize=10)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(OUT / "stability_tlm_error.png", dpi=120)
-    plt.close(fig)
+    finish(fig, ax, OUT / "stability_tlm_error.png", "TLM coupling: stable for every step; the step sets the accuracy",
+           "ω·T (coupling step against the piston's period)", "|frequency error| against analytic [%]", 8)
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for m, color in zip(MASSES, ("C0", "C1", "C2")):
@@ -224,16 +241,8 @@ def plots(tlm_rows, p_rows):
                 label=f"pressure, m = {m} kg: largest stable T")
         ax.plot([x["V"] * 1e6 for x in sel], [x["estimate"] or np.nan for x in sel], "x:", color=color,
                 label=f"pressure, m = {m} kg: fe_server's estimate")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("chamber volume V [cm³]")
-    ax.set_ylabel("coupling step T [s]")
-    ax.set_title("Pressure coupling: the largest stable step (TLM: no limit found up to 1 ms)", fontsize=10)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(OUT / "stability_map.png", dpi=120)
-    plt.close(fig)
+    finish(fig, ax, OUT / "stability_map.png", "Pressure coupling: the largest stable step (TLM: no limit found up to 1 ms)",
+           "chamber volume V [cm³]", "coupling step T [s]", 7)
 
 
 def stability_map(fe_server, tlm_host, fmugen, quick=False):

@@ -31,7 +31,7 @@ the TLM chamber answers the piston one step late, an error first order in
 ω·Δt (measured: 1.4 % at 1 µs, 13 % at 10 µs). The events are listed, not
 judged: the reference's fifth event is a 0.07 ms flicker.
 
-Usage: cavitation_reference.py TLM_HOST_EXE WORK_DIR
+Usage: cavitation_reference.py TLM_HOST_EXE WORK_DIR [--plot PNG]
 Exit 0: pass; 1: a check failed; 77: scipy or h5py missing (skipped).
 """
 import math
@@ -87,8 +87,10 @@ def stop_force(x, v):
     return max(0.0, K_STOP * pen + C_STOP * v)
 
 
-def reference():
-    """Returns arrays t, x, p, void on a fine grid."""
+def reference(conserve=True):
+    """Returns arrays t, x, p, void on a fine grid. conserve=False is the
+    model that forgets the void (the pressure is held at p_vap only while
+    oil flows out faster than it comes in), i.e. creates the missing oil."""
     ts, xs, ps, vs = [], [], [], []
     # state: x, v, p (liquid phase) or x, v, void (vapour phase)
     t, state, vapour = 0.0, [0.0, 0.0, P_S], False
@@ -105,8 +107,12 @@ def reference():
                 x, v, void = y
                 return [v, (A * P_VAP - F0 - K * x - stop_force(x, v)) / M, A * v - q_in(P_VAP)]
 
-            def ev(_, y):
-                return y[2]
+            if conserve:
+                def ev(_, y):
+                    return y[2]
+            else:
+                def ev(_, y):
+                    return A * y[1] - q_in(P_VAP)
         ev.terminal, ev.direction = True, -1
         sol = solve_ivp(f, (t, T_END), state, method="Radau", events=ev, rtol=1e-10, atol=[1e-12, 1e-10, 1e-3 if not vapour else 1e-16],
                         max_step=2e-5, dense_output=False)
@@ -149,6 +155,7 @@ def stroke_pressure(t, p, t_stop):
 
 def main():
     host, work = sys.argv[1], Path(sys.argv[2])
+    plot = sys.argv[sys.argv.index("--plot") + 1] if "--plot" in sys.argv else None
     work.mkdir(parents=True, exist_ok=True)
     t, x, p, void = reference()
     t_ref = stop_time(t, x)
@@ -158,6 +165,7 @@ def main():
     print(f"reference: stop at {t_ref*1e3:.3f} ms, stroke pressure {p_ref/1e5:.3f} bar, "
           f"final {p_end_ref/1e5:.3f} bar, largest void {void_ref*1e6:.4f} cm³")
     ok = True
+    runs = {}
     for dt in (1e-6, 1e-5):
         model = work / f"cav_{dt:g}.tlm"
         model.write_text(MODEL.format(dt=dt, log_every=max(1, round(1e-5 / dt))))
@@ -171,6 +179,7 @@ def main():
             ph, vh = f["components/chamber/p_mean"][:], f["components/chamber/V_void"][:]
         t_h = stop_time(th, xh)
         p_h = stroke_pressure(th, ph, t_h)
+        runs[dt] = (th, xh, vh, t_h)
         checks = [
             ("stop time [ms]", t_h * 1e3, t_ref * 1e3, abs(t_h - t_ref) <= 2e-4),
             ("stroke pressure [bar]", p_h / 1e5, p_ref / 1e5, abs(p_h / p_ref - 1) <= 0.01),
@@ -184,7 +193,43 @@ def main():
         cav = [line for line in r.stderr.splitlines() if "cavitation" in line]
         print("  " + (cav[0] if cav else "no cavitation reported"))
         ok &= bool(cav)
+    if plot:
+        draw(plot, (t, x, void, t_ref), runs)
     return 0 if ok else 1
+
+
+def draw(path, ref, runs):
+    """Piston travel and vapour volume: the conserving reference, the
+    oil-creating one, and tlm_host; the stop times in the legend."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    tf, xf, vf, _ = reference(conserve=False)
+    t_forget = stop_time(tf, xf)
+    t, x, void, t_ref = ref
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 3.8))
+    a1.plot(t * 1e3, x * 1e3, "k-", lw=2, label=f"continuous, void kept: stop {t_ref*1e3:.2f} ms")
+    a1.plot(tf * 1e3, xf * 1e3, "C3--", label=f"continuous, void forgotten: stop {t_forget*1e3:.2f} ms")
+    for (dt, (th, xh, vh, t_h)), style in zip(sorted(runs.items()), ("C0:", "C2-.")):
+        a1.plot(th * 1e3, xh * 1e3, style, label=f"tlm_host {dt*1e6:g} µs: stop {t_h*1e3:.2f} ms")
+        a2.plot(th * 1e3, vh * 1e6, style, label=f"tlm_host {dt*1e6:g} µs")
+    a2.plot(t * 1e3, void * 1e6, "k-", lw=2, alpha=0.6, label="continuous, void kept")
+    a1.set_xlim(t_ref * 1e3 - 3, t_ref * 1e3 + 1)
+    a1.set_ylim(9.6, 10.05)
+    a1.set_xlabel("t [ms]")
+    a1.set_ylabel("piston x [mm]")
+    a1.set_title("End of stroke", fontsize=10)
+    a1.legend(fontsize=7)
+    a2.set_xlim(0, 10)
+    a2.set_xlabel("t [ms]")
+    a2.set_ylabel("vapour volume [cm³]")
+    a2.set_title("Cavitation after the launch", fontsize=10)
+    a2.legend(fontsize=7)
+    for a in (a1, a2):
+        a.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    print(f"oil-creating model: stop at {t_forget*1e3:.3f} ms ({(t_forget - t_ref)*1e3:+.3f} ms); plot {path}")
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "components/HydraulicTurbulentOrificeQ.hpp"
+#include "components/rigid_body.hpp"
 #include "fmu_importer.hpp"
 #include "model.hpp"
 #include "process.hpp"
@@ -41,6 +42,28 @@ TEST(TurbulentOrifice, ExactSolutionSatisfiesTheOrificeEquation) {
         EXPECT_DOUBLE_EQ(x, K * std::sqrt(D)) << "stiff nodes: the plain orifice law";
       }
     }
+  }
+}
+
+TEST(StableStep, AnExplicitStopWithADamperIsStableJustBelowItsLimitAndGrowsJustAbove) {
+  // The components step stops as F = −k·x − c·v with v of the last step,
+  // v⁺ = v + Δt·F/m, x⁺ = x + Δt·v⁺. ±2 % around the advertised limit must
+  // separate decay from growth, for light to heavy damping (the spool's
+  // stop is ζ = 0.79: its limit is 0.48 of the undamped 2/ω).
+  const double k = 5e7, m = 0.2;
+  for (double zeta : {0.3, 0.79, 2.0}) {
+    const double c = 2.0 * zeta * std::sqrt(k * m);
+    const double limit = tlm::spring_damper_stable_step(k, c, m);
+    auto final_amplitude = [&](double dt) {
+      double x = 1e-3, v = 0.0;
+      for (int i = 0; i < 20000 && std::fabs(x) < 1.0; ++i) {
+        v += dt * (-k * x - c * v) / m;
+        x += dt * v;
+      }
+      return std::fabs(x);
+    };
+    EXPECT_LT(final_amplitude(0.98 * limit), 1e-3) << "ζ = " << zeta;
+    EXPECT_GT(final_amplitude(1.02 * limit), 1e-3) << "ζ = " << zeta;
   }
 }
 

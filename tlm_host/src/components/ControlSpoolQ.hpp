@@ -33,7 +33,7 @@ struct SpoolMechanics {
     F -= stop_force(x - stroke, v, k_stop, c_stop);   // stop at the stroke pushes −x
     return F;
   }
-  double stable_step() const { return 2.0 / std::sqrt(k_stop / m); }
+  double stable_step() const { return spring_damper_stable_step(k_stop, c_stop, m); }
 };
 
 class ControlSpoolQ : public Component {
@@ -54,19 +54,14 @@ class ControlSpoolQ : public Component {
   }
   void initialize(double dt) override { dt_ = dt; }
   void simulate_one_step(double) override {
-    double F = mech_.force(x_, v_);
-    double B = mech_.b;
-    face_forces(ports_, faces_, F, B);
-    v_ = (mech_.m * v_ + dt_ * F) / (mech_.m + dt_ * B);
-    x_ += dt_ * v_;
-    face_outputs(ports_, faces_, v_);
+    advance_body(ports_, faces_, mech_.m, dt_, mech_.force(x_, v_), mech_.b, x_, v_);
   }
   void log_variables(std::vector<LogVariable>& out) override {
     out.push_back({"x", "m", &x_});
     out.push_back({"v", "m/s", &v_});
   }
   double stable_step(std::string* why) const override {
-    if (why) *why = name_ + ": end stop k_stop on mass m";
+    if (why) *why = name_ + ": end stop k_stop, c_stop on mass m";
     return mech_.stable_step();
   }
 
@@ -105,7 +100,7 @@ class SpoolMechanicsSignal : public Component {
     out.push_back({"F", "N", &F_});
   }
   double stable_step(std::string* why) const override {
-    if (why) *why = name_ + ": end stop k_stop on mass m (explicit, lagged one step)";
+    if (why) *why = name_ + ": end stop k_stop, c_stop on mass m (explicit, lagged one step)";
     return mech_.stable_step();
   }
 

@@ -35,12 +35,7 @@ class HammerPistonQ : public Component {
   }
   void simulate_one_step(double t) override {
     const double pA = ports_[0].node->p, pB = ports_[1].node->p;  // last step's, for the friction
-    double F = mech_.step(t, x_, v_, pA, pB);
-    double B = 0.0;
-    face_forces(ports_, faces_, F, B);
-    v_ = (mech_.m * v_ + dt_ * F) / (mech_.m + dt_ * B);
-    x_ += dt_ * v_;
-    face_outputs(ports_, faces_, v_);
+    advance_body(ports_, faces_, mech_.m, dt_, mech_.step(t, x_, v_, pA, pB), 0.0, x_, v_);
   }
   void log_variables(std::vector<LogVariable>& out) override {
     out.push_back({"x", "m", &x_});

@@ -91,14 +91,20 @@ struct PercussionMechanics {
     return F;
   }
   double stable_step(std::string* why, const std::string& name) const {
-    // Explicit one-sided springs: central-difference-like limit 2/ω.
+    // Explicit one-sided spring-dampers (rigid_body.hpp).
     const double m_eff = m * m_tool / (m + m_tool);
-    double om = lumped_tool ? std::sqrt(k_contact / m_eff) : 0.0;
-    std::string what = "piston-tool contact";
-    if (lumped_tool && std::sqrt(k_rock / m_tool) > om) om = std::sqrt(k_rock / m_tool), what = "rock spring under the tool";
-    if (std::sqrt(k_cushion / m) > om) om = std::sqrt(k_cushion / m), what = "top cushion";
+    double dt_max = 1e300;
+    std::string what;
+    auto consider = [&](double step, const char* name_of) {
+      if (step < dt_max) dt_max = step, what = name_of;
+    };
+    if (lumped_tool) {
+      consider(spring_damper_stable_step(k_contact, c_contact, m_eff), "piston-tool contact");
+      consider(spring_damper_stable_step(k_rock, c_rock, m_tool), "rock spring under the tool");
+    }
+    consider(spring_damper_stable_step(k_cushion, c_cushion, m), "top cushion");
     if (why) *why = name + ": " + what;
-    return 2.0 / om;
+    return dt_max;
   }
 };
 

@@ -43,21 +43,17 @@ class SpringPistonQ : public Component {
   void simulate_one_step(double) override {
     double F = -(F0_ + k_ * x_) - stop_force(x_ - x_max_, v_, k_stop_, c_stop_) +
                stop_force(x_min_ - x_, -v_, k_stop_, c_stop_);
-    double B = b_;
-    face_forces(ports_, faces_, F, B);
-    v_ = (m_ * v_ + dt_ * F) / (m_ + dt_ * B);
-    x_ += dt_ * v_;
-    face_outputs(ports_, faces_, v_);
+    advance_body(ports_, faces_, m_, dt_, F, b_, x_, v_);
   }
   void log_variables(std::vector<LogVariable>& out) override {
     out.push_back({"x", "m", &x_});
     out.push_back({"v", "m/s", &v_});
   }
   double stable_step(std::string* why) const override {
-    // Explicit spring and stops: ω·Δt < 2 with ω² = (k + k_stop)/m.
-    if (why) *why = name_ + ": spring and end stop (k + k_stop = " + std::to_string(k_ + k_stop_) + " N/m on " +
-                    std::to_string(m_) + " kg)";
-    return 2.0 / std::sqrt((k_ + k_stop_) / m_);
+    // Explicit spring and stops (the viscous b is implicit).
+    if (why) *why = name_ + ": spring and end stop (k + k_stop = " + std::to_string(k_ + k_stop_) + " N/m, c_stop = " +
+                    std::to_string(c_stop_) + " N·s/m on " + std::to_string(m_) + " kg)";
+    return spring_damper_stable_step(k_ + k_stop_, c_stop_, m_);
   }
 
  private:

@@ -8,6 +8,7 @@
 //   v⁺ = (m·v + Δt·F_explicit) / (m + Δt·Σ Zc·A²),   x⁺ = x + Δt·v⁺.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "component.hpp"
@@ -37,6 +38,28 @@ inline void face_outputs(std::vector<Port>& ports, const std::vector<HydraulicFa
     n.q = f.sign * f.area * v;
     n.p = n.c + n.Zc * n.q;
   }
+}
+
+// Largest stable step of a spring k and damper c on a mass m integrated
+// explicitly: (2/ω)·(√(1 + ζ²) − ζ), ω² = k/m, ζ = c/(2·√(k·m)), the
+// central-difference limit with viscous damping (Belytschko, Liu & Moran,
+// Nonlinear Finite Elements, §6.3). A strong damper lowers it below 2/ω.
+inline double spring_damper_stable_step(double k, double c, double m) {
+  if (!(k > 0.0) || !(m > 0.0)) return 1e300;
+  const double omega = std::sqrt(k / m), zeta = c / (2.0 * std::sqrt(k * m));
+  return 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+}
+
+// One step of a body with hydraulic faces: F and B hold the explicit force
+// and the implicit damping of everything but the faces; the faces add theirs,
+// then v⁺ = (m·v + Δt·F)/(m + Δt·B), x⁺ = x + Δt·v⁺, and the faces' flows
+// and pressures follow from v⁺.
+inline void advance_body(std::vector<Port>& ports, const std::vector<HydraulicFace>& faces, double m, double dt,
+                         double F, double B, double& x, double& v) {
+  face_forces(ports, faces, F, B);
+  v = (m * v + dt * F) / (m + dt * B);
+  x += dt * v;
+  face_outputs(ports, faces, v);
 }
 
 // One-sided spring-damper force of an end stop or contact: it only pushes.

@@ -226,6 +226,8 @@ def plots(tlm_rows, p_rows):
         sel = [x for x in tlm_rows if x["k"] == k and math.isfinite(x["err"]) and not x["cavitates"]]
         ax.scatter([x["omega"] * x["T"] for x in sel], [max(abs(x["err"]), 1e-3) for x in sel], marker=marker,
                    s=18, label=f"tlm, k = {k}", alpha=0.7)
+    wt = np.logspace(-3, 0.5, 50)
+    ax.plot(wt, 100 * 0.2 * wt ** 2, "k:", lw=1, label="0.2·(ω·T)²")
     bad = [x for x in tlm_rows if not x["stable"]]
     if bad:
         ax.scatter([x["omega"] * x["T"] for x in bad], [1e3] * len(bad), marker="x", color="C3", label="unstable")
@@ -269,7 +271,12 @@ def main():
     ap.add_argument("--tlm-host", default=build / "tlm_host/tlm_host")
     ap.add_argument("--fmugen", default=build / "fmugen/fmugen")
     ap.add_argument("--only", choices=["tlm", "pressure"])
+    ap.add_argument("--replot", action="store_true", help="redraw the plots from bench/results/stability_map.json")
     a = ap.parse_args()
+    if a.replot:
+        d = json.loads((OUT / "stability_map.json").read_text())
+        plots(d["tlm"], d["pressure"])
+        return
     if a.only:
         work = tempfile.mkdtemp(prefix="pcs_map_")
         r = Runner(str(a.fe_server), str(a.tlm_host), str(a.fmugen), work)

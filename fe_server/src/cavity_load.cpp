@@ -111,7 +111,7 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
       total += a;
     }
     area_vector_[i] = total;
-    if (tlm_[i]) continue;  // solved at the end-of-step velocity, in apply_implicit
+    if (tlm_[i]) continue;  // solved with the velocity of t_n, in apply_implicit
     for (size_t s = 0; s < ps.segments.size(); ++s) {
       const Segment& seg = ps.segments[s];
       const int nc = corners(seg);

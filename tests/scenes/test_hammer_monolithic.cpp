@@ -67,3 +67,20 @@ TEST(StabilityAdvisor, WarnsWhenTheStepExceedsAComponentsLimit) {
   ASSERT_FALSE(w.empty());
   EXPECT_NE(w.front().find("exceeds the stable step"), std::string::npos) << w.front();
 }
+
+// Above 61 µs the spool's damped end stop (5e7 N/m, 5000 N·s/m on 0.2 kg) is
+// unstable in the host's explicit step: (2/ω)(√(1+ζ²) − ζ) with ζ = 0.79.
+// tlm_host must say so before the run, naming the spool.
+TEST(HammerMonolithic, AStepAboveTheSpoolStopsLimitIsWarnedNamingTheSpool) {
+  testing_support::TempDir dir;
+  for (const char* step : {"5e-5", "1e-4"}) {
+    testing_support::ChildProcess host({PCS_TLM_HOST_EXE, PCS_SCENES_DIR "/hammer_monolithic/model.tlm", "--set",
+                                        std::string("simulation.timestep=") + step, "--set",
+                                        "simulation.stoptime=1e-3", "--out", dir.file("r.h5")});
+    host.wait(60.0);
+    const std::string out = host.output();
+    const bool warned = out.find("exceeds the stable step 6.12") != std::string::npos &&
+                        out.find("of spool: end stop") != std::string::npos;
+    EXPECT_EQ(warned, std::string(step) == "1e-4") << step << ":\n" << out;
+  }
+}

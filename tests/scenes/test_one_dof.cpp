@@ -136,7 +136,7 @@ TEST(OneDofScene, SettlesInTheStaticEquilibrium) {
   EXPECT_NEAR(pm, p_supply, 1e-3 * p_supply);
 }
 
-TEST(OneDofScene, TlmCouplingWithSubcyclingKeepsTheFrequencyAndLosesTheDamping) {
+TEST(OneDofScene, TlmCouplingKeepsTheFrequencyAndTheAmplitudeWithAndWithoutSubcycling) {
   const Analytic a = scene_parameters();
   // TLM mode with k = 1 and k = 10 FE steps per coupling step: k = 10 needs
   // its own port table (subcycles are part of the handshake) and FMU.
@@ -161,15 +161,25 @@ TEST(OneDofScene, TlmCouplingWithSubcyclingKeepsTheFrequencyAndLosesTheDamping) 
   EXPECT_NEAR(f1 / f_exact - 1.0, 0.0, tol);
   EXPECT_NEAR(f10 / f_exact - 1.0, 0.0, tol);
   EXPECT_NEAR(f10 / f1 - 1.0, 0.0, tol) << "k = 10 against k = 1";
-  // The chamber is closed: the oscillation should keep its amplitude. With k = 10
-  // the FE side resolves the Zc·q term within the coupling step, so the
-  // first-order damping of the coupling (k = 1: ~40 % in 0.1 s) all but vanishes.
+  // The chamber is closed and the TLM port is solved with the velocity of
+  // t_n, a lossless loop (bench/coupling_loop_model.py): the oscillation keeps
+  // its amplitude with k = 1 and k = 10. (The first, explicit port damped
+  // k = 1 by ~40 % in 0.1 s.) Each series is split into its own quarters:
+  // k = 10 records ten FE steps per coupling step.
   auto amplitude = [](const std::vector<double>& x, size_t from, size_t to) {
     double m = 0;
     for (size_t i = from; i < to; ++i) m = std::max(m, std::fabs(x[i]));
     return m;
   };
-  const size_t q = x10.size() / 4;
-  EXPECT_GT(amplitude(x10, 3 * q, x10.size()) / amplitude(x10, 0, q), 0.9);
-  EXPECT_LT(amplitude(x1, 3 * q, x1.size()) / amplitude(x1, 0, q), 0.75) << "k = 1 is damped: the test can tell";
+  auto kept = [&](const std::vector<double>& x) {
+    const size_t q = x.size() / 4;
+    return amplitude(x, 3 * q, x.size()) / amplitude(x, 0, q);
+  };
+  // 0.98: the peaks are sampled every FE step, ω·Δt = 0.017 at k = 1, so a
+  // sampled peak lies within 1 − cos(ω·Δt/2) = 4e-5 of the true one; the rest
+  // is the slow leak of the shut orifice (1e-12 m²).
+  EXPECT_GT(kept(x1), 0.98) << "k = 1";
+  EXPECT_GT(kept(x10), 0.98) << "k = 10";
+  EXPECT_LT(kept(x1), 1.02) << "k = 1 must not grow";
+  EXPECT_LT(kept(x10), 1.02) << "k = 10 must not grow";
 }

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -48,6 +49,9 @@ double parse_real(const std::string& text, const SourceLocation& where, const st
   double v = std::strtod(t.c_str(), &end);
   if (t.empty() || end != t.c_str() + t.size() || errno == ERANGE)
     throw InputError(where, what + ": expected a number, got '" + trim(text) + "'");
+  // No input of this project means infinity or NaN; either would only
+  // surface later as a deadline already past or an unstable state.
+  if (!std::isfinite(v)) throw InputError(where, what + ": expected a finite number, got '" + trim(text) + "'");
   return v;
 }
 

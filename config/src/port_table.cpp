@@ -180,7 +180,8 @@ PortTable parse_port_table(const std::string& text, const std::string& name) {
           t.subcycles = static_cast<int>(k);
         } else if (key == "timeout") {
           t.timeout = c.real(1, "timeout");
-          if (!(t.timeout > 0.0)) c.fail("timeout must be positive (seconds)");
+          if (!(t.timeout > 0.0 && t.timeout <= 1e6))
+            c.fail("timeout must be from 0 to 1e6 seconds (deadlines are kept in milliseconds)");
         } else {
           c.fail("unknown setting '" + c.fields[0] +
                  "': expected model, server, timestep, mode, subcycles or timeout");

@@ -1,6 +1,7 @@
 #include "coupling_server.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -170,8 +171,13 @@ void CouplingServer::bind() {
     {
       std::ofstream f(tmp);
       f << port_ << "\n";
+      if (!f.flush()) throw std::runtime_error("--port-file: cannot write '" + tmp + "'");
     }
-    std::rename(tmp.c_str(), opt_.port_file.c_str());
+    if (std::rename(tmp.c_str(), opt_.port_file.c_str()) != 0) {
+      const std::string why = std::strerror(errno);
+      std::remove(tmp.c_str());
+      throw std::runtime_error("--port-file: cannot write '" + opt_.port_file + "': " + why);
+    }
   }
 }
 

@@ -46,13 +46,14 @@ History::~History() = default;
 
 size_t History::snapshots() const { return fields_ ? fields_->snapshots() : 0; }
 
-std::string History::energy_summary(const Solver& s, bool* exceeded) const {
+std::string History::energy_summary(const Solver& s, bool* exceeded, bool* failed) const {
   const double err = s.energies().balance_error;
   const double scale = std::max(energy_scale_, 1e-300);
   char buf[200];
   std::snprintf(buf, sizeof buf, "energy balance error %.4g J (%.3g %% of %.4g J, bound 1 %%)", err,
                 100.0 * std::fabs(err) / scale, energy_scale_);
   if (exceeded) *exceeded = std::fabs(err) > 0.01 * scale && energy_scale_ > 0.0;
+  if (failed) *failed = std::fabs(err) > kEnergyFailFactor * 0.01 * scale && energy_scale_ > 0.0;
   return buf;
 }
 

@@ -71,6 +71,19 @@ void prepare_step(fe::Model& model, double dt, bool quiet) {
               << r.summary();
 }
 
+// Exit code from the energy balance: a warning above its bound, a failure
+// (exit 8) far above it, where the state cannot be trusted.
+fe::ExitCode energy_verdict(const std::string& energy, bool drift, bool failed) {
+  if (failed) {
+    std::cerr << "fe_server: the " << energy << " is more than " << fe::History::kEnergyFailFactor
+              << " times its bound: the run is not to be trusted (check contacts, hourglass energy and mass scaling); "
+                 "the history is kept\n";
+    return fe::kExitNumerical;
+  }
+  if (drift) std::cerr << "fe_server: warning: the " << energy << " exceeds its bound: check contacts and hourglass energy\n";
+  return fe::kExitOk;
+}
+
 int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
   if (!(model.end_time > 0.0)) {
     std::cerr << "fe_server: " << model.source
@@ -106,16 +119,15 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
   }
   history.flush();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  bool drift = false;
-  const std::string energy = history.energy_summary(solver, &drift);
+  bool drift = false, failed = false;
+  const std::string energy = history.energy_summary(solver, &drift, &failed);
   if (!quiet)
     std::cout << "fe_server: standalone run, " << steps << " steps of " << dt << " s (limited by " << crit.limited_by
               << "), " << wall << " s wall; " << energy << "; " << history.rows() << " history rows, "
               << history.snapshots() << " field snapshots in " << out << "\n";
-  if (drift) std::cerr << "fe_server: warning: the " << energy << " exceeds its bound: check contacts and hourglass energy\n";
   const std::string hourglass = fe::hourglass_warning(solver.energies());
   if (!hourglass.empty()) std::cerr << "fe_server: warning: " << hourglass << "\n";
-  return fe::kExitOk;
+  return energy_verdict(energy, drift, failed);
 }
 
 }  // namespace
@@ -137,8 +149,9 @@ int main(int argc, char** argv) {
         token_given = true;
       } else if (args.is("--port-file")) opt.port_file = args.value();
       else if (args.is("--out")) out = args.value();
-      else if (args.is("--accept-timeout")) opt.accept_timeout = args.real();
-      else if (args.is("--step-timeout")) opt.step_timeout = args.real();
+      // Deadlines are kept in milliseconds: up to 10⁶ s (11 days) keeps them exact.
+      else if (args.is("--accept-timeout")) opt.accept_timeout = args.real(1e-3, 1e6);
+      else if (args.is("--step-timeout")) opt.step_timeout = args.real(1e-3, 1e6);
       else if (args.is("--quiet")) opt.quiet = true;
       else if (args.is("-h") || args.is("--help")) return usage(std::cout, fe::kExitOk);
       else args.unknown();
@@ -199,13 +212,15 @@ int main(int argc, char** argv) {
     fe::ExitCode code = server.run(solver, ports, *history, message);
     history->flush();
     if (code == fe::kExitOk) {
+      bool drift = false, failed = false;
+      const std::string energy = history->energy_summary(solver, &drift, &failed);
       if (!opt.quiet) {
         std::cout << "fe_server: " << message << "\n"
-                  << "fe_server: " << history->energy_summary(solver, nullptr) << "; history (" << history->rows()
-                  << " rows) in " << out << std::endl;
+                  << "fe_server: " << energy << "; history (" << history->rows() << " rows) in " << out << std::endl;
       }
       const std::string hourglass = fe::hourglass_warning(solver.energies());
       if (!hourglass.empty()) std::cerr << "fe_server: warning: " << hourglass << "\n";
+      code = energy_verdict(energy, drift, failed);
     } else {
       std::cerr << "fe_server: " << message << "; history up to the last completed step (" << history->rows()
                 << " rows) kept in " << out << std::endl;

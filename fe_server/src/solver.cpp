@@ -275,7 +275,8 @@ void Solver::user_loads() {
   f_ext_prev_.swap(f_ext_);
   for (auto& f : f_ext_) f.setZero();
   if (user_load_) user_load_->apply(t_, x_, v_, f_ext_);
-  energies_.external_work += step_work(f_ext_prev_, f_ext_);
+  // Their work is accounted in energy_account, once stage 7 has added the
+  // forces that depend on v_{n+1/2}.
 }
 
 void Solver::contact() {
@@ -335,7 +336,8 @@ void Solver::implicit_loads() {
   user_load_->apply_implicit(mob, v_prev_, v_, implicit_forces_);
   if (implicit_forces_.empty()) return;
   // The forces join f_ext (their work is accounted with the other user
-  // loads) and correct the velocity of whatever moves with their node.
+  // loads, in energy_account) and correct the velocity of whatever moves
+  // with their node.
   const size_t n = x_.size();
   for (const NodalForce& nf : implicit_forces_) {
     const size_t i = static_cast<size_t>(nf.node);
@@ -363,6 +365,8 @@ void Solver::positions() {
 }
 
 void Solver::energy_account() {
+  // Work of the user loads over the last step, f_n complete (stages 2 and 7).
+  energies_.external_work += step_work(f_ext_prev_, f_ext_);
   // Kinetic energy at t_n from the mean of v_{n-1/2} and v_{n+1/2}
   // (v_0 on the first step), rigid bodies once with their whole mass.
   double ke = 0.0;

@@ -6,6 +6,7 @@
 // (pressure coupling) diverges.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -114,7 +115,7 @@ std::vector<fe::Vec3> mean(const std::vector<fe::Vec3>& a, const std::vector<fe:
 // Steps the model with the given waves and impedances held and checks
 // p = c + Zc·q with q from the velocity at t_n, for every port and step.
 void expect_port_equation_holds(const std::string& deck, int ports, double dt, const std::vector<double>& c,
-                                const std::vector<double>& Zc) {
+                                const std::vector<double>& Zc, bool check_energy = true) {
   fe::Model m = fe::parse_deck(deck, "deck.k");
   m.loading_sets.resize(static_cast<size_t>(ports));  // the faces beyond `ports` stay dry
   config::PortTable t = table(ports);
@@ -122,6 +123,7 @@ void expect_port_equation_holds(const std::string& deck, int ports, double dt, c
   for (int k = 0; k < ports; ++k) load.set_wave(k, c[static_cast<size_t>(k)], Zc[static_cast<size_t>(k)]);
   fe::Solver s(m, dt);
   s.set_user_load(&load);
+  double scale = 0.0;  // the largest energy the run held
   for (int n = 0; n < 200; ++n) {
     const std::vector<fe::Vec3> before = s.v();
     s.step();
@@ -137,27 +139,43 @@ void expect_port_equation_holds(const std::string& deck, int ports, double dt, c
       EXPECT_NEAR(load.step_flow(k, s.v()), q, 1e-12 * (std::fabs(q) + 1e-9)) << "the flow the host receives";
       ASSERT_TRUE(std::isfinite(p));
     }
+    const fe::Energies& e = s.energies();
+    scale = std::max({scale, std::fabs(e.kinetic), std::fabs(e.internal), std::fabs(e.external_work)});
   }
+  // The port's forces do work that the account must see (it is summed once
+  // the implicit stage has added them): within fe_server's own bound, 1 % of
+  // the largest energy. The account (trapezoidal work, kinetic energy from
+  // the mean of the half-step velocities) follows only motion that is smooth
+  // over a step: where the port's damping h·Zc·A²/m is not small, the body
+  // stops within a step or two and the account misses it, so those cases
+  // check the port equation only. (A single hex suddenly loaded by a constant
+  // pressure misses 16 % with Zc = 0 too: its modes sit near the step's limit.)
+  if (check_energy)
+    EXPECT_LT(std::fabs(s.energies().balance_error), 0.01 * scale)
+        << "balance error " << s.energies().balance_error << " J of " << scale << " J";
 }
 
 }  // namespace
 
 TEST(TlmPort, OnARigidBodyThePressureThatActedIsCPlusZcTimesTheFlowOfItsStep) {
-  // Zc·A²·Δt/m = 1e11·1e-6·1e-6/1 = 0.1 per step... and 1e13 makes it 10: an
-  // explicit damper of that size diverges at once; the implicit port holds.
-  for (double Zc : {1e11, 1e13}) expect_port_equation_holds(kBlock, 1, 1e-6, {5e6}, {Zc});
+  // Zc·A²·Δt/m = 1e11·1e-6·1e-6/1 = 0.1; 1e13 makes it 10: an explicit
+  // damper of that size diverges at once; the implicit port holds.
+  expect_port_equation_holds(kBlock, 1, 1e-6, {5e6}, {1e11});
+  expect_port_equation_holds(kBlock, 1, 1e-6, {5e6}, {1e13}, false);
 }
 
 TEST(TlmPort, TwoPortsOnOneBodyAreSolvedTogether) {
   // The block's two faces are coupled through the body's mobility: solving
   // each port alone would miss the other's force and break the equation.
-  expect_port_equation_holds(kBlock, 2, 1e-6, {5e6, 2e6}, {3e12, 7e11});
+  expect_port_equation_holds(kBlock, 2, 1e-6, {5e6, 2e6}, {5e10, 3e10});  // h·ΣZc·A²/m = 0.08
+  expect_port_equation_holds(kBlock, 2, 1e-6, {5e6, 2e6}, {3e12, 7e11}, false);
 }
 
 TEST(TlmPort, OnFreeNodesOfAnElasticBodyTheRankOneUpdateIsExact) {
   fe::Model m = fe::parse_deck(kHex, "hex.k");
   const double dt = 0.5 * fe::Solver::stable_dt(m).dt;
-  expect_port_equation_holds(kHex, 1, dt, {1e6}, {1e10});
+  expect_port_equation_holds(kHex, 1, dt, {1e6}, {1e10}, false);
+  expect_port_equation_holds(kHex, 1, dt, {1e6}, {1e12}, false);
 }
 
 TEST(TlmPort, ALoopThroughAStiffHostVolumeStaysBoundedWherePressureCouplingDiverges) {

@@ -1,5 +1,7 @@
 #include "component.hpp"
 
+#include <cmath>
+
 namespace tlm {
 
 void ParameterSet::set(const std::string& key, const std::string& value, const config::SourceLocation& where) {
@@ -26,6 +28,17 @@ double ParameterSet::positive(const std::string& key, double fallback) {
                              "parameter " + key + " must be positive, got " + std::to_string(v));
   }
   return v;
+}
+
+int ParameterSet::integer(const std::string& key, int fallback, int lo, int hi) {
+  const double v = real(key, fallback);
+  if (!(v >= lo && v <= hi) || v != std::floor(v)) {
+    auto it = values_.find(key);
+    throw config::InputError(it != values_.end() ? it->second.where : where_,
+                             "parameter " + key + " must be a whole number from " + std::to_string(lo) + " to " +
+                                 std::to_string(hi) + ", got " + (it != values_.end() ? it->second.value : ""));
+  }
+  return static_cast<int>(v);
 }
 
 std::string ParameterSet::text(const std::string& key, const std::string& fallback) {

@@ -51,6 +51,8 @@ class ParameterSet {
   double real(const std::string& key, double fallback);
   double real(const std::string& key);  // required
   double positive(const std::string& key, double fallback);
+  // A whole number from lo to hi (a port count, ...): 2.5 or 5.8e9 is refused.
+  int integer(const std::string& key, int fallback, int lo, int hi);
   std::string text(const std::string& key, const std::string& fallback);
   void check_all_used(const std::string& component) const;
   const config::SourceLocation& where() const { return where_; }

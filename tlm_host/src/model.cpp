@@ -19,6 +19,22 @@ ComponentSpec* ModelSpec::find(const std::string& name) {
   return nullptr;
 }
 
+// log_every as an int: 1 to 10⁹ (a larger one would wrap).
+static int log_every_in_range(long n, const config::SourceLocation& where) {
+  if (n < 1 || n > 1000000000L)
+    throw config::InputError(where, "log_every must be from 1 to 1e9, got " + std::to_string(n));
+  return static_cast<int>(n);
+}
+
+void ModelSpec::check_simulation(const config::SourceLocation& where) const {
+  if (!(dt > 0.0)) throw config::InputError(where, "*SIMULATION needs 'timestep, SECONDS' > 0");
+  if (!(stop_time > 0.0)) throw config::InputError(where, "*SIMULATION needs 'stoptime, SECONDS' > 0");
+  if (!(stop_time / dt < 1e12))
+    throw config::InputError(where, "stoptime / timestep is " + std::to_string(stop_time / dt) +
+                                        " steps: more than 10¹² is not a run that ends");
+  if (log_every < 1) throw config::InputError(where, "log_every must be at least 1");
+}
+
 void ModelSpec::apply_override(const std::string& assignment) {
   size_t dot = assignment.find('.'), eq = assignment.find('=');
   if (dot == std::string::npos || eq == std::string::npos || dot > eq)
@@ -29,8 +45,9 @@ void ModelSpec::apply_override(const std::string& assignment) {
   if (comp == "simulation") {
     if (key == "timestep") dt = config::parse_real(value, where, "timestep");
     else if (key == "stoptime") stop_time = config::parse_real(value, where, "stoptime");
-    else if (key == "log_every") log_every = static_cast<int>(config::parse_integer(value, where, "log_every"));
+    else if (key == "log_every") log_every = log_every_in_range(config::parse_integer(value, where, "log_every"), where);
     else throw std::invalid_argument("--set: simulation has timestep, stoptime and log_every, not '" + key + "'");
+    check_simulation(where);
     return;
   }
   ComponentSpec* c = find(comp);
@@ -52,7 +69,7 @@ ModelSpec parse_model(const std::string& text, const std::string& name) {
         std::string key = config::to_lower(c.field(0, "key"));
         if (key == "timestep") m.dt = c.real(1, "timestep");
         else if (key == "stoptime") m.stop_time = c.real(1, "stoptime");
-        else if (key == "log_every") m.log_every = static_cast<int>(c.integer(1, "log_every"));
+        else if (key == "log_every") m.log_every = log_every_in_range(c.integer(1, "log_every"), c.where);
         else c.fail("unknown setting '" + c.fields[0] + "': expected timestep, stoptime or log_every");
       }
     } else if (b.keyword == "*COMPONENT") {
@@ -91,9 +108,7 @@ ModelSpec parse_model(const std::string& text, const std::string& name) {
     }
   }
   config::SourceLocation top{name, 1};
-  if (!(m.dt > 0.0)) throw InputError(top, "*SIMULATION needs 'timestep, SECONDS' > 0");
-  if (!(m.stop_time > 0.0)) throw InputError(top, "*SIMULATION needs 'stoptime, SECONDS' > 0");
-  if (m.log_every < 1) throw InputError(top, "log_every must be at least 1");
+  m.check_simulation(top);
   return m;
 }
 

@@ -43,6 +43,8 @@ struct ModelSpec {
   ComponentSpec* find(const std::string& name);
   // "comp.key=value" (or "simulation.timestep=…"); throws on an unknown component.
   void apply_override(const std::string& assignment);
+  // timestep and stoptime positive, a finite number of steps, log_every ≥ 1.
+  void check_simulation(const config::SourceLocation& where) const;
 };
 
 ModelSpec parse_model(const std::string& text, const std::string& name);

@@ -5,6 +5,7 @@
 // throw std::invalid_argument with a message that names the option.
 #pragma once
 
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -25,15 +26,24 @@ class Args {
     if (i_ + 1 >= argc_) throw std::invalid_argument(current_ + " needs a value");
     return argv_[++i_];
   }
-  double real() {
+  // A finite number within [lo, hi].
+  double real(double lo = -1e300, double hi = 1e300) {
     const std::string option = current_, v = value();
+    double d = 0.0;
     try {
       size_t used = 0;
-      const double d = std::stod(v, &used);
-      if (used == v.size()) return d;
+      d = std::stod(v, &used);
+      if (used != v.size()) throw std::invalid_argument(v);
     } catch (const std::exception&) {
+      throw std::invalid_argument(option + ": expected a number, got '" + v + "'");
     }
-    throw std::invalid_argument(option + ": expected a number, got '" + v + "'");
+    if (!(d >= lo && d <= hi))  // also refuses NaN and infinity
+    {
+      std::ostringstream m;
+      m << option << ": expected a number from " << lo << " to " << hi << ", got '" << v << "'";
+      throw std::invalid_argument(m.str());
+    }
+    return d;
   }
   int integer() {
     const std::string option = current_, v = value();

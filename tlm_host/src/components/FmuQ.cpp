@@ -72,6 +72,8 @@ void FmuQ::initialize(double dt) {
     int port = 0;
     if (sl_parse_endpoint(server_.c_str(), host, sizeof host, &port) != SL_OK)
       throw FmuError(name_ + ": server '" + server_ + "' is not HOST:PORT");
+    if (port < 1 || port > 65535)
+      throw FmuError(name_ + ": server '" + server_ + "': the port must be from 1 to 65535");
     fmu_->set_string(fmu_->vr("server.host"), host);
     fmu_->set_integer(fmu_->vr("server.port"), port);
   }

@@ -56,8 +56,8 @@ class HydraulicVolumeC : public Component {
     dVdx_ = prm.real("dVdx", 0.0);         // m², chamber volume change per unit of x
     V_min_ = prm.positive("V_min", 1e-3 * V0_);
     if (alpha_ < 0.0 || alpha_ >= 1.0) throw config::InputError(prm.where(), name_ + ": alpha must be in [0, 1)");
-    const double n = prm.positive("ports", 2);
-    for (int i = 1; i <= static_cast<int>(n); ++i) add_port("P" + std::to_string(i), Kind::C);
+    const int n = prm.integer("ports", 2, 1, 64);
+    for (int i = 1; i <= n; ++i) add_port("P" + std::to_string(i), Kind::C);
     if (dVdx_ != 0.0) add_signal_input("x", &x_);
   }
   void initialize(double dt) override {

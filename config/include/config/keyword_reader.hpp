@@ -13,7 +13,8 @@ namespace config {
 struct SourceLocation {
   std::string file;
   int line = 0;
-  std::string str() const { return file + ":" + std::to_string(line); }
+  // file:line, or the bare name for a place without lines (an option: "--set a.b=1").
+  std::string str() const { return line > 0 ? file + ":" + std::to_string(line) : file; }
 };
 
 // A user-facing input error: "file:line: message".

@@ -1,0 +1,123 @@
+// Bad values (issue 17, item 5): every number is range-checked where it is
+// read and refused with its location (file:line, or the option), with the
+// documented exit code, before anything runs.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include "process.hpp"
+
+using testing_support::ChildProcess;
+using testing_support::TempDir;
+
+namespace {
+
+const std::string kScene = PCS_SCENES_DIR "/one_dof";
+
+std::string read(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+struct Outcome {
+  int code;
+  std::string output;
+};
+
+Outcome run(const std::vector<std::string>& argv) {
+  ChildProcess p(argv);
+  const int code = p.wait(30.0);
+  return {code, p.output()};
+}
+
+void expect_refused(const Outcome& o, int code, const std::vector<std::string>& words) {
+  EXPECT_EQ(o.code, code) << o.output;
+  for (const auto& w : words) EXPECT_NE(o.output.find(w), std::string::npos) << "missing '" << w << "' in\n" << o.output;
+}
+
+}  // namespace
+
+TEST(BadValues, SimulationSettingsGivenBySetAreCheckedLikeTheModelFile) {
+  TempDir dir;
+  for (const auto& [set, why] : std::vector<std::pair<std::string, std::string>>{
+           {"simulation.log_every=0", "log_every must be from 1 to 1e9"},  // was SIGFPE
+           {"simulation.log_every=5000000000", "log_every must be from 1 to 1e9"},
+           {"simulation.timestep=-1e-5", "timestep"},                       // was exit 0 after 0 steps
+           {"simulation.stoptime=inf", "expected a finite number"},          // was exit 0 after 0 steps
+           {"simulation.stoptime=1e9", "is not a run that ends"}}) {
+    Outcome o = run({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--set", set, "--out",
+                     dir.file("h.h5"), "--quiet"});
+    expect_refused(o, 3, {"--set " + set + ": ", why});
+    EXPECT_EQ(o.output.find("--set " + set + ":0"), std::string::npos) << "an option has no line number";
+  }
+}
+
+TEST(BadValues, ServerTimeoutsOutsideTheirRangeAreRefusedNamingTheOption) {
+  TempDir dir;
+  for (const char* t : {"nan", "inf", "-1", "1e30"}) {  // every deadline was already past
+    Outcome o = run({PCS_FE_SERVER_EXE, "--model", kScene + "/piston.k", "--ports", kScene + "/ports.cfg",
+                     "--accept-timeout", t, "--out", dir.file("f.h5")});
+    expect_refused(o, 2, {"--accept-timeout: expected a number from 0.001 to 1e+06, got '" + std::string(t) + "'"});
+  }
+  Outcome o = run({PCS_FE_SERVER_EXE, "--model", kScene + "/piston.k", "--ports", kScene + "/ports.cfg",
+                   "--step-timeout", "0", "--out", dir.file("f.h5")});
+  expect_refused(o, 2, {"--step-timeout"});
+}
+
+TEST(BadValues, APortTableTimeoutOfInfinityOr1e30IsRefusedAtItsLine) {
+  TempDir dir;
+  const std::string table = read(kScene + "/ports.cfg");
+  int line = 0;
+  {
+    std::istringstream in(table);
+    std::string l;
+    for (int n = 1; std::getline(in, l); ++n)
+      if (l.rfind("timeout", 0) == 0) line = n;
+  }
+  ASSERT_GT(line, 0);
+  for (const char* t : {"inf", "1e30"}) {
+    std::ofstream(dir.file("p.cfg")) << std::regex_replace(table, std::regex("timeout,[^\n]*"), "timeout, " + std::string(t));
+    Outcome o = run({PCS_FE_SERVER_EXE, "--model", kScene + "/piston.k", "--ports", dir.file("p.cfg"), "--out",
+                     dir.file("f.h5")});
+    expect_refused(o, 3, {dir.file("p.cfg") + ":" + std::to_string(line) + ":", "timeout"});
+  }
+}
+
+TEST(BadValues, NaNInADeckIsRefusedAtItsLineNotFoundLaterAsAnUnstableState) {
+  TempDir dir;
+  const std::string deck = read(kScene + "/piston.k");
+  const std::string bad = std::regex_replace(deck, std::regex("\n5, 0.0, 0.0, 0.1\n"), "\n5, 0.0, 0.0, nan\n");
+  ASSERT_NE(bad, deck);
+  std::ofstream(dir.file("nan.k")) << bad;
+  Outcome o = run({PCS_FE_SERVER_EXE, "--model", dir.file("nan.k"), "--ports", kScene + "/ports.cfg", "--out",
+                   dir.file("f.h5")});
+  expect_refused(o, 3, {"nan.k:", "VZ", "expected a finite number, got 'nan'"});
+}
+
+TEST(BadValues, APortCountMustBeAWholeNumber) {
+  TempDir dir;
+  for (const char* n : {"2.5", "5.8e9"}) {  // 2.5 became 2; 5.8e9 was undefined behaviour
+    std::ofstream(dir.file("m.tlm")) << "*SIMULATION\ntimestep, 1e-5\nstoptime, 1e-3\n*COMPONENT\n"
+                                        "vol, HydraulicVolumeC, V=1e-4, ports="
+                                     << n << "\n";
+    Outcome o = run({PCS_TLM_HOST_EXE, dir.file("m.tlm"), "--out", dir.file("h.h5"), "--quiet"});
+    expect_refused(o, 3, {dir.file("m.tlm") + ":5:", "ports must be a whole number from 1 to 64"});
+  }
+}
+
+TEST(BadValues, AServerPortOfZeroAndAnUnwritablePortFileAreRefused) {
+  TempDir dir;
+  Outcome host = run({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server", "127.0.0.1:0",
+                      "--out", dir.file("h.h5"), "--quiet"});
+  EXPECT_NE(host.code, 0) << host.output;  // it used the table's port before
+  EXPECT_NE(host.output.find("the port must be from 1 to 65535"), std::string::npos) << host.output;
+  Outcome server = run({PCS_FE_SERVER_EXE, "--model", kScene + "/piston.k", "--ports", kScene + "/ports.cfg",
+                        "--port-file", dir.path(), "--out", dir.file("f.h5"), "--accept-timeout", "1"});
+  EXPECT_NE(server.code, 0) << server.output;  // it failed silently before
+  EXPECT_NE(server.output.find("--port-file: cannot write"), std::string::npos) << server.output;
+}

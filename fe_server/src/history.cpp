@@ -52,9 +52,14 @@ std::string History::energy_summary(const Solver& s, bool* exceeded, bool* faile
   char buf[200];
   std::snprintf(buf, sizeof buf, "energy balance error %.4g J (%.3g %% of %.4g J, bound 1 %%)", err,
                 100.0 * std::fabs(err) / scale, energy_scale_);
-  if (exceeded) *exceeded = std::fabs(err) > 0.01 * scale && energy_scale_ > 0.0;
-  if (failed) *failed = std::fabs(err) > kEnergyFailFactor * 0.01 * scale && energy_scale_ > 0.0;
+  judge_energy(err, energy_scale_, exceeded, failed);
   return buf;
+}
+
+void History::judge_energy(double error, double scale, bool* exceeded, bool* failed) {
+  const bool held = scale > 0.0;  // a run that held no energy has nothing to judge
+  if (exceeded) *exceeded = held && std::fabs(error) > 0.01 * scale;
+  if (failed) *failed = held && (std::fabs(error) > kEnergyFailFactor * 0.01 * scale || !std::isfinite(error));
 }
 
 void History::record(const Solver& s, const std::vector<double>& inputs,

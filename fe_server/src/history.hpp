@@ -31,6 +31,9 @@ class History {
   // 100 times above (the results are not to be trusted: the run fails).
   std::string energy_summary(const Solver& s, bool* exceeded, bool* failed = nullptr) const;
   static constexpr double kEnergyFailFactor = 100.0;
+  // The rule itself: bound 1 % of the largest energy the run held (scale);
+  // exceeded above it, failed above kEnergyFailFactor times it.
+  static void judge_energy(double error, double scale, bool* exceeded, bool* failed);
 
  private:
   h5io::TimeSeriesWriter writer_;

@@ -7,6 +7,7 @@
 #include "cavity_load.hpp"
 #include "config/port_table.hpp"
 #include "deck_reader.hpp"
+#include "history.hpp"
 #include "solver.hpp"
 
 namespace {
@@ -217,4 +218,20 @@ $ sid, ltype, port, zmin, zmax
     // Flow from the same wetted areas: p·q equals the power on the structure.
     EXPECT_NEAR(1e6 * load.flow(0, v), power, 1e-9 * full);
   }
+}
+
+TEST(EnergyBalance, AnErrorAboveTheBoundWarnsAndOneHundredTimesAboveFails) {
+  // Bound: 1 % of the largest energy the run held (here 1000 J → 10 J).
+  bool exceeded = false, failed = false;
+  fe::History::judge_energy(9.0, 1000.0, &exceeded, &failed);
+  EXPECT_FALSE(exceeded);
+  EXPECT_FALSE(failed);
+  fe::History::judge_energy(-11.0, 1000.0, &exceeded, &failed);
+  EXPECT_TRUE(exceeded);
+  EXPECT_FALSE(failed);
+  fe::History::judge_energy(1001.0, 1000.0, &exceeded, &failed);  // 100.1 × the bound
+  EXPECT_TRUE(exceeded);
+  EXPECT_TRUE(failed);
+  fe::History::judge_energy(1e17, 1000.0, &exceeded, &failed);  // the case: exit 0 before
+  EXPECT_TRUE(failed);
 }

@@ -76,6 +76,11 @@ TEST(BarImpactScene, MatchesOneDimensionalWaveTheory) {
 }
 
 TEST(SteppedPistonScene, FirstPlateauMatchesTheImpedanceStepAndEnergyIsConserved) {
+#ifdef PCS_SANITIZED
+  // fe_server takes 6.5 min of CPU on this deck under ASan + UBSan (18 s
+  // normally); the hex8 paths it runs are those of BarImpactScene, which runs.
+  GTEST_SKIP() << "too slow under the sanitizers (6.5 min of CPU); runs in the normal build";
+#endif
   TempDir dir;
   const std::string out = run_scene("stepped_piston", dir);
   const auto t = h5io::read_series(out, "time");

@@ -233,28 +233,126 @@ ExitCode CouplingServer::handshake(sl_socket& conn, int& which, std::string& mes
   return kExitOk;
 }
 
+ExitCode CouplingServer::accept_clients(std::string& message) {
+  struct Pending {
+    sl_socket conn;
+    int64_t deadline;
+    std::string peer;
+  };
+  std::vector<Pending> pending;
+  size_t bound = 0;
+  const int64_t accept_deadline = deadline_after(opt_.accept_timeout);
+  const int64_t handshake_ms = static_cast<int64_t>(std::ceil(opt_.handshake_timeout * 1000.0));
+  auto refused = [&](Pending& p, const std::string& why) {
+    std::cerr << "fe_server: refused " << p.peer << ": " << why << std::endl;
+    sl_close(&p.conn);
+  };
+  std::vector<uint8_t> peek(PCS_HEADER_SIZE + buf_.size());
+  std::vector<sl_socket*> set;
+  std::vector<int> ready;
+  while (bound < clients_.size()) {
+    const int64_t now = sl_now_ms();
+    for (auto it = pending.begin(); it != pending.end();) {
+      if (now < it->deadline) {
+        ++it;
+        continue;
+      }
+      std::ostringstream why;
+      why << "no complete HELLO within " << opt_.handshake_timeout << " s";
+      refused(*it, why.str());
+      it = pending.erase(it);
+    }
+    if (now >= accept_deadline) {
+      for (auto& p : pending) sl_close(&p.conn);
+      std::ostringstream m;
+      m << (bound == 0 ? std::string("no host connected")
+                       : std::to_string(bound) + " of " + std::to_string(clients_.size()) + " FMUs connected")
+        << " within " << opt_.accept_timeout << " s";
+      message = m.str();
+      abort_all(0, SL_ETIMEDOUT, message);
+      return kExitAcceptTimeout;
+    }
+    const bool listening = pending.size() < kMaxPending;
+    set.clear();
+    if (listening) set.push_back(&listener_);
+    int64_t wake = accept_deadline;
+    for (auto& p : pending) {
+      set.push_back(&p.conn);
+      wake = std::min(wake, p.deadline);
+    }
+    ready.assign(set.size(), 0);
+    const int rc = sl_wait_any(set.data(), set.size(), wake, ready.data());
+    if (rc < 0) {
+      message = "waiting for the host: " + link_error(rc, listener_);
+      abort_all(0, static_cast<uint32_t>(-rc), message);
+      return kExitLinkLost;
+    }
+    // Connections first (their indices follow the listener's), then new ones.
+    const size_t offset = listening ? 1 : 0;
+    std::vector<size_t> done;
+    for (size_t i = offset; i < set.size(); ++i) {
+      if (!ready[i]) continue;
+      Pending& p = pending[i - offset];
+      const int n = sl_peek(&p.conn, peek.data(), peek.size());
+      if (n == SL_ECLOSED) {
+        refused(p, "closed the connection without a HELLO");
+        done.push_back(i - offset);
+        continue;
+      }
+      if (n < 0) {
+        refused(p, std::string(sl_err_name(n)) + ": " + sl_strerror(n));
+        done.push_back(i - offset);
+        continue;
+      }
+      pcs_header h{};
+      if (static_cast<uint32_t>(n) >= PCS_HEADER_SIZE) pcs_decode_header(peek.data(), &h);
+      // Only a whole frame goes to handshake(), so it never waits on a
+      // stranger; foreign magic or a length beyond any HELLO is refused at once.
+      const bool complete = static_cast<uint32_t>(n) >= PCS_HEADER_SIZE &&
+                            static_cast<uint64_t>(n) >= PCS_HEADER_SIZE + static_cast<uint64_t>(h.payload_size);
+      const size_t have = static_cast<size_t>(n);
+      const size_t magic_bytes = std::min<size_t>(have, 4);
+      if (std::memcmp(peek.data(), "PCSC", magic_bytes) != 0) {
+        refused(p, "foreign bytes (not this protocol's magic)");
+        done.push_back(i - offset);
+        continue;
+      }
+      if (have >= PCS_HEADER_SIZE && h.payload_size > buf_.size()) {
+        refused(p, "a frame of " + std::to_string(h.payload_size) + " bytes, more than any HELLO");
+        done.push_back(i - offset);
+        continue;
+      }
+      if (!complete) continue;  // the rest of the HELLO is still on its way
+      int which = -1;
+      std::string why;
+      const ExitCode code = handshake(p.conn, which, why);
+      if (code != kExitOk) {
+        refused(p, why);
+      } else {
+        clients_[static_cast<size_t>(which)].conn = p.conn;
+        ++bound;
+        if (!opt_.quiet) std::cout << "fe_server: host " << p.peer << " accepted" << name_of(clients_[static_cast<size_t>(which)]) << std::endl;
+      }
+      done.push_back(i - offset);
+    }
+    for (auto it = done.rbegin(); it != done.rend(); ++it) pending.erase(pending.begin() + static_cast<long>(*it));
+    if (listening && ready[0]) {
+      sl_socket conn = SL_SOCKET_INIT;
+      if (sl_accept(&listener_, sl_now_ms(), &conn) == SL_OK) {
+        char peer[96];
+        sl_peer_name(&conn, peer, sizeof peer);
+        pending.push_back({conn, sl_now_ms() + handshake_ms, peer});
+      }
+    }
+  }
+  for (auto& p : pending) refused(p, "the session is complete");
+  return kExitOk;
+}
+
 ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, std::string& message) {
   if (listener_.fd < 0) bind();
-  const int64_t accept_deadline = deadline_after(opt_.accept_timeout);
-  for (size_t n = 0; n < clients_.size(); ++n) {
-    sl_socket conn = SL_SOCKET_INIT;
-    int rc = sl_accept(&listener_, accept_deadline, &conn);
-    if (rc != SL_OK) {
-      message = (n == 0 ? std::string("no host connected") : std::to_string(n) + " of " + std::to_string(clients_.size()) +
-                                                                 " FMUs connected") +
-                " within " + std::to_string(opt_.accept_timeout) + " s: " + link_error(rc, listener_);
-      abort_all(0, SL_ETIMEDOUT, message);
-      return rc == SL_ETIMEDOUT ? kExitAcceptTimeout : kExitLinkLost;
-    }
-    int which = -1;
-    ExitCode code = handshake(conn, which, message);
-    if (code != kExitOk) {
-      sl_close(&conn);
-      abort_all(0, SL_EREFUSED_BY_PEER, message);
-      return code;
-    }
-    clients_[static_cast<size_t>(which)].conn = conn;
-  }
+  const ExitCode accepted = accept_clients(message);
+  if (accepted != kExitOk) return accepted;
   sl_close(&listener_);  // one session per run
   if (!opt_.quiet) std::cout << "fe_server: session accepted" << std::endl;
 

@@ -28,6 +28,9 @@ struct ServerOptions {
   std::string port_file;        // if set, the bound port is written here
   double accept_timeout = 300;  // s
   double step_timeout = 0;      // s; 0: the port table's timeout
+  // A connection has this long to deliver a complete HELLO; strangers that
+  // do not are dropped (logged) while the server keeps listening.
+  double handshake_timeout = 5;  // s
   bool quiet = false;
 };
 
@@ -77,6 +80,15 @@ class CouplingServer {
     sl_socket conn = SL_SOCKET_INIT;
     size_t in_offset = 0, out_offset = 0;  // of its variables in the combined table
   };
+  // Waits for every client until the accept deadline. Up to kMaxPending
+  // connections are examined at once (more wait in the kernel's backlog);
+  // a connection is handed to handshake() only once its whole HELLO has
+  // arrived, so a silent or slow stranger blocks nothing. A stranger (port
+  // scan, silence past handshake_timeout, foreign bytes, oversize length,
+  // wrong token or table) is refused, logged with its address and reason,
+  // and the server keeps listening.
+  ExitCode accept_clients(std::string& message);
+  static constexpr size_t kMaxPending = 32;
   // Reads one HELLO on `conn` and binds it to the client whose table it
   // names; kExitOk and `which` set, or a refusal told to the peer.
   ExitCode handshake(sl_socket& conn, int& which, std::string& message);

@@ -37,11 +37,13 @@ int usage(std::ostream& os, int rc) {
         "                        generated and printed once when not given)\n"
         "  --port-file FILE      write the bound port number to FILE\n"
         "  --out FILE            HDF5 time histories (default fe_results.h5)\n"
-        "  --accept-timeout S    give up if no host connects within S seconds (default 300)\n"
+        "  --accept-timeout S    give up if no host connects within S seconds (default 300); until then\n"
+        "                        strangers are refused and logged and the server keeps listening\n"
+        "  --handshake-timeout S a connection must deliver its HELLO within S seconds (default 5)\n"
         "  --step-timeout S      per-step receive deadline (default: the port table's timeout)\n"
         "  --quiet               no progress output\n"
-        "Exit codes: 0 ok, 2 usage, 3 input rejected, 4 no host, 5 session refused,\n"
-        "            6 link lost, 7 host aborted, 8 non-finite values, 9 internal error.\n";
+        "Exit codes: 0 ok, 2 usage, 3 input rejected, 4 no host (every connection refused or none came),\n"
+        "            6 link lost, 7 host aborted, 8 non-finite values or energy far off, 9 internal error.\n";
   return rc;
 }
 
@@ -152,6 +154,7 @@ int main(int argc, char** argv) {
       // Deadlines are kept in milliseconds: up to 10⁶ s (11 days) keeps them exact.
       else if (args.is("--accept-timeout")) opt.accept_timeout = args.real(1e-3, 1e6);
       else if (args.is("--step-timeout")) opt.step_timeout = args.real(1e-3, 1e6);
+      else if (args.is("--handshake-timeout")) opt.handshake_timeout = args.real(1e-3, 3600);
       else if (args.is("--quiet")) opt.quiet = true;
       else if (args.is("-h") || args.is("--help")) return usage(std::cout, fe::kExitOk);
       else args.unknown();

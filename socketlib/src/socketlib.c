@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <arpa/inet.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
@@ -151,7 +152,7 @@ int sl_listen(const char *host, int port, sl_socket *out) {
     }
     int one = 1;
     setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    if (bind(fd, a->ai_addr, a->ai_addrlen) == 0 && listen(fd, 4) == 0 &&
+    if (bind(fd, a->ai_addr, a->ai_addrlen) == 0 && listen(fd, 64) == 0 &&
         sl__set_nonblocking(fd) == 0) {
       out->fd = fd;
       rc = SL_OK;
@@ -300,5 +301,68 @@ void sl_close(sl_socket *s) {
   if (s && s->fd >= 0) {
     close(s->fd);
     s->fd = -1;
+  }
+}
+
+int sl_wait_any(sl_socket *const *socks, size_t n, int64_t deadline_ms, int *ready) {
+  if (!socks || !ready || n == 0 || n > 4096) return SL_EINVAL;
+  struct pollfd p[4096];
+  for (;;) {
+    for (size_t i = 0; i < n; ++i) {
+      p[i].fd = socks[i]->fd;
+      p[i].events = POLLIN;
+      p[i].revents = 0;
+    }
+    int r = poll(p, (nfds_t)n, sl__remaining(deadline_ms));
+    if (r > 0) {
+      int count = 0;
+      for (size_t i = 0; i < n; ++i) {
+        ready[i] = (p[i].revents & (POLLIN | POLLHUP | POLLERR)) != 0;
+        count += ready[i];
+      }
+      return count;
+    }
+    if (r == 0) {
+      if (sl__remaining(deadline_ms) > 0) continue; /* woke a little early */
+      for (size_t i = 0; i < n; ++i) ready[i] = 0;
+      return 0;
+    }
+    if (errno == EINTR) continue;
+    return sl__sys(socks[0], errno);
+  }
+}
+
+int sl_peek(sl_socket *s, void *buf, size_t len) {
+  if (!s || s->fd < 0 || (!buf && len)) return SL_EINVAL;
+  for (;;) {
+    ssize_t r = recv(s->fd, buf, len, MSG_PEEK | MSG_DONTWAIT);
+    if (r > 0) return (int)r;
+    if (r == 0) return len == 0 ? 0 : SL_ECLOSED;
+    if (errno == EINTR) continue;
+    if (errno == EAGAIN || errno == EWOULDBLOCK) return 0;
+    if (errno == ECONNRESET) return SL_ECLOSED;
+    return sl__sys(s, errno);
+  }
+}
+
+void sl_peer_name(const sl_socket *s, char *out, size_t cap) {
+  if (!out || cap == 0) return;
+  snprintf(out, cap, "unknown peer");
+  if (!s || s->fd < 0) return;
+  struct sockaddr_storage a;
+  socklen_t len = sizeof a;
+  if (getpeername(s->fd, (struct sockaddr *)&a, &len) != 0) return;
+  char host[INET6_ADDRSTRLEN] = "";
+  int port = 0;
+  if (a.ss_family == AF_INET) {
+    const struct sockaddr_in *v4 = (const struct sockaddr_in *)&a;
+    inet_ntop(AF_INET, &v4->sin_addr, host, sizeof host);
+    port = ntohs(v4->sin_port);
+    snprintf(out, cap, "%s:%d", host, port);
+  } else if (a.ss_family == AF_INET6) {
+    const struct sockaddr_in6 *v6 = (const struct sockaddr_in6 *)&a;
+    inet_ntop(AF_INET6, &v6->sin6_addr, host, sizeof host);
+    port = ntohs(v6->sin6_port);
+    snprintf(out, cap, "[%s]:%d", host, port);
   }
 }

@@ -63,6 +63,20 @@ std::string raw_hello_reason(int port, uint16_t version) {
   return a.reason;
 }
 
+// After strangers were refused the server still serves the real host: a
+// short session, a clean end, and each refusal logged with the peer's address.
+void expect_real_host_served(Server& server, const std::string& token = "") {
+  config::PortTable t = scene_table();
+  pcs_fmu::CouplingClient client(t);
+  client.connect("127.0.0.1", server.port, token, 10.0);
+  std::vector<double> in = {1.0e7}, out;
+  for (uint64_t k = 0; k < 3; ++k) client.step(k, static_cast<double>(k) * t.dt, t.dt, in, out);
+  client.bye();
+  EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output();
+  EXPECT_EQ(h5io::read_series(server.out, "time").size(), 3u);
+  EXPECT_NE(server.child->output().find("fe_server: refused 127.0.0.1:"), std::string::npos) << server.child->output();
+}
+
 }  // namespace
 
 TEST(Link, HandshakeAcceptedStepsAndCleanEnd) {
@@ -88,7 +102,7 @@ TEST(Link, VersionMismatchIsRefusedReadablyOnBothSides) {
   EXPECT_NE(reason.find("protocol version mismatch: server speaks " + std::to_string(PCS_PROTOCOL_VERSION) + ", client 99"),
             std::string::npos)
       << reason;
-  EXPECT_EQ(server.child->wait(kHardTimeout), 5);
+  expect_real_host_served(server);
   EXPECT_NE(server.child->output().find("protocol version mismatch"), std::string::npos) << server.child->output();
 }
 
@@ -105,7 +119,7 @@ TEST(Link, PortTableMismatchIsRefusedReadablyOnBothSides) {
   } catch (const pcs_fmu::LinkError& e) {
     EXPECT_NE(std::string(e.what()).find("port table mismatch"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(server.child->wait(kHardTimeout), 5);
+  expect_real_host_served(server);
   EXPECT_NE(server.child->output().find("port table mismatch"), std::string::npos) << server.child->output();
 }
 
@@ -121,7 +135,7 @@ TEST(Link, WrongTokenIsRefused) {
   } catch (const pcs_fmu::LinkError& e) {
     EXPECT_NE(std::string(e.what()).find("wrong or missing token"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(server.child->wait(kHardTimeout), 5);
+  expect_real_host_served(server, "correct-horse");
 }
 
 TEST(Link, PeerClosedBetweenStepsStopsTheServerWithItsHistoryKept) {
@@ -296,7 +310,7 @@ TEST(ServerFaults, MissingTokenIsRefused) {
   } catch (const pcs_fmu::LinkError& e) {
     EXPECT_NE(std::string(e.what()).find("wrong or missing token"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(server.child->wait(kHardTimeout), 5);
+  expect_real_host_served(server, "s3cret");
 }
 
 TEST(Kill, KillingTheServerMidRunStopsTheHostWithItsResultsKept) {
@@ -325,4 +339,55 @@ TEST(Kill, KillingTheHostMidRunStopsTheServerWithItsHistoryKept) {
   EXPECT_EQ(server.child->wait(kHardTimeout), 6) << server.child->output();
   EXPECT_NE(server.child->output().find("SL_ECLOSED"), std::string::npos) << server.child->output();
   EXPECT_GT(h5io::read_series(server.out, "time").size(), 10u);
+}
+
+// Strangers on the port before the real host (issue 17, item 1): a port scan,
+// a silent client, random bytes, an oversize length, a wrong token and 200
+// simultaneous connections each used to end the waiting server (exit 5 or 6).
+// Now each is refused and logged, and the real host is served afterwards.
+TEST(Strangers, NoStrangerEndsAWaitingSessionAndTheRealHostIsServed) {
+  TempDir dir;
+  Server server(dir, {"--token", "correct-horse", "--handshake-timeout", "1"});
+  ASSERT_GT(server.port, 0) << server.child->output();
+  auto connect = [&] {
+    sl_socket s = SL_SOCKET_INIT;
+    EXPECT_EQ(sl_connect("127.0.0.1", server.port, sl_now_ms() + 5000, &s), SL_OK);
+    return s;
+  };
+  // Port scan: connect and close.
+  sl_socket scan = connect();
+  sl_close(&scan);
+  // A silent client, held open past the handshake deadline.
+  sl_socket silent = connect();
+  // Random bytes.
+  sl_socket noise = connect();
+  const char junk[] = "GET / HTTP/1.1\r\nHost: x\r\n\r\n";
+  EXPECT_EQ(sl_send_all(&noise, junk, sizeof junk - 1, sl_now_ms() + 2000), SL_OK);
+  // A header that announces a 16 MB HELLO.
+  sl_socket big = connect();
+  pcs_header h{PCS_MAGIC, PCS_PROTOCOL_VERSION, PCS_MSG_HELLO, 0, PCS_MAX_PAYLOAD};
+  uint8_t frame[PCS_HEADER_SIZE];
+  pcs_encode_header(&h, frame);
+  EXPECT_EQ(sl_send_all(&big, frame, sizeof frame, sl_now_ms() + 2000), SL_OK);
+  // A wrong token.
+  pcs_fmu::CouplingClient wrong(scene_table());
+  EXPECT_THROW(wrong.connect("127.0.0.1", server.port, "battery-staple", 5.0), pcs_fmu::LinkError);
+  // 200 connections at once, left silent.
+  std::vector<sl_socket> crowd;
+  for (int i = 0; i < 200; ++i) {
+    sl_socket s = SL_SOCKET_INIT;
+    if (sl_connect("127.0.0.1", server.port, sl_now_ms() + 3000, &s) == SL_OK) crowd.push_back(s);
+  }
+  EXPECT_GT(crowd.size(), 100u) << "the crowd could not connect at all";
+  // The real host now: it must be served (the crowd is dropped after its
+  // 1 s handshake deadline, 32 at a time).
+  expect_real_host_served(server, "correct-horse");
+  const std::string log = server.child->output();
+  for (const char* why : {"closed the connection without a HELLO", "no complete HELLO within",
+                          "foreign bytes", "more than any HELLO", "wrong or missing token"})
+    EXPECT_NE(log.find(why), std::string::npos) << "refusal '" << why << "' not logged:\n" << log.substr(0, 3000);
+  for (auto& s : crowd) sl_close(&s);
+  sl_close(&silent);
+  sl_close(&noise);
+  sl_close(&big);
 }

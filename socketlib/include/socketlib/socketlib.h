@@ -81,6 +81,18 @@ int sl_send_all(sl_socket *s, const void *buf, size_t len, int64_t deadline_ms);
  * byte, SL_ETRUNCATED if it closed after some but not all, SL_ETIMEDOUT. */
 int sl_recv_all(sl_socket *s, void *buf, size_t len, int64_t deadline_ms);
 
+/* Wait until at least one of n sockets is readable (for a listener: a
+ * connection is waiting; for a connection: bytes or the peer's close) or the
+ * deadline passes. ready[i] is set to 1 for each readable socket, else 0.
+ * Returns how many are ready (≥ 1), 0 at the deadline, or an error code. */
+int sl_wait_any(sl_socket *const *socks, size_t n, int64_t deadline_ms, int *ready);
+/* Copy up to len bytes that have arrived, without consuming them; never
+ * blocks. Returns the count (0: nothing yet), SL_ECLOSED if the peer closed
+ * with nothing left to read, or an error code. */
+int sl_peek(sl_socket *s, void *buf, size_t len);
+/* The peer's "address:port" for log lines ("unknown peer" if not known). */
+void sl_peer_name(const sl_socket *s, char *out, size_t cap);
+
 void sl_close(sl_socket *s);
 
 #ifdef __cplusplus

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <thread>
 
 #include "socketlib/protocol.h"
 
@@ -238,7 +239,11 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
     sl_socket conn;
     int64_t deadline;
     std::string peer;
+    // Part of a frame stays readable until it is whole: such a connection is
+    // polled again only after a short pause, so a slow drip costs no CPU.
+    int64_t pause_until = 0;
   };
+  constexpr int64_t kPartialFramePauseMs = 20;
   std::vector<Pending> pending;
   size_t bound = 0;
   const int64_t accept_deadline = deadline_after(opt_.accept_timeout);
@@ -274,14 +279,26 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
     }
     const bool listening = pending.size() < kMaxPending;
     set.clear();
+    std::vector<size_t> polled;  // the pending connection behind each set entry after the listener
     if (listening) set.push_back(&listener_);
     int64_t wake = accept_deadline;
-    for (auto& p : pending) {
-      set.push_back(&p.conn);
+    for (size_t k = 0; k < pending.size(); ++k) {
+      Pending& p = pending[k];
       wake = std::min(wake, p.deadline);
+      if (now < p.pause_until) {
+        wake = std::min(wake, p.pause_until);
+        continue;
+      }
+      set.push_back(&p.conn);
+      polled.push_back(k);
     }
     ready.assign(set.size(), 0);
-    const int rc = sl_wait_any(set.data(), set.size(), wake, ready.data());
+    int rc = 0;
+    if (set.empty()) {  // every connection paused and not listening: just wait
+      std::this_thread::sleep_for(std::chrono::milliseconds(std::max<int64_t>(1, wake - sl_now_ms())));
+    } else {
+      rc = sl_wait_any(set.data(), set.size(), wake, ready.data());
+    }
     if (rc < 0) {
       message = "waiting for the host: " + link_error(rc, listener_);
       abort_all(0, static_cast<uint32_t>(-rc), message);
@@ -292,16 +309,17 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
     std::vector<size_t> done;
     for (size_t i = offset; i < set.size(); ++i) {
       if (!ready[i]) continue;
-      Pending& p = pending[i - offset];
+      const size_t k = polled[i - offset];
+      Pending& p = pending[k];
       const int n = sl_peek(&p.conn, peek.data(), peek.size());
       if (n == SL_ECLOSED) {
         refused(p, "closed the connection without a HELLO");
-        done.push_back(i - offset);
+        done.push_back(k);
         continue;
       }
       if (n < 0) {
         refused(p, std::string(sl_err_name(n)) + ": " + sl_strerror(n));
-        done.push_back(i - offset);
+        done.push_back(k);
         continue;
       }
       pcs_header h{};
@@ -314,15 +332,18 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
       const size_t magic_bytes = std::min<size_t>(have, 4);
       if (std::memcmp(peek.data(), "PCSC", magic_bytes) != 0) {
         refused(p, "foreign bytes (not this protocol's magic)");
-        done.push_back(i - offset);
+        done.push_back(k);
         continue;
       }
       if (have >= PCS_HEADER_SIZE && h.payload_size > buf_.size()) {
         refused(p, "a frame of " + std::to_string(h.payload_size) + " bytes, more than any HELLO");
-        done.push_back(i - offset);
+        done.push_back(k);
         continue;
       }
-      if (!complete) continue;  // the rest of the HELLO is still on its way
+      if (!complete) {  // the rest of the HELLO is still on its way
+        p.pause_until = sl_now_ms() + kPartialFramePauseMs;
+        continue;
+      }
       int which = -1;
       std::string why;
       const ExitCode code = handshake(p.conn, which, why);
@@ -331,10 +352,13 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
       } else {
         clients_[static_cast<size_t>(which)].conn = p.conn;
         ++bound;
-        if (!opt_.quiet) std::cout << "fe_server: host " << p.peer << " accepted" << name_of(clients_[static_cast<size_t>(which)]) << std::endl;
+        if (!opt_.quiet)
+          std::cout << "fe_server: host " << p.peer << " accepted" << name_of(clients_[static_cast<size_t>(which)])
+                    << std::endl;
       }
-      done.push_back(i - offset);
+      done.push_back(k);
     }
+    std::sort(done.begin(), done.end());
     for (auto it = done.rbegin(); it != done.rend(); ++it) pending.erase(pending.begin() + static_cast<long>(*it));
     if (listening && ready[0]) {
       sl_socket conn = SL_SOCKET_INIT;

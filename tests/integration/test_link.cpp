@@ -369,6 +369,12 @@ TEST(Strangers, NoStrangerEndsAWaitingSessionAndTheRealHostIsServed) {
   uint8_t frame[PCS_HEADER_SIZE];
   pcs_encode_header(&h, frame);
   EXPECT_EQ(sl_send_all(&big, frame, sizeof frame, sl_now_ms() + 2000), SL_OK);
+  // A slow drip: the first 12 bytes of a good header, then nothing.
+  sl_socket drip = connect();
+  pcs_header hh{PCS_MAGIC, PCS_PROTOCOL_VERSION, PCS_MSG_HELLO, 0, 64};
+  uint8_t head[PCS_HEADER_SIZE];
+  pcs_encode_header(&hh, head);
+  EXPECT_EQ(sl_send_all(&drip, head, 12, sl_now_ms() + 2000), SL_OK);
   // A wrong token.
   pcs_fmu::CouplingClient wrong(scene_table());
   EXPECT_THROW(wrong.connect("127.0.0.1", server.port, "battery-staple", 5.0), pcs_fmu::LinkError);
@@ -390,4 +396,5 @@ TEST(Strangers, NoStrangerEndsAWaitingSessionAndTheRealHostIsServed) {
   sl_close(&silent);
   sl_close(&noise);
   sl_close(&big);
+  sl_close(&drip);
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
 #include "components/HydraulicTurbulentOrificeQ.hpp"
@@ -166,6 +167,63 @@ TEST(FmuImporter, RefusesAnArchiveThatWritesOutsideItsFolder) {
     EXPECT_NE(std::string(e.what()).find("leaves the FMU folder"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(std::ifstream(dir.path() + "/../escaped.txt").good());
+}
+
+namespace {
+
+// An FMU archive with the given entries (name → bytes).
+std::string write_fmu(const testing_support::TempDir& dir, const std::string& name,
+                      const std::vector<std::pair<std::string, std::string>>& entries) {
+  const std::string path = dir.file(name);
+  int err = 0;
+  zip_t* z = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
+  EXPECT_NE(z, nullptr);
+  for (const auto& [entry, bytes] : entries)
+    zip_file_add(z, entry.c_str(), zip_source_buffer(z, bytes.data(), bytes.size(), 0), 0);
+  EXPECT_EQ(zip_close(z), 0);
+  return path;
+}
+
+std::string refusal(const std::string& path) {
+  try {
+    tlm::FmuArchive a(path);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(FmuImporter, RefusesAModelIdentifierThatIsNotACIdentifier) {
+  // "../../../x" made tlm_host dlopen a library outside the FMU (its
+  // constructor ran). The name is now refused before any library is loaded.
+  testing_support::TempDir dir;
+  for (const char* id : {"../../../x", "a/b", "9lives", "a b"}) {
+    const std::string md = std::string("<?xml version=\"1.0\"?><fmiModelDescription fmiVersion=\"2.0\" ") +
+                           "modelName=\"m\" guid=\"{1}\"><CoSimulation modelIdentifier=\"" + id +
+                           "\"/><ModelVariables/></fmiModelDescription>";
+    const std::string e = refusal(write_fmu(dir, "id.fmu", {{"modelDescription.xml", md}}));
+    EXPECT_NE(e.find("is not a C identifier"), std::string::npos) << id << ": " << e;
+    EXPECT_EQ(e.find("cannot load"), std::string::npos) << id << ": no library may be tried: " << e;
+  }
+}
+
+TEST(FmuImporter, StopsUnpackingAtItsLimitAndLeavesNoFolder) {
+  testing_support::TempDir dir, unpack;
+  const std::string fmu = write_fmu(dir, "bomb.fmu", {{"zeros.bin", std::string(2000000, '\0')}});
+  const char* old_tmp = std::getenv("TMPDIR");
+  const std::string saved = old_tmp ? old_tmp : "";
+  setenv("TMPDIR", unpack.path().c_str(), 1);     // the importer's folder goes here
+  setenv("PCS_FMU_MAX_UNPACKED", "1000000", 1);  // 1 MB for this test
+  const std::string e = refusal(fmu);
+  unsetenv("PCS_FMU_MAX_UNPACKED");
+  if (old_tmp) setenv("TMPDIR", saved.c_str(), 1); else unsetenv("TMPDIR");
+  EXPECT_NE(e.find("unpacks to more than 1000000 bytes"), std::string::npos) << e;
+  int left = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(unpack.path())) left += entry.path().filename().string().rfind("tlm_host_fmu_", 0) == 0;
+  EXPECT_EQ(left, 0) << "the importer's temporary folder is removed";
+  EXPECT_EQ(tlm::fmu_unpack_limit(), 1ull << 30) << "1 GiB without the variable";
 }
 
 TEST(FmuImporter, ReadsTheGeneratedModelDescriptionAndCleansUp) {

@@ -157,7 +157,26 @@ ModelDescription parse_model_description(const std::string& xml, const std::stri
     throw std::runtime_error(source + ": fmiVersion '" + md.fmi_version + "' is not 2.0");
   if (!md.co_simulation) throw std::runtime_error(source + ": the FMU does not support co-simulation");
   if (md.model_identifier.empty()) throw std::runtime_error(source + ": CoSimulation has no modelIdentifier");
+  // The library file is named after it, so it must be a plain name: the FMI
+  // 2.0 standard (§2.2.1, fmiModelDescription) asks for a valid C identifier,
+  // which also keeps "../" from loading a library outside the FMU.
+  const std::string& id = md.model_identifier;
+  bool identifier = std::isalpha(static_cast<unsigned char>(id[0])) || id[0] == '_';
+  for (char ch : id) identifier = identifier && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_');
+  if (!identifier || id.size() > 200)
+    throw std::runtime_error(source + ": modelIdentifier '" + id +
+                             "' is not a C identifier (letters, digits, _; not starting with a digit)");
   return md;
+}
+
+uint64_t fmu_unpack_limit() {
+  const char* v = std::getenv("PCS_FMU_MAX_UNPACKED");
+  if (v && *v) {
+    char* end = nullptr;
+    const unsigned long long n = std::strtoull(v, &end, 10);
+    if (end && *end == '\0' && n > 0) return n;
+  }
+  return 1ull << 30;
 }
 
 FmuArchive::FmuArchive(const std::string& fmu_path) : path_(fmu_path) {
@@ -180,7 +199,16 @@ FmuArchive::FmuArchive(const std::string& fmu_path) : path_(fmu_path) {
   }
   dir_ = buf.data();
   try {
+    // An FMU is a few MB; a zip bomb is not unpacked past the limit (the
+    // bytes are counted as written, not trusted from the zip's directory).
+    const uint64_t limit = fmu_unpack_limit();
+    uint64_t written = 0;
+    auto too_large = [&] {
+      return FmuError(fmu_path + ": unpacks to more than " + std::to_string(limit) +
+                      " bytes (PCS_FMU_MAX_UNPACKED raises the limit)");
+    };
     zip_int64_t n = zip_get_num_entries(z, 0);
+    if (n > 100000) throw FmuError(fmu_path + ": " + std::to_string(n) + " entries, more than any FMU has");
     for (zip_int64_t i = 0; i < n; ++i) {
       std::string name = zip_get_name(z, static_cast<zip_uint64_t>(i), 0);
       // Nothing may land outside our folder: no absolute paths, no "..".
@@ -200,7 +228,14 @@ FmuArchive::FmuArchive(const std::string& fmu_path) : path_(fmu_path) {
       std::ofstream o(out, std::ios::binary);
       char chunk[65536];
       zip_int64_t got;
-      while ((got = zip_fread(f, chunk, sizeof chunk)) > 0) o.write(chunk, got);
+      while ((got = zip_fread(f, chunk, sizeof chunk)) > 0) {
+        written += static_cast<uint64_t>(got);
+        if (written > limit) {
+          zip_fclose(f);
+          throw too_large();
+        }
+        o.write(chunk, got);
+      }
       zip_fclose(f);
       if (got < 0 || !o) throw FmuError(fmu_path + ": cannot extract " + name);
     }

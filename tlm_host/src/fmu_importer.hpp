@@ -4,6 +4,7 @@
 // it through the 34 standard functions.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -31,6 +32,10 @@ struct ModelDescription {
 // Reads the subset of modelDescription.xml an importer needs. Throws
 // std::runtime_error naming `source` for a malformed or non-2.0 file.
 ModelDescription parse_model_description(const std::string& xml, const std::string& source);
+
+// Largest number of bytes an FMU may unpack to: 1 GiB, or the environment
+// variable PCS_FMU_MAX_UNPACKED (bytes).
+uint64_t fmu_unpack_limit();
 
 class FmuArchive {
  public:

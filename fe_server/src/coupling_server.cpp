@@ -253,8 +253,12 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
     sl_close(&p.conn);
   };
   std::vector<uint8_t> peek(PCS_HEADER_SIZE + buf_.size());
+  uint8_t magic[4];  // the protocol's magic as it arrives on the wire
+  for (int b = 0; b < 4; ++b) magic[b] = static_cast<uint8_t>(PCS_MAGIC >> (8 * b));
   std::vector<sl_socket*> set;
   std::vector<int> ready;
+  std::vector<size_t> polled;  // the pending connection behind each set entry after the listener
+  std::vector<size_t> done;    // pending connections handled in this round
   while (bound < clients_.size()) {
     const int64_t now = sl_now_ms();
     for (auto it = pending.begin(); it != pending.end();) {
@@ -279,7 +283,7 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
     }
     const bool listening = pending.size() < kMaxPending;
     set.clear();
-    std::vector<size_t> polled;  // the pending connection behind each set entry after the listener
+    polled.clear();
     if (listening) set.push_back(&listener_);
     int64_t wake = accept_deadline;
     for (size_t k = 0; k < pending.size(); ++k) {
@@ -306,7 +310,7 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
     }
     // Connections first (their indices follow the listener's), then new ones.
     const size_t offset = listening ? 1 : 0;
-    std::vector<size_t> done;
+    done.clear();
     for (size_t i = offset; i < set.size(); ++i) {
       if (!ready[i]) continue;
       const size_t k = polled[i - offset];
@@ -330,7 +334,7 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
                             static_cast<uint64_t>(n) >= PCS_HEADER_SIZE + static_cast<uint64_t>(h.payload_size);
       const size_t have = static_cast<size_t>(n);
       const size_t magic_bytes = std::min<size_t>(have, 4);
-      if (std::memcmp(peek.data(), "PCSC", magic_bytes) != 0) {
+      if (std::memcmp(peek.data(), magic, magic_bytes) != 0) {
         refused(p, "foreign bytes (not this protocol's magic)");
         done.push_back(k);
         continue;
@@ -362,10 +366,16 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
     for (auto it = done.rbegin(); it != done.rend(); ++it) pending.erase(pending.begin() + static_cast<long>(*it));
     if (listening && ready[0]) {
       sl_socket conn = SL_SOCKET_INIT;
-      if (sl_accept(&listener_, sl_now_ms(), &conn) == SL_OK) {
+      const int arc = sl_accept(&listener_, sl_now_ms(), &conn);
+      if (arc == SL_OK) {
         char peer[96];
         sl_peer_name(&conn, peer, sizeof peer);
         pending.push_back({conn, sl_now_ms() + handshake_ms, peer});
+      } else if (arc != SL_ETIMEDOUT) {  // the connection vanished before accept: SL_ETIMEDOUT, nothing to do
+        message = "cannot accept a connection: " + link_error(arc, listener_);
+        for (auto& p : pending) sl_close(&p.conn);
+        abort_all(0, static_cast<uint32_t>(-arc), message);
+        return kExitLinkLost;
       }
     }
   }

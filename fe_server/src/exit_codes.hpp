@@ -9,7 +9,8 @@ enum ExitCode : int {
   kExitUsage = 2,          // bad command line
   kExitInput = 3,          // deck or port configuration rejected (file:line in the message)
   kExitAcceptTimeout = 4,  // no host connected before --accept-timeout
-  kExitHandshake = 5,      // a handshake refused (version, port table, time step, token): logged, not an exit code of fe_server any more
+  kExitHandshake = 5,      // a handshake refused (version, port table, time step, token); the
+                           // server logs it and keeps listening, so it no longer exits with 5
   kExitLinkLost = 6,       // peer closed, stalled past the step deadline, or sent garbage
   kExitPeerAbort = 7,      // the host sent ABORT
   kExitNumerical = 8,      // NaN/Inf in an input or in the FE state

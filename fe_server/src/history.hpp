@@ -24,11 +24,10 @@ class History {
   void flush() { writer_.flush(); }
   size_t rows() const { return writer_.rows(); }
   size_t snapshots() const;
-  // "energy balance error X J (Y % of Z J)", and whether it exceeds the bound:
-  // 1 % of the largest energy the run held (kinetic + internal, or the work done on it).
-  // One line on the energy balance; *exceeded is set when the error is above
-  // its bound (1 % of the largest energy the run held), *failed when it is
-  // 100 times above (the results are not to be trusted: the run fails).
+  // "energy balance error X J (Y % of Z J)"; *exceeded is set when the error
+  // is above its bound, 1 % of the largest energy the run held (kinetic +
+  // internal, or the work done on it), *failed when it is 100 times above
+  // (the results are not to be trusted: the run fails).
   std::string energy_summary(const Solver& s, bool* exceeded, bool* failed = nullptr) const;
   static constexpr double kEnergyFailFactor = 100.0;
   // The rule itself: bound 1 % of the largest energy the run held (scale);

@@ -149,6 +149,13 @@ TEST(ModelReader, ErrorsNameTheLineAndTheFix) {
   EXPECT_THROW(spec.apply_override("nobody.V=1"), std::invalid_argument);
   spec.apply_override("simulation.stoptime=2.5");
   EXPECT_EQ(spec.stop_time, 2.5);
+  // Settings are checked once every override is in: a step that would be
+  // 10¹³ steps against the old stop time is fine with the new one.
+  spec.apply_override("simulation.timestep=1e-14");
+  spec.apply_override("simulation.stoptime=1e-12");
+  EXPECT_NO_THROW(spec.check_simulation());
+  spec.apply_override("simulation.stoptime=1");
+  EXPECT_THROW(spec.check_simulation(), config::InputError) << "10¹⁴ steps is not a run that ends";
 }
 
 TEST(FmuImporter, RefusesAnArchiveThatWritesOutsideItsFolder) {

@@ -26,7 +26,8 @@ static int log_every_in_range(long n, const config::SourceLocation& where) {
   return static_cast<int>(n);
 }
 
-void ModelSpec::check_simulation(const config::SourceLocation& where) const {
+void ModelSpec::check_simulation() const {
+  const config::SourceLocation& where = simulation_where;
   if (!(dt > 0.0)) throw config::InputError(where, "*SIMULATION needs 'timestep, SECONDS' > 0");
   if (!(stop_time > 0.0)) throw config::InputError(where, "*SIMULATION needs 'stoptime, SECONDS' > 0");
   if (!(stop_time / dt < 1e12))
@@ -47,7 +48,7 @@ void ModelSpec::apply_override(const std::string& assignment) {
     else if (key == "stoptime") stop_time = config::parse_real(value, where, "stoptime");
     else if (key == "log_every") log_every = log_every_in_range(config::parse_integer(value, where, "log_every"), where);
     else throw std::invalid_argument("--set: simulation has timestep, stoptime and log_every, not '" + key + "'");
-    check_simulation(where);
+    simulation_where = where;
     return;
   }
   ComponentSpec* c = find(comp);
@@ -107,8 +108,8 @@ ModelSpec parse_model(const std::string& text, const std::string& name) {
       b.fail("unknown keyword '" + b.keyword + "': expected *SIMULATION, *COMPONENT, *CONNECT or *REPORT");
     }
   }
-  config::SourceLocation top{name, 1};
-  m.check_simulation(top);
+  m.simulation_where = config::SourceLocation{name, 1};
+  m.check_simulation();
   return m;
 }
 
@@ -117,6 +118,7 @@ ModelSpec read_model(const std::string& path) {
 }
 
 System::System(ModelSpec spec) : spec_(std::move(spec)) {
+  spec_.check_simulation();
   for (auto& cs : spec_.components) {
     auto comp = component_types().at(cs.type)(cs.name);
     comp->configure(cs.params);

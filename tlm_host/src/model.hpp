@@ -39,12 +39,17 @@ struct ModelSpec {
   std::vector<ConnectionSpec> connections;
   // *REPORT: key, value rows (piston, inlet_p, inlet_q, peak, settle, lowpass); empty: no report
   std::vector<config::Card> report;
+  // Where the simulation settings were last set (the *SIMULATION block, or
+  // the --set that changed one): the place check_simulation names.
+  config::SourceLocation simulation_where;
 
   ComponentSpec* find(const std::string& name);
   // "comp.key=value" (or "simulation.timestep=…"); throws on an unknown component.
   void apply_override(const std::string& assignment);
-  // timestep and stoptime positive, a finite number of steps, log_every ≥ 1.
-  void check_simulation(const config::SourceLocation& where) const;
+  // timestep and stoptime positive, a finite number of steps, log_every ≥ 1;
+  // checked by System once every override is in, so the order of several
+  // --set options does not matter.
+  void check_simulation() const;
 };
 
 ModelSpec parse_model(const std::string& text, const std::string& name);

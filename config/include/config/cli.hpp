@@ -37,8 +37,7 @@ class Args {
     } catch (const std::exception&) {
       throw std::invalid_argument(option + ": expected a number, got '" + v + "'");
     }
-    if (!(d >= lo && d <= hi))  // also refuses NaN and infinity
-    {
+    if (!(d >= lo && d <= hi)) {  // also refuses NaN and infinity
       std::ostringstream m;
       m << option << ": expected a number from " << lo << " to " << hi << ", got '" << v << "'";
       throw std::invalid_argument(m.str());

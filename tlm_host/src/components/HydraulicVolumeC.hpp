@@ -131,8 +131,6 @@ class HydraulicVolumeC : public Component {
   };
   long cavitation_events() const { return static_cast<long>(events_.size()); }
   const std::vector<CavitationEvent>& events() const { return events_; }
-  double void_volume() const { return void_; }
-  double pressure() const { return p_mean_; }
 
  private:
   void track_events(double t) {

@@ -62,12 +62,12 @@ def cosim(name, deck_dir, deck, ports_text, model, host_args, timeout=900):
     (d / "ports.cfg").write_text(ports_text)
     fmu = d / "model.fmu"
     subprocess.run([str(FMUGEN), str(d / "ports.cfg"), "-o", str(fmu)], check=True, capture_output=True)
-    token = secrets.token_hex(16)
+    env = {**os.environ, "PCS_TOKEN": secrets.token_hex(16)}  # never on a command line
     port_file = d / "port"
     with open(d / "fe_server.log", "w") as fe_log:
         server = subprocess.Popen([str(FE_SERVER), "--model", deck, "--ports", str(d / "ports.cfg"), "--listen",
-                                   "127.0.0.1:0", "--port-file", str(port_file), "--token", token, "--out",
-                                   str(d / "fe.h5"), "--accept-timeout", "60"], cwd=deck_dir, stdout=fe_log,
+                                   "127.0.0.1:0", "--port-file", str(port_file), "--out",
+                                   str(d / "fe.h5"), "--accept-timeout", "60"], cwd=deck_dir, stdout=fe_log, env=env,
                                   stderr=subprocess.STDOUT)
     try:
         for _ in range(400):
@@ -76,8 +76,8 @@ def cosim(name, deck_dir, deck, ports_text, model, host_args, timeout=900):
             time.sleep(0.05)
         t0 = time.monotonic()
         host = subprocess.run([str(TLM_HOST), str(model), "--fmu", str(fmu), "--server",
-                               f"127.0.0.1:{port_file.read_text().strip()}", "--token", token, "--out",
-                               str(d / "host.h5"), "--quiet"] + host_args, capture_output=True, text=True,
+                               f"127.0.0.1:{port_file.read_text().strip()}", "--out",
+                               str(d / "host.h5"), "--quiet"] + host_args, env=env, capture_output=True, text=True,
                               timeout=timeout)
         wall = time.monotonic() - t0
         code = server.wait(timeout=60)

@@ -87,11 +87,11 @@ class Runner:
                            capture_output=True)
             period = 2 * math.pi / omega(m, V)
             stop = min(max(min_steps * T, periods * period), 10 * min_steps * T)
-            token = secrets.token_hex(16)
+            env = {**os.environ, "PCS_TOKEN": secrets.token_hex(16)}  # never on a command line
             with open(d / "fe.log", "w") as fe_log:
                 server = subprocess.Popen([self.fe_server, "--model", "piston.k", "--ports", "ports.cfg",
-                                           "--listen", "127.0.0.1:0", "--port-file", "port", "--token", token,
-                                           "--out", "fe.h5", "--accept-timeout", "30"], cwd=d, stdout=fe_log,
+                                           "--listen", "127.0.0.1:0", "--port-file", "port",
+                                           "--out", "fe.h5", "--accept-timeout", "30"], cwd=d, stdout=fe_log, env=env,
                                           stderr=subprocess.STDOUT)
             try:
                 for _ in range(600):
@@ -99,10 +99,10 @@ class Runner:
                         break
                     time.sleep(0.02)
                 host = subprocess.run([self.tlm_host, str(ROOT / "scenes/one_dof/model.tlm"), "--fmu", "m.fmu",
-                                       "--server", f"127.0.0.1:{(d / 'port').read_text().strip()}", "--token", token,
+                                       "--server", f"127.0.0.1:{(d / 'port').read_text().strip()}",
                                        "--out", "host.h5", "--quiet", "--set", "orifice.A=1e-12", "--set",
                                        f"chamber.V={V:g}", "--set", f"simulation.timestep={T:.6g}", "--set",
-                                       f"simulation.stoptime={stop:.6g}"], cwd=d, capture_output=True, text=True,
+                                       f"simulation.stoptime={stop:.6g}"], cwd=d, env=env, capture_output=True, text=True,
                                       timeout=600)
                 code = server.wait(timeout=60)
             finally:

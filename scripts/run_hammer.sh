@@ -53,10 +53,13 @@ run_mode() {  # condition directory, mode, common --set arguments...
   local run=$dir/$mode
   mkdir -p "$run"
   rm -f "$run/port"
-  local token
-  token=$(od -An -N16 -tx1 /dev/urandom | tr -d ' \n')
+  # The token travels in the environment (private to this user), never on a
+  # command line; both sides read $PCS_TOKEN.
+  local PCS_TOKEN
+  PCS_TOKEN=$(od -An -N16 -tx1 /dev/urandom | tr -d ' \n')
+  export PCS_TOKEN
   (cd "$scene" && exec "$build/fe_server/fe_server" --model deck.k --ports "$root/scenes/hammer/$ports" \
-     --listen 127.0.0.1:0 --port-file "$run/port" --token "$token" --out "$run/fe.h5" --accept-timeout 60 --quiet) \
+     --listen 127.0.0.1:0 --port-file "$run/port" --out "$run/fe.h5" --accept-timeout 60 --quiet) \
      > "$run/fe_server.log" 2>&1 &
   server=$!
   for _ in $(seq 400); do [ -s "$run/port" ] && break; sleep 0.05; done
@@ -64,7 +67,7 @@ run_mode() {  # condition directory, mode, common --set arguments...
   local start wall
   start=$(date +%s.%N)
   "$build/tlm_host/tlm_host" "$root/scenes/hammer/model.tlm" --fmu "$scene/$fmu" \
-    --server "127.0.0.1:$(cat "$run/port")" --token "$token" "$@" "${host_step[@]}" \
+    --server "127.0.0.1:$(cat "$run/port")" "$@" "${host_step[@]}" \
     --out "$run/host.h5" --report "$run/host.json" > "$run/tlm_host.log"
   wall=$(echo "$(date +%s.%N) - $start" | bc)
   wait $server || { echo "fe_server failed, see $run/fe_server.log" >&2; exit 1; }

@@ -12,10 +12,12 @@ out=$root/out/$scene
 [ -d "$dir" ] || { echo "run_scene: no scene folder $dir" >&2; exit 2; }
 mkdir -p "$out"
 rm -f "$out/port"
-token=$(od -An -N16 -tx1 /dev/urandom | tr -d ' \n')
+# The token travels in the environment (private to this user), never on a command line.
+PCS_TOKEN=$(od -An -N16 -tx1 /dev/urandom | tr -d ' \n')
+export PCS_TOKEN
 
 "$build/fe_server/fe_server" --model "$dir/piston.k" --ports "$dir/ports.cfg" \
-  --listen 127.0.0.1:0 --port-file "$out/port" --token "$token" \
+  --listen 127.0.0.1:0 --port-file "$out/port" \
   --out "$out/fe_results.h5" --accept-timeout 60 > "$out/fe_server.log" 2>&1 &
 server=$!
 trap 'kill $server 2>/dev/null || true' EXIT
@@ -23,7 +25,7 @@ for _ in $(seq 200); do [ -s "$out/port" ] && break; sleep 0.05; done
 [ -s "$out/port" ] || { cat "$out/fe_server.log" >&2; echo "run_scene: fe_server did not start" >&2; exit 1; }
 
 "$build/tlm_host/tlm_host" "$dir/model.tlm" --fmu "$build/scenes/$scene/$scene.fmu" \
-  --server "127.0.0.1:$(cat "$out/port")" --token "$token" --out "$out/host_results.h5" "$@"
+  --server "127.0.0.1:$(cat "$out/port")" --out "$out/host_results.h5" "$@"
 wait $server
 trap - EXIT
 cat "$out/fe_server.log"

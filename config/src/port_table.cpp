@@ -259,7 +259,7 @@ std::vector<FmuVariable> fmu_variables(const PortTable& t) {
   out.push_back({"server.port", kVrServerPort, FmuCausality::Parameter, FmuType::Integer, "0", "",
                  "fe_server port; 0: $PCS_SERVER_PORT, else the port configuration", -1});
   out.push_back({"server.token", kVrServerToken, FmuCausality::Parameter, FmuType::String, "", "",
-                 "session token; empty: $PCS_TOKEN", -1});
+                 "session token; empty: $PCS_TOKEN, else the file named by $PCS_TOKEN_FILE", -1});
   char num[64];
   std::snprintf(num, sizeof num, "%.17g", t.timeout);
   out.push_back({"server.timeout", kVrTimeout, FmuCausality::Parameter, FmuType::Real, num, "s",

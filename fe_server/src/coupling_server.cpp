@@ -140,10 +140,11 @@ CouplingServer::CouplingServer(const ServerOptions& opt, std::vector<config::Por
     widest = std::max({widest, t.to_fe.size(), t.to_host.size()});
   }
   if (tables_.empty()) throw std::invalid_argument("CouplingServer: no port table");
+  if (pcs_auth_init() != SL_OK) throw std::runtime_error("cannot initialise libsodium (needed for the handshake)");
   timeout_ = tables_.front().timeout;
   for (const auto& t : tables_) timeout_ = std::max(timeout_, t.timeout);
   if (opt_.step_timeout > 0) timeout_ = opt_.step_timeout;
-  buf_.resize(std::max<size_t>(pcs_values_size(static_cast<uint32_t>(widest)), PCS_MAX_REASON + PCS_MAX_TOKEN + 64));
+  buf_.resize(std::max<size_t>(pcs_values_size(static_cast<uint32_t>(widest)), PCS_MAX_REASON + 64));
 }
 
 CouplingServer::~CouplingServer() {
@@ -182,26 +183,39 @@ void CouplingServer::bind() {
   }
 }
 
-ExitCode CouplingServer::handshake(sl_socket& conn, int& which, std::string& message) {
-  const int64_t deadline = deadline_after(timeout_);
+// Refuses the peer: ABORT with the reason (best effort), which is returned.
+static std::string refuse(sl_socket& conn, const std::string& reason) {
+  pcs_send_abort(&conn, 0, SL_EREFUSED_BY_PEER, reason.c_str(), deadline_after(1.0));
+  return reason;
+}
+
+std::string CouplingServer::advance_handshake(Pending& p, bool& bound) {
+  bound = false;
   pcs_header h{};
-  int rc = pcs_recv_frame(&conn, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline);
-  auto refuse = [&](const std::string& reason) {
-    pcs_send_abort(&conn, 0, SL_EREFUSED_BY_PEER, reason.c_str(), deadline_after(1.0));
-    message = "session refused: " + reason;
-    return kExitHandshake;
-  };
+  // The frame is whole in the socket's buffer (accept_clients peeked it), so
+  // this does not wait.
+  const int rc = pcs_recv_frame(&p.conn, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(1.0));
+  if (rc == SL_EVERSION && h.type == PCS_MSG_ABORT) return "the host aborted (another protocol version)";
   if (rc == SL_EVERSION)
-    return refuse("protocol version mismatch: server speaks " + std::to_string(PCS_PROTOCOL_VERSION) +
-                  ", client " + std::to_string(h.version));
-  if (rc != SL_OK) {
-    message = "no valid HELLO from the host: " + link_error(rc, conn);
-    return rc == SL_EBADMAGIC ? kExitHandshake : kExitLinkLost;
+    return refuse(p.conn, "protocol version mismatch: server speaks " + std::to_string(PCS_PROTOCOL_VERSION) +
+                              ", client " + std::to_string(h.version));
+  if (rc != SL_OK) return "no valid frame: " + link_error(rc, p.conn);
+  if (h.type == PCS_MSG_ABORT) {
+    pcs_abort a{};
+    pcs_decode_abort(buf_.data(), h.payload_size, &a);
+    return std::string("the host aborted the handshake: ") + a.reason;
   }
-  if (h.type != PCS_MSG_HELLO) return refuse(std::string("expected HELLO, got ") + pcs_msg_name(h.type));
+  if (!p.challenged) return on_hello(p, h);
+  const std::string why = on_auth(p, h);
+  bound = why.empty();
+  return why;
+}
+
+std::string CouplingServer::on_hello(Pending& p, const pcs_header& h) {
+  if (h.type != PCS_MSG_HELLO) return refuse(p.conn, std::string("expected HELLO, got ") + pcs_msg_name(h.type));
   pcs_hello hello{};
-  if (pcs_decode_hello(buf_.data(), h.payload_size, &hello) != SL_OK) return refuse("malformed HELLO");
-  which = -1;
+  if (pcs_decode_hello(buf_.data(), h.payload_size, &hello) != SL_OK) return refuse(p.conn, "malformed HELLO");
+  int which = -1;
   std::string hashes;
   for (size_t i = 0; i < clients_.size(); ++i) {
     const config::PortTable& t = *clients_[i].table;
@@ -210,39 +224,49 @@ ExitCode CouplingServer::handshake(sl_socket& conn, int& which, std::string& mes
     hashes += (hashes.empty() ? "" : ", ") + std::string(buf) + " (" + t.source + ")";
     if (t.hash() != hello.table_hash) continue;
     if (clients_[i].conn.fd >= 0)
-      return refuse("a second FMU presented the port table of " + t.source + ", which is already connected");
+      return refuse(p.conn, "a second FMU presented the port table of " + t.source + ", which is already connected");
     which = static_cast<int>(i);
   }
   if (which < 0) {
     char buf[40];
     std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(hello.table_hash));
-    return refuse("port table mismatch (host " + std::string(buf) + ", server " + hashes +
-                  "): host and server must use the same ports.cfg");
+    return refuse(p.conn, "port table mismatch (host " + std::string(buf) + ", server " + hashes +
+                              "): host and server must use the same ports.cfg");
   }
   const config::PortTable& table = *clients_[static_cast<size_t>(which)].table;
   if (hello.dt != table.dt || hello.subcycles != static_cast<uint32_t>(table.subcycles))
-    return refuse("time step or subcycles differ between host and server");
-  if (!pcs_token_equal(hello.token, opt_.token.c_str()))
-    return refuse(opt_.token.empty() ? "this server expects no token" : "wrong or missing token");
+    return refuse(p.conn, "time step or subcycles differ between host and server");
+  p.which = which;
+  std::memcpy(p.client_nonce, hello.client_nonce, PCS_NONCE_SIZE);
+  pcs_random_nonce(p.server_nonce);
+  pcs_challenge ch{};
+  std::memcpy(ch.server_nonce, p.server_nonce, PCS_NONCE_SIZE);
+  pcs_auth_proof(opt_.token.c_str(), PCS_ROLE_SERVER, p.client_nonce, p.server_nonce, table.hash(), ch.server_proof);
+  const int n = pcs_encode_challenge(&ch, buf_.data(), static_cast<uint32_t>(buf_.size()));
+  const int rc = pcs_send_frame(&p.conn, PCS_MSG_CHALLENGE, 0, buf_.data(), static_cast<uint32_t>(n), p.deadline);
+  if (rc != SL_OK) return "cannot send CHALLENGE: " + link_error(rc, p.conn);
+  p.challenged = true;
+  return "";
+}
+
+std::string CouplingServer::on_auth(Pending& p, const pcs_header& h) {
+  if (h.type != PCS_MSG_AUTH) return refuse(p.conn, std::string("expected AUTH, got ") + pcs_msg_name(h.type));
+  pcs_auth auth{};
+  if (pcs_decode_auth(buf_.data(), h.payload_size, &auth) != SL_OK) return refuse(p.conn, "malformed AUTH");
+  const config::PortTable& table = *clients_[static_cast<size_t>(p.which)].table;
+  if (clients_[static_cast<size_t>(p.which)].conn.fd >= 0)
+    return refuse(p.conn, "a second FMU presented the port table of " + table.source + ", which is already connected");
+  if (!pcs_auth_check(opt_.token.c_str(), PCS_ROLE_HOST, p.client_nonce, p.server_nonce, table.hash(),
+                      auth.client_proof))
+    return refuse(p.conn, "wrong or missing token (the host's proof does not match)");
   pcs_hello_ack ack{table.hash(), table.dt, static_cast<uint32_t>(table.subcycles)};
-  int n = pcs_encode_hello_ack(&ack, buf_.data(), static_cast<uint32_t>(buf_.size()));
-  rc = pcs_send_frame(&conn, PCS_MSG_HELLO_ACK, 0, buf_.data(), static_cast<uint32_t>(n), deadline);
-  if (rc != SL_OK) {
-    message = "cannot send HELLO_ACK: " + link_error(rc, conn);
-    return kExitLinkLost;
-  }
-  return kExitOk;
+  const int n = pcs_encode_hello_ack(&ack, buf_.data(), static_cast<uint32_t>(buf_.size()));
+  const int rc = pcs_send_frame(&p.conn, PCS_MSG_HELLO_ACK, 0, buf_.data(), static_cast<uint32_t>(n), p.deadline);
+  if (rc != SL_OK) return "cannot send HELLO_ACK: " + link_error(rc, p.conn);
+  return "";
 }
 
 ExitCode CouplingServer::accept_clients(std::string& message) {
-  struct Pending {
-    sl_socket conn;
-    int64_t deadline;
-    std::string peer;
-    // Part of a frame stays readable until it is whole: such a connection is
-    // polled again only after a short pause, so a slow drip costs no CPU.
-    int64_t pause_until = 0;
-  };
   constexpr int64_t kPartialFramePauseMs = 20;
   std::vector<Pending> pending;
   size_t bound = 0;
@@ -267,7 +291,7 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
         continue;
       }
       std::ostringstream why;
-      why << "no complete HELLO within " << opt_.handshake_timeout << " s";
+      why << "no complete " << (it->challenged ? "AUTH" : "HELLO") << " within " << opt_.handshake_timeout << " s";
       refused(*it, why.str());
       it = pending.erase(it);
     }
@@ -328,8 +352,8 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
       }
       pcs_header h{};
       if (static_cast<uint32_t>(n) >= PCS_HEADER_SIZE) pcs_decode_header(peek.data(), &h);
-      // Only a whole frame goes to handshake(), so it never waits on a
-      // stranger; foreign magic or a length beyond any HELLO is refused at once.
+      // Only a whole frame is read, so the server never waits on a stranger;
+      // foreign magic or a length beyond any handshake frame is refused at once.
       const bool complete = static_cast<uint32_t>(n) >= PCS_HEADER_SIZE &&
                             static_cast<uint64_t>(n) >= PCS_HEADER_SIZE + static_cast<uint64_t>(h.payload_size);
       const size_t have = static_cast<size_t>(n);
@@ -340,27 +364,27 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
         continue;
       }
       if (have >= PCS_HEADER_SIZE && h.payload_size > buf_.size()) {
-        refused(p, "a frame of " + std::to_string(h.payload_size) + " bytes, more than any HELLO");
+        refused(p, "a frame of " + std::to_string(h.payload_size) + " bytes, more than any handshake message");
         done.push_back(k);
         continue;
       }
-      if (!complete) {  // the rest of the HELLO is still on its way
+      if (!complete) {  // the rest of the frame is still on its way
         p.pause_until = sl_now_ms() + kPartialFramePauseMs;
         continue;
       }
-      int which = -1;
-      std::string why;
-      const ExitCode code = handshake(p.conn, which, why);
-      if (code != kExitOk) {
+      bool now_bound = false;
+      const std::string why = advance_handshake(p, now_bound);
+      if (!why.empty()) {
         refused(p, why);
-      } else {
-        clients_[static_cast<size_t>(which)].conn = p.conn;
+        done.push_back(k);
+      } else if (now_bound) {
+        Client& c = clients_[static_cast<size_t>(p.which)];
+        c.conn = p.conn;
+        p.conn = SL_SOCKET_INIT;
         ++bound;
-        if (!opt_.quiet)
-          std::cout << "fe_server: host " << p.peer << " accepted" << name_of(clients_[static_cast<size_t>(which)])
-                    << std::endl;
+        if (!opt_.quiet) std::cout << "fe_server: host " << p.peer << " accepted" << name_of(c) << std::endl;
+        done.push_back(k);
       }
-      done.push_back(k);
     }
     std::sort(done.begin(), done.end());
     for (auto it = done.rbegin(); it != done.rend(); ++it) pending.erase(pending.begin() + static_cast<long>(*it));
@@ -370,7 +394,11 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
       if (arc == SL_OK) {
         char peer[96];
         sl_peer_name(&conn, peer, sizeof peer);
-        pending.push_back({conn, sl_now_ms() + handshake_ms, peer});
+        Pending p;
+        p.conn = conn;
+        p.deadline = sl_now_ms() + handshake_ms;
+        p.peer = peer;
+        pending.push_back(std::move(p));
       } else if (arc != SL_ETIMEDOUT) {  // the connection vanished before accept: SL_ETIMEDOUT, nothing to do
         message = "cannot accept a connection: " + link_error(arc, listener_);
         for (auto& p : pending) sl_close(&p.conn);

@@ -16,7 +16,7 @@
 #include "exit_codes.hpp"
 #include "history.hpp"
 #include "mechanical_load.hpp"
-#include "socketlib/socketlib.h"
+#include "socketlib/protocol.h"
 #include "solver.hpp"
 
 namespace fe {
@@ -80,18 +80,36 @@ class CouplingServer {
     sl_socket conn = SL_SOCKET_INIT;
     size_t in_offset = 0, out_offset = 0;  // of its variables in the combined table
   };
+  // A connection in its handshake: HELLO expected, then (after our
+  // CHALLENGE) AUTH.
+  struct Pending {
+    sl_socket conn = SL_SOCKET_INIT;
+    int64_t deadline = 0;  // the whole handshake must be done by then
+    std::string peer;
+    // Part of a frame stays readable until it is whole: such a connection is
+    // polled again only after a short pause, so a slow drip costs no CPU.
+    int64_t pause_until = 0;
+    bool challenged = false;  // HELLO answered with CHALLENGE; AUTH expected
+    int which = -1;           // the client whose port table the HELLO named
+    uint8_t client_nonce[PCS_NONCE_SIZE] = {};
+    uint8_t server_nonce[PCS_NONCE_SIZE] = {};
+  };
   // Waits for every client until the accept deadline. Up to kMaxPending
   // connections are examined at once (more wait in the kernel's backlog);
-  // a connection is handed to handshake() only once its whole HELLO has
-  // arrived, so a silent or slow stranger blocks nothing. A stranger (port
-  // scan, silence past handshake_timeout, foreign bytes, oversize length,
-  // wrong token or table) is refused, logged with its address and reason,
-  // and the server keeps listening.
+  // a connection's frame is read only once it has arrived whole, so a silent
+  // or slow stranger blocks nothing. A stranger (port scan, silence past
+  // handshake_timeout, foreign bytes, oversize length, wrong token or table)
+  // is refused, logged with its address and reason, and the server keeps
+  // listening.
   ExitCode accept_clients(std::string& message);
   static constexpr size_t kMaxPending = 32;
-  // Reads one HELLO on `conn` and binds it to the client whose table it
-  // names; kExitOk and `which` set, or a refusal told to the peer.
-  ExitCode handshake(sl_socket& conn, int& which, std::string& message);
+  // Reads the whole frame waiting on p.conn (HELLO, or AUTH once
+  // challenged) and answers it. Returns "" while the handshake goes on or
+  // is complete (p.which bound when `bound` is set), else the reason for
+  // refusing, already told to the peer.
+  std::string advance_handshake(Pending& p, bool& bound);
+  std::string on_hello(Pending& p, const pcs_header& h);
+  std::string on_auth(Pending& p, const pcs_header& h);
   // Tells every connected client why the session ends (best effort).
   void abort_all(uint64_t step, uint32_t code, const std::string& why);
   std::string name_of(const Client& c) const;

@@ -1,6 +1,6 @@
 // fe_server: the explicit FE side of the co-simulation.
 //
-//   fe_server --model DECK.k --ports ports.cfg [--listen HOST:PORT] [--token T]
+//   fe_server --model DECK.k --ports ports.cfg [--listen HOST:PORT] [--token-file F]
 //             [--port-file F] [--out results.h5] [--accept-timeout S] [--step-timeout S]
 //   fe_server --model DECK.k --out results.h5           (standalone, no host)
 #include <chrono>
@@ -15,12 +15,14 @@
 #include "cavity_load.hpp"
 #include "config/cli.hpp"
 #include "config/port_table.hpp"
+#include "config/token.hpp"
 #include "coupling_advice.hpp"
 #include "coupling_server.hpp"
 #include "deck_reader.hpp"
 #include "exit_codes.hpp"
 #include "history.hpp"
 #include "mass_scaling.hpp"
+#include "socketlib/auth.h"
 #include "socketlib/socketlib.h"
 #include "solver.hpp"
 
@@ -33,8 +35,9 @@ int usage(std::ostream& os, int rc) {
         "                        for one FMU per part (piston, valve): the session then waits for\n"
         "                        one client per file and steps them together\n"
         "  --listen HOST:PORT    where to wait for tlm_host (default 127.0.0.1:0 = any free port)\n"
-        "  --token TOKEN         session token the host must present (required off loopback;\n"
-        "                        generated and printed once when not given)\n"
+        "  --token-file FILE     session token, first line of FILE (mode 600, yours); else $PCS_TOKEN,\n"
+        "                        else the file named by $PCS_TOKEN_FILE. Off loopback a token of at\n"
+        "                        least 16 characters is required. Never on the command line\n"
         "  --port-file FILE      write the bound port number to FILE\n"
         "  --out FILE            HDF5 time histories (default fe_results.h5)\n"
         "  --accept-timeout S    give up if no host connects within S seconds (default 300); until then\n"
@@ -49,16 +52,6 @@ int usage(std::ostream& os, int rc) {
 
 bool is_loopback(const std::string& host) {
   return host == "localhost" || host.rfind("127.", 0) == 0 || host == "::1";
-}
-
-std::string random_token() {
-  std::ifstream u("/dev/urandom", std::ios::binary);
-  unsigned char b[16] = {};
-  u.read(reinterpret_cast<char*>(b), sizeof b);
-  if (!u) throw std::runtime_error("cannot read /dev/urandom to make a token");
-  char hex[33];
-  for (int i = 0; i < 16; ++i) std::snprintf(hex + 2 * i, 3, "%02x", b[i]);
-  return hex;
 }
 
 // The FE step for a requested step: as is if stable, else with selective
@@ -139,17 +132,16 @@ int main(int argc, char** argv) {
   std::string deck, listen = "127.0.0.1:0", out = "fe_results.h5";
   std::vector<std::string> ports_paths;
   fe::ServerOptions opt;
-  bool token_given = false;
+  std::string token_file;
   try {
     config::Args args(argc, argv);
     while (args.next()) {
       if (args.is("--model")) deck = args.value();
       else if (args.is("--ports")) ports_paths.push_back(args.value());
       else if (args.is("--listen")) listen = args.value();
-      else if (args.is("--token")) {
-        opt.token = args.value();
-        token_given = true;
-      } else if (args.is("--port-file")) opt.port_file = args.value();
+      else if (args.is("--token")) throw std::invalid_argument(config::token_on_command_line_refused("fe_server"));
+      else if (args.is("--token-file")) token_file = args.value();
+      else if (args.is("--port-file")) opt.port_file = args.value();
       else if (args.is("--out")) out = args.value();
       // Deadlines are kept in milliseconds: up to 10⁶ s (11 days) keeps them exact.
       else if (args.is("--accept-timeout")) opt.accept_timeout = args.real(1e-3, 1e6);
@@ -164,6 +156,13 @@ int main(int argc, char** argv) {
     if (sl_parse_endpoint(listen.c_str(), host, sizeof host, &opt.listen_port) != SL_OK)
       throw std::invalid_argument("--listen '" + listen + "' is not HOST:PORT");
     opt.listen_host = host;
+    opt.token = token_file.empty() ? config::token_from_environment() : config::read_token_file(token_file);
+    if (!is_loopback(opt.listen_host) && opt.token.size() < PCS_MIN_TOKEN_OFF_LOOPBACK)
+      throw std::invalid_argument("--listen " + listen + " is off loopback: a token of at least " +
+                                  std::to_string(PCS_MIN_TOKEN_OFF_LOOPBACK) + " characters is required (" +
+                                  (opt.token.empty() ? "none given" : "got " + std::to_string(opt.token.size())) +
+                                  "); e.g. head -c 24 /dev/urandom | base64 > token && chmod 600 token, then "
+                                  "--token-file token");
   } catch (const std::exception& e) {
     std::cerr << "fe_server: " << e.what() << "\n";
     return usage(std::cerr, fe::kExitUsage);
@@ -182,12 +181,6 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::cerr << "fe_server: " << e.what() << "\n";
     return fe::kExitInput;
-  }
-
-  if (!is_loopback(opt.listen_host) && !token_given) {
-    opt.token = random_token();
-    std::cout << "fe_server: listening off loopback needs a token; generated one (shown once): " << opt.token
-              << std::endl;
   }
 
   std::unique_ptr<fe::History> history;

@@ -28,28 +28,9 @@ void CouplingClient::fail(int code, const std::string& what) {
   throw LinkError(code, msg);
 }
 
-void CouplingClient::connect(const std::string& host, int port, const std::string& token,
-                             double timeout_s) {
-  timeout_s_ = timeout_s;
-  const int64_t deadline = deadline_after(timeout_s);
-  std::string where = "fe_server at " + host + ":" + std::to_string(port);
-  int rc = sl_connect(host.c_str(), port, deadline, &sock_);
-  if (rc != SL_OK) fail(rc, "cannot connect to " + where);
-
-  pcs_hello hello{};
-  hello.protocol_version = PCS_PROTOCOL_VERSION;
-  hello.table_hash = table_.hash();
-  hello.dt = table_.dt;
-  hello.subcycles = static_cast<uint32_t>(table_.subcycles);
-  if (token.size() >= sizeof hello.token) fail(SL_EINVAL, "token longer than 255 characters");
-  std::memcpy(hello.token, token.c_str(), token.size() + 1);
-  int n = pcs_encode_hello(&hello, buf_.data(), static_cast<uint32_t>(buf_.size()));
-  if (n < 0) fail(n, "cannot encode HELLO");
-  rc = pcs_send_frame(&sock_, PCS_MSG_HELLO, 0, buf_.data(), static_cast<uint32_t>(n), deadline);
-  if (rc != SL_OK) fail(rc, "cannot send HELLO to " + where);
-
-  pcs_header h{};
-  rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline);
+void CouplingClient::receive_handshake_frame(pcs_header& h, uint16_t want, const std::string& where,
+                                             int64_t deadline) {
+  int rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline);
   if (h.type == PCS_MSG_ABORT && (rc == SL_OK || rc == SL_EVERSION)) {
     pcs_abort a{};
     pcs_decode_abort(buf_.data(), h.payload_size, &a);
@@ -61,12 +42,55 @@ void CouplingClient::connect(const std::string& host, int port, const std::strin
                    ("protocol version mismatch: client speaks " + std::to_string(PCS_PROTOCOL_VERSION) +
                     ", server " + std::to_string(h.version)).c_str(),
                    deadline);
-    fail(rc, "protocol version mismatch (client " + std::to_string(PCS_PROTOCOL_VERSION) +
-                 ", server " + std::to_string(h.version) + ")");
+    fail(rc, "protocol version mismatch (client " + std::to_string(PCS_PROTOCOL_VERSION) + ", server " +
+                 std::to_string(h.version) + ")");
   }
   if (rc != SL_OK) fail(rc, "no handshake answer from " + where);
-  if (h.type != PCS_MSG_HELLO_ACK)
-    fail(SL_EUNEXPECTED, std::string("expected HELLO_ACK, got ") + pcs_msg_name(h.type));
+  if (h.type != want) fail(SL_EUNEXPECTED, std::string("expected ") + pcs_msg_name(want) + ", got " + pcs_msg_name(h.type));
+}
+
+void CouplingClient::connect(const std::string& host, int port, const std::string& token,
+                             double timeout_s) {
+  timeout_s_ = timeout_s;
+  const int64_t deadline = deadline_after(timeout_s);
+  std::string where = "fe_server at " + host + ":" + std::to_string(port);
+  int rc = sl_connect(host.c_str(), port, deadline, &sock_);
+  if (rc != SL_OK) fail(rc, "cannot connect to " + where);
+
+  if (token.size() >= PCS_MAX_TOKEN) fail(SL_EINVAL, "token longer than " + std::to_string(PCS_MAX_TOKEN - 1) + " bytes");
+  if (pcs_auth_init() != SL_OK) fail(SL_ESYSTEM, "cannot initialise libsodium");
+  pcs_hello hello{};
+  hello.protocol_version = PCS_PROTOCOL_VERSION;
+  hello.table_hash = table_.hash();
+  hello.dt = table_.dt;
+  hello.subcycles = static_cast<uint32_t>(table_.subcycles);
+  pcs_random_nonce(hello.client_nonce);
+  int n = pcs_encode_hello(&hello, buf_.data(), static_cast<uint32_t>(buf_.size()));
+  if (n < 0) fail(n, "cannot encode HELLO");
+  rc = pcs_send_frame(&sock_, PCS_MSG_HELLO, 0, buf_.data(), static_cast<uint32_t>(n), deadline);
+  if (rc != SL_OK) fail(rc, "cannot send HELLO to " + where);
+
+  // CHALLENGE: the server proves it knows the token before we prove we do.
+  pcs_header h{};
+  receive_handshake_frame(h, PCS_MSG_CHALLENGE, where, deadline);
+  pcs_challenge ch{};
+  if (pcs_decode_challenge(buf_.data(), h.payload_size, &ch) != SL_OK) fail(SL_EMALFORMED, "malformed CHALLENGE");
+  if (!pcs_auth_check(token.c_str(), PCS_ROLE_SERVER, hello.client_nonce, ch.server_nonce, table_.hash(),
+                      ch.server_proof)) {
+    const std::string reason =
+        "wrong or missing token: the server could not prove it knows our token (the tokens differ, or this is not "
+        "the real fe_server)";
+    pcs_send_abort(&sock_, 0, SL_EREFUSED_BY_PEER,
+                   "wrong or missing token (the server's proof does not match the host's token)", deadline);
+    fail(SL_EREFUSED_BY_PEER, where + ": " + reason);
+  }
+  pcs_auth auth{};
+  pcs_auth_proof(token.c_str(), PCS_ROLE_HOST, hello.client_nonce, ch.server_nonce, table_.hash(), auth.client_proof);
+  n = pcs_encode_auth(&auth, buf_.data(), static_cast<uint32_t>(buf_.size()));
+  rc = pcs_send_frame(&sock_, PCS_MSG_AUTH, 0, buf_.data(), static_cast<uint32_t>(n), deadline);
+  if (rc != SL_OK) fail(rc, "cannot send AUTH to " + where);
+
+  receive_handshake_frame(h, PCS_MSG_HELLO_ACK, where, deadline);
   pcs_hello_ack ack{};
   rc = pcs_decode_hello_ack(buf_.data(), h.payload_size, &ack);
   if (rc != SL_OK) fail(rc, "malformed HELLO_ACK");

@@ -45,6 +45,9 @@ class CouplingClient {
 
  private:
   [[noreturn]] void fail(int code, const std::string& what);
+  // Receive one handshake frame of type `want`; an ABORT, another version or
+  // another type ends the connection with a LinkError naming the cause.
+  void receive_handshake_frame(pcs_header& h, uint16_t want, const std::string& where, int64_t deadline);
   config::PortTable table_;  // a copy: the client may outlive the table it was given
   sl_socket sock_ = SL_SOCKET_INIT;
   double timeout_s_ = 60.0;

@@ -1,5 +1,7 @@
 #include "instance.hpp"
 
+#include "config/token.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -140,8 +142,13 @@ void Instance::resolve_endpoint(std::string& host, int& port, std::string& token
     if (const char* e = std::getenv("PCS_SERVER_HOST")) host = e;
   if (port == 0)
     if (const char* e = std::getenv("PCS_SERVER_PORT")) port = std::atoi(e);
-  if (token.empty())
-    if (const char* e = std::getenv("PCS_TOKEN")) token = e;
+  if (token.empty()) {
+    try {
+      token = config::token_from_environment();
+    } catch (const std::exception& e) {
+      throw FmuError(fmi2Error, e.what());
+    }
+  }
   if ((host.empty() || port == 0) && !table_.server.empty()) {
     char h[256];
     int p = 0;

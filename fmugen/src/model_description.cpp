@@ -116,12 +116,12 @@ std::string external_dependencies_text(const config::PortTable& t) {
   std::ostringstream s;
   s << "This FMU is a co-simulation front end: the structural model runs in a separate\n"
        "process, fe_server, which must be running before fmi2ExitInitializationMode.\n\n"
-       "  fe_server --model DECK.k --ports ports.cfg --listen HOST:PORT [--token TOKEN]\n\n"
+       "  fe_server --model DECK.k --ports ports.cfg --listen HOST:PORT [--token-file FILE]\n\n"
        "The FMU connects to the address given by its parameters server.host and\n"
        "server.port (environment PCS_SERVER_HOST / PCS_SERVER_PORT as fallback, then\n"
        "the 'server' line of resources/ports.cfg";
   if (!t.server.empty()) s << ": " << t.server;
-  s << ").\nA session token is passed in server.token (or PCS_TOKEN).\n"
+  s << ").\nA session token is passed in server.token (or $PCS_TOKEN, or a file named by $PCS_TOKEN_FILE).\n"
        "Both sides must use the same port table (resources/ports.cfg); the handshake\n"
        "refuses a mismatch. Coupling: "
     << config::to_string(t.mode) << " mode, time step " << t.dt << " s, " << t.subcycles

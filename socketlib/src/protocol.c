@@ -14,6 +14,8 @@ const char *pcs_msg_name(uint32_t type) {
     case PCS_MSG_ABORT: return "ABORT";
     case PCS_MSG_BYE: return "BYE";
     case PCS_MSG_HEARTBEAT: return "HEARTBEAT";
+    case PCS_MSG_CHALLENGE: return "CHALLENGE";
+    case PCS_MSG_AUTH: return "AUTH";
     default: return "UNKNOWN";
   }
 }
@@ -129,6 +131,10 @@ void pcs_put_str(pcs_writer *w, const char *s) {
   uint8_t *p = pcs__reserve(w, (uint32_t)n);
   if (p && n) memcpy(p, s, n);
 }
+void pcs_put_bytes(pcs_writer *w, const uint8_t *p, uint32_t n) {
+  uint8_t *dst = pcs__reserve(w, n);
+  if (dst && n) memcpy(dst, p, n);
+}
 
 static const uint8_t *pcs__take(pcs_reader *r, uint32_t n) {
   if (r->error || r->len - r->pos < n) {
@@ -174,6 +180,11 @@ void pcs_get_str(pcs_reader *r, char *out, uint32_t cap) {
   memcpy(out, p, n);
   out[n] = '\0';
 }
+void pcs_get_bytes(pcs_reader *r, uint8_t *out, uint32_t n) {
+  const uint8_t *p = pcs__take(r, n);
+  if (p) memcpy(out, p, n);
+  else memset(out, 0, n);
+}
 
 /* A payload must be consumed exactly: trailing bytes mean a layout mismatch. */
 static int pcs__finish(const pcs_reader *r) {
@@ -187,7 +198,7 @@ int pcs_encode_hello(const pcs_hello *m, uint8_t *buf, uint32_t cap) {
   pcs_put_u64(&w, m->table_hash);
   pcs_put_f64(&w, m->dt);
   pcs_put_u32(&w, m->subcycles);
-  pcs_put_str(&w, m->token);
+  pcs_put_bytes(&w, m->client_nonce, PCS_NONCE_SIZE);
   return pcs__written(&w);
 }
 int pcs_decode_hello(const uint8_t *buf, uint32_t len, pcs_hello *m) {
@@ -196,7 +207,7 @@ int pcs_decode_hello(const uint8_t *buf, uint32_t len, pcs_hello *m) {
   m->table_hash = pcs_get_u64(&r);
   m->dt = pcs_get_f64(&r);
   m->subcycles = pcs_get_u32(&r);
-  pcs_get_str(&r, m->token, sizeof m->token);
+  pcs_get_bytes(&r, m->client_nonce, PCS_NONCE_SIZE);
   return pcs__finish(&r);
 }
 
@@ -212,6 +223,30 @@ int pcs_decode_hello_ack(const uint8_t *buf, uint32_t len, pcs_hello_ack *m) {
   m->table_hash = pcs_get_u64(&r);
   m->dt = pcs_get_f64(&r);
   m->subcycles = pcs_get_u32(&r);
+  return pcs__finish(&r);
+}
+
+int pcs_encode_challenge(const pcs_challenge *m, uint8_t *buf, uint32_t cap) {
+  pcs_writer w = {buf, cap, 0, 0};
+  pcs_put_bytes(&w, m->server_nonce, PCS_NONCE_SIZE);
+  pcs_put_bytes(&w, m->server_proof, PCS_PROOF_SIZE);
+  return pcs__written(&w);
+}
+int pcs_decode_challenge(const uint8_t *buf, uint32_t len, pcs_challenge *m) {
+  pcs_reader r = {buf, len, 0, 0};
+  pcs_get_bytes(&r, m->server_nonce, PCS_NONCE_SIZE);
+  pcs_get_bytes(&r, m->server_proof, PCS_PROOF_SIZE);
+  return pcs__finish(&r);
+}
+
+int pcs_encode_auth(const pcs_auth *m, uint8_t *buf, uint32_t cap) {
+  pcs_writer w = {buf, cap, 0, 0};
+  pcs_put_bytes(&w, m->client_proof, PCS_PROOF_SIZE);
+  return pcs__written(&w);
+}
+int pcs_decode_auth(const uint8_t *buf, uint32_t len, pcs_auth *m) {
+  pcs_reader r = {buf, len, 0, 0};
+  pcs_get_bytes(&r, m->client_proof, PCS_PROOF_SIZE);
   return pcs__finish(&r);
 }
 
@@ -259,18 +294,4 @@ void pcs_send_abort(sl_socket *s, uint64_t step, uint32_t code, const char *reas
   uint8_t buf[PCS_MAX_REASON + 16];
   int n = pcs_encode_abort(&m, buf, sizeof buf);
   if (n >= 0) (void)pcs_send_frame(s, PCS_MSG_ABORT, step, buf, (uint32_t)n, deadline_ms);
-}
-
-int pcs_token_equal(const char *a, const char *b) {
-  /* Runs over the longer string whatever the content, so the time taken
-   * tells nothing about where a guessed token first differs. */
-  size_t la = strlen(a), lb = strlen(b);
-  size_t n = la > lb ? la : lb;
-  unsigned diff = (unsigned)(la ^ lb);
-  for (size_t i = 0; i < n; ++i) {
-    unsigned char ca = i < la ? (unsigned char)a[i] : 0;
-    unsigned char cb = i < lb ? (unsigned char)b[i] : 0;
-    diff |= (unsigned)(ca ^ cb);
-  }
-  return diff == 0;
 }

@@ -25,11 +25,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     pcs_hello hello;
     pcs_hello_ack ack;
     pcs_abort ab;
+    pcs_challenge ch;
+    pcs_auth au;
     double values[32], t, dt;
     uint32_t count;
     pcs_decode_hello(buf.data(), h.payload_size, &hello);
     pcs_decode_hello_ack(buf.data(), h.payload_size, &ack);
     pcs_decode_abort(buf.data(), h.payload_size, &ab);
+    pcs_decode_challenge(buf.data(), h.payload_size, &ch);
+    pcs_decode_auth(buf.data(), h.payload_size, &au);
     pcs_decode_values(buf.data(), h.payload_size, &t, &dt, values, 32, &count);
     (void)pcs_msg_name(h.type);
   }

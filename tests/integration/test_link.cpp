@@ -14,53 +14,31 @@
 #include "h5io/timeseries.hpp"
 #include "process.hpp"
 #include "socketlib/protocol.h"
+#include "test_peer.hpp"
+#include "integration_support.hpp"
 
 using testing_support::ChildProcess;
 using testing_support::TempDir;
 
 namespace {
 
-const std::string kScene = PCS_SCENES_DIR "/one_dof";
-constexpr double kHardTimeout = 20.0;  // no test waits longer for a child
-
-class Server {
- public:
-  explicit Server(const TempDir& dir, std::vector<std::string> extra = {}) : out(dir.file("fe.h5")) {
-    std::vector<std::string> argv = {PCS_FE_SERVER_EXE, "--model",     kScene + "/piston.k", "--ports",
-                                     kScene + "/ports.cfg", "--listen", "127.0.0.1:0",      "--port-file",
-                                     dir.file("port"),      "--out",    out,                "--accept-timeout",
-                                     "10"};
-    argv.insert(argv.end(), extra.begin(), extra.end());
-    child = std::make_unique<ChildProcess>(argv);
-    port = testing_support::read_port_file(dir.file("port"), 10.0);
-  }
-  std::unique_ptr<ChildProcess> child;
-  std::string out;
-  int port = -1;
-};
-
-config::PortTable scene_table() { return config::read_port_table(kScene + "/ports.cfg"); }
 
 // Raw HELLO with a chosen header version; returns the server's ABORT reason.
 std::string raw_hello_reason(int port, uint16_t version) {
   sl_socket s = SL_SOCKET_INIT;
   EXPECT_EQ(sl_connect("127.0.0.1", port, sl_now_ms() + 5000, &s), SL_OK);
-  config::PortTable t = scene_table();
-  pcs_hello hello{PCS_PROTOCOL_VERSION, t.hash(), t.dt, 1, ""};
-  uint8_t payload[512], frame[600];
-  int n = pcs_encode_hello(&hello, payload, sizeof payload);
-  pcs_header h{PCS_MAGIC, version, PCS_MSG_HELLO, 0, static_cast<uint32_t>(n)};
-  pcs_encode_header(&h, frame);
-  std::memcpy(frame + PCS_HEADER_SIZE, payload, static_cast<size_t>(n));
-  EXPECT_EQ(sl_send_all(&s, frame, PCS_HEADER_SIZE + static_cast<size_t>(n), sl_now_ms() + 5000), SL_OK);
-  uint8_t buf[2048];
-  int rc = pcs_recv_frame(&s, &h, buf, sizeof buf, sl_now_ms() + 5000);
+  const std::string why = testing_support::raw_client_handshake(s, scene_table(), "", version);
   sl_close(&s);
-  EXPECT_TRUE(rc == SL_OK || rc == SL_EVERSION) << sl_err_name(rc);
-  EXPECT_EQ(h.type, PCS_MSG_ABORT);
-  pcs_abort a{};
-  pcs_decode_abort(buf, h.payload_size, &a);
-  return a.reason;
+  EXPECT_EQ(why.rfind("ABORT: ", 0), 0u) << why;
+  return why;
+}
+
+// Connect and shake hands by hand; returns the socket ready for STEP frames.
+sl_socket raw_session(int port, const std::string& token = "") {
+  sl_socket s = SL_SOCKET_INIT;
+  EXPECT_EQ(sl_connect("127.0.0.1", port, sl_now_ms() + 5000, &s), SL_OK);
+  EXPECT_EQ(testing_support::raw_client_handshake(s, scene_table(), token), "");
+  return s;
 }
 
 // After strangers were refused the server still serves the real host: a
@@ -125,7 +103,7 @@ TEST(Link, PortTableMismatchIsRefusedReadablyOnBothSides) {
 
 TEST(Link, WrongTokenIsRefused) {
   TempDir dir;
-  Server server(dir, {"--token", "correct-horse"});
+  Server server(dir, {"--token-file", dir.private_file("token", "correct-horse")});
   ASSERT_GT(server.port, 0);
   config::PortTable t = scene_table();
   pcs_fmu::CouplingClient client(t);
@@ -159,16 +137,7 @@ TEST(Link, PeerClosingMidFrameIsTruncated) {
   TempDir dir;
   Server server(dir);
   ASSERT_GT(server.port, 0);
-  config::PortTable t = scene_table();
-  sl_socket s = SL_SOCKET_INIT;
-  ASSERT_EQ(sl_connect("127.0.0.1", server.port, sl_now_ms() + 5000, &s), SL_OK);
-  pcs_hello hello{PCS_PROTOCOL_VERSION, t.hash(), t.dt, 1, ""};
-  uint8_t buf[512];
-  int n = pcs_encode_hello(&hello, buf, sizeof buf);
-  ASSERT_EQ(pcs_send_frame(&s, PCS_MSG_HELLO, 0, buf, static_cast<uint32_t>(n), sl_now_ms() + 5000), SL_OK);
-  pcs_header h{};
-  ASSERT_EQ(pcs_recv_frame(&s, &h, buf, sizeof buf, sl_now_ms() + 5000), SL_OK);
-  ASSERT_EQ(h.type, PCS_MSG_HELLO_ACK);
+  sl_socket s = raw_session(server.port);
   uint8_t half[PCS_HEADER_SIZE / 2] = {'P', 'C', 'S', 'C'};
   ASSERT_EQ(sl_send_all(&s, half, sizeof half, sl_now_ms() + 5000), SL_OK);
   sl_close(&s);
@@ -220,22 +189,6 @@ TEST(Link, FmuThroughTheHostImporterAgainstALiveServer) {
 }
 
 namespace {
-
-// Connect and shake hands by hand; returns the socket ready for STEP frames.
-sl_socket raw_session(int port, const std::string& token = "") {
-  sl_socket s = SL_SOCKET_INIT;
-  EXPECT_EQ(sl_connect("127.0.0.1", port, sl_now_ms() + 5000, &s), SL_OK);
-  config::PortTable t = scene_table();
-  pcs_hello hello{PCS_PROTOCOL_VERSION, t.hash(), t.dt, 1, ""};
-  std::snprintf(hello.token, sizeof hello.token, "%s", token.c_str());
-  uint8_t buf[512];
-  int n = pcs_encode_hello(&hello, buf, sizeof buf);
-  EXPECT_EQ(pcs_send_frame(&s, PCS_MSG_HELLO, 0, buf, static_cast<uint32_t>(n), sl_now_ms() + 5000), SL_OK);
-  pcs_header h{};
-  EXPECT_EQ(pcs_recv_frame(&s, &h, buf, sizeof buf, sl_now_ms() + 5000), SL_OK);
-  EXPECT_EQ(h.type, PCS_MSG_HELLO_ACK);
-  return s;
-}
 
 void send_step(sl_socket& s, uint64_t k, double value) {
   uint8_t buf[128];
@@ -301,7 +254,7 @@ TEST(ServerFaults, EachBadFrameStopsTheServerWithItsCauseAndDistinctCode) {
 
 TEST(ServerFaults, MissingTokenIsRefused) {
   TempDir dir;
-  Server server(dir, {"--token", "s3cret"});
+  Server server(dir, {"--token-file", dir.private_file("token", "s3cret")});
   ASSERT_GT(server.port, 0);
   pcs_fmu::CouplingClient client(scene_table());
   try {
@@ -347,7 +300,7 @@ TEST(Kill, KillingTheHostMidRunStopsTheServerWithItsHistoryKept) {
 // Now each is refused and logged, and the real host is served afterwards.
 TEST(Strangers, NoStrangerEndsAWaitingSessionAndTheRealHostIsServed) {
   TempDir dir;
-  Server server(dir, {"--token", "correct-horse", "--handshake-timeout", "1"});
+  Server server(dir, {"--token-file", dir.private_file("token", "correct-horse"), "--handshake-timeout", "1"});
   ASSERT_GT(server.port, 0) << server.child->output();
   auto connect = [&] {
     sl_socket s = SL_SOCKET_INIT;
@@ -375,9 +328,15 @@ TEST(Strangers, NoStrangerEndsAWaitingSessionAndTheRealHostIsServed) {
   uint8_t head[PCS_HEADER_SIZE];
   pcs_encode_header(&hh, head);
   EXPECT_EQ(sl_send_all(&drip, head, 12, sl_now_ms() + 2000), SL_OK);
-  // A wrong token.
+  // A wrong token: a real client (it stops at the server's proof) and a
+  // stranger who sends its proof whatever the server's was.
   pcs_fmu::CouplingClient wrong(scene_table());
   EXPECT_THROW(wrong.connect("127.0.0.1", server.port, "battery-staple", 5.0), pcs_fmu::LinkError);
+  sl_socket guesser = connect();
+  EXPECT_EQ(testing_support::raw_client_handshake(guesser, scene_table(), "battery-staple", PCS_PROTOCOL_VERSION, false)
+                .rfind("ABORT: wrong or missing token", 0),
+            0u);
+  sl_close(&guesser);
   // 200 connections at once, left silent.
   std::vector<sl_socket> crowd;
   for (int i = 0; i < 200; ++i) {
@@ -390,7 +349,9 @@ TEST(Strangers, NoStrangerEndsAWaitingSessionAndTheRealHostIsServed) {
   expect_real_host_served(server, "correct-horse");
   const std::string log = server.child->output();
   for (const char* why : {"closed the connection without a HELLO", "no complete HELLO within",
-                          "foreign bytes", "more than any HELLO", "wrong or missing token"})
+                          "foreign bytes", "more than any handshake message",
+                          "the host aborted the handshake: wrong or missing token",
+                          "wrong or missing token (the host's proof does not match)"})
     EXPECT_NE(log.find(why), std::string::npos) << "refusal '" << why << "' not logged:\n" << log.substr(0, 3000);
   for (auto& s : crowd) sl_close(&s);
   sl_close(&silent);

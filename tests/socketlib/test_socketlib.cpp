@@ -69,7 +69,8 @@ TEST(Header, IsLittleEndianWithFixedOffsets) {
 
 TEST(Codecs, RoundTripEveryMessage) {
   uint8_t buf[2048];
-  pcs_hello hello{PCS_PROTOCOL_VERSION, 0x1234567890abcdefull, 1e-6, 10, "secret"};
+  pcs_hello hello{PCS_PROTOCOL_VERSION, 0x1234567890abcdefull, 1e-6, 10, {}};
+  for (uint32_t i = 0; i < PCS_NONCE_SIZE; ++i) hello.client_nonce[i] = static_cast<uint8_t>(3 * i + 1);
   int n = pcs_encode_hello(&hello, buf, sizeof buf);
   ASSERT_GT(n, 0);
   pcs_hello h2{};
@@ -77,7 +78,7 @@ TEST(Codecs, RoundTripEveryMessage) {
   EXPECT_EQ(h2.table_hash, hello.table_hash);
   EXPECT_EQ(h2.dt, 1e-6);
   EXPECT_EQ(h2.subcycles, 10u);
-  EXPECT_STREQ(h2.token, "secret");
+  EXPECT_EQ(std::memcmp(h2.client_nonce, hello.client_nonce, PCS_NONCE_SIZE), 0);
   // One byte short or one too many: a layout mismatch, never a silent read.
   EXPECT_EQ(pcs_decode_hello(buf, static_cast<uint32_t>(n - 1), &h2), SL_EMALFORMED);
   EXPECT_EQ(pcs_decode_hello(buf, static_cast<uint32_t>(n + 1), &h2), SL_EMALFORMED);
@@ -99,14 +100,55 @@ TEST(Codecs, RoundTripEveryMessage) {
   ASSERT_EQ(pcs_decode_abort(buf, static_cast<uint32_t>(n), &a2), SL_OK);
   EXPECT_STREQ(a2.reason, "because");
   EXPECT_EQ(pcs_encode_abort(&a, buf, 6), SL_EOVERSIZE);
+
+  pcs_challenge ch{};
+  for (uint32_t i = 0; i < PCS_NONCE_SIZE; ++i) ch.server_nonce[i] = static_cast<uint8_t>(i), ch.server_proof[i] = static_cast<uint8_t>(255 - i);
+  n = pcs_encode_challenge(&ch, buf, sizeof buf);
+  ASSERT_EQ(n, static_cast<int>(PCS_NONCE_SIZE + PCS_PROOF_SIZE));
+  pcs_challenge ch2{};
+  ASSERT_EQ(pcs_decode_challenge(buf, static_cast<uint32_t>(n), &ch2), SL_OK);
+  EXPECT_EQ(std::memcmp(&ch, &ch2, sizeof ch), 0);
+  EXPECT_EQ(pcs_decode_challenge(buf, static_cast<uint32_t>(n - 1), &ch2), SL_EMALFORMED);
+  pcs_auth au{}, au2{};
+  au.client_proof[5] = 42;
+  n = pcs_encode_auth(&au, buf, sizeof buf);
+  ASSERT_EQ(pcs_decode_auth(buf, static_cast<uint32_t>(n), &au2), SL_OK);
+  EXPECT_EQ(au2.client_proof[5], 42);
+  EXPECT_EQ(pcs_decode_auth(buf, static_cast<uint32_t>(n + 1), &au2), SL_EMALFORMED);
 }
 
-TEST(Token, ComparesWholeStrings) {
-  EXPECT_TRUE(pcs_token_equal("abc", "abc"));
-  EXPECT_TRUE(pcs_token_equal("", ""));
-  EXPECT_FALSE(pcs_token_equal("abc", "abd"));
-  EXPECT_FALSE(pcs_token_equal("abc", "abcd"));
-  EXPECT_FALSE(pcs_token_equal("", "x"));
+// The proofs are HMAC-SHA-256 as auth.h defines them: checked against values
+// computed independently with Python's hmac module (RFC 2104), for
+// nonces 0..31 and 32..63 and the table hash 0x1234567890abcdef:
+//   hmac.new(b'correct-horse', b'pcs-v3 fe_server\0' + cn + sn + hash_le, sha256)
+TEST(Auth, ProofsAreHmacSha256OfTheDocumentedMessage) {
+  ASSERT_EQ(pcs_auth_init(), SL_OK);
+  uint8_t cn[PCS_NONCE_SIZE], sn[PCS_NONCE_SIZE], proof[PCS_PROOF_SIZE];
+  for (uint32_t i = 0; i < PCS_NONCE_SIZE; ++i) cn[i] = static_cast<uint8_t>(i), sn[i] = static_cast<uint8_t>(32 + i);
+  auto hex = [](const uint8_t* p) {
+    char out[2 * PCS_PROOF_SIZE + 1];
+    for (uint32_t i = 0; i < PCS_PROOF_SIZE; ++i) std::snprintf(out + 2 * i, 3, "%02x", p[i]);
+    return std::string(out);
+  };
+  const uint64_t hash = 0x1234567890abcdefull;
+  pcs_auth_proof("correct-horse", PCS_ROLE_SERVER, cn, sn, hash, proof);
+  EXPECT_EQ(hex(proof), "9421747a5940c80c46c433915869f3e999efe3f54f5362e670f085090b8ef1fd");
+  pcs_auth_proof("correct-horse", PCS_ROLE_HOST, cn, sn, hash, proof);
+  EXPECT_EQ(hex(proof), "78776ec58d4d6bebe4d43c18816041d3be698aebff4b00ec8ff0ec9d6214b6d4");
+  EXPECT_TRUE(pcs_auth_check("correct-horse", PCS_ROLE_HOST, cn, sn, hash, proof));
+  // Any difference refuses: another role (no reflection), token, nonce, table, or one bit of the proof.
+  EXPECT_FALSE(pcs_auth_check("correct-horse", PCS_ROLE_SERVER, cn, sn, hash, proof));
+  EXPECT_FALSE(pcs_auth_check("correct-horsf", PCS_ROLE_HOST, cn, sn, hash, proof));
+  EXPECT_FALSE(pcs_auth_check("", PCS_ROLE_HOST, cn, sn, hash, proof));
+  EXPECT_FALSE(pcs_auth_check("correct-horse", PCS_ROLE_HOST, sn, cn, hash, proof));
+  EXPECT_FALSE(pcs_auth_check("correct-horse", PCS_ROLE_HOST, cn, sn, hash + 1, proof));
+  proof[31] ^= 1;
+  EXPECT_FALSE(pcs_auth_check("correct-horse", PCS_ROLE_HOST, cn, sn, hash, proof));
+  // Nonces come from the system's generator: two in a row differ.
+  uint8_t a[PCS_NONCE_SIZE], b[PCS_NONCE_SIZE];
+  pcs_random_nonce(a);
+  pcs_random_nonce(b);
+  EXPECT_NE(std::memcmp(a, b, PCS_NONCE_SIZE), 0);
 }
 
 TEST(Frames, SendAndReceiveOneFrame) {

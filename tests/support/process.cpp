@@ -87,6 +87,17 @@ TempDir::TempDir() {
   path_ = templ;
 }
 
+std::string TempDir::private_file(const std::string& name, const std::string& content) const {
+  const std::string path = file(name);
+  {
+    std::ofstream f(path);
+    f << content << "\n";
+    if (!f.flush()) throw std::runtime_error("cannot write " + path);
+  }
+  std::filesystem::permissions(path, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+  return path;
+}
+
 TempDir::~TempDir() {
   std::error_code ec;
   std::filesystem::remove_all(path_, ec);

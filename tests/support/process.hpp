@@ -39,6 +39,8 @@ class TempDir {
   ~TempDir();
   const std::string& path() const { return path_; }
   std::string file(const std::string& name) const { return path_ + "/" + name; }
+  // A file only the owner may read (mode 600) holding `content`: a token file.
+  std::string private_file(const std::string& name, const std::string& content) const;
 
  private:
   std::string path_;

@@ -10,6 +10,7 @@ namespace testing_support {
 
 TestPeer::TestPeer(const config::PortTable& table, Behaviour b, std::string token)
     : table_(table), behaviour_(b), token_(std::move(token)) {
+  if (pcs_auth_init() != SL_OK) throw std::runtime_error("TestPeer: cannot initialise libsodium");
   if (sl_listen("127.0.0.1", 0, &listener_) != SL_OK) throw std::runtime_error("TestPeer: cannot listen");
   port_ = sl_local_port(&listener_);
   thread_ = std::thread([this] { serve(); });
@@ -44,9 +45,25 @@ void TestPeer::serve() {
   }
   pcs_hello hello{};
   pcs_decode_hello(buf.data(), h.payload_size, &hello);
-  if (hello.table_hash != table_.hash() || !pcs_token_equal(hello.token, token_.c_str())) {
-    pcs_send_abort(&c, 0, 1, "test peer refuses: port table or token", deadline);
+  if (hello.table_hash != table_.hash()) {
+    pcs_send_abort(&c, 0, 1, "test peer refuses: port table", deadline);
     error_ = "refused";
+    sl_close(&c);
+    return;
+  }
+  // The server's half of the challenge-response (socketlib/auth.h).
+  pcs_challenge ch{};
+  pcs_random_nonce(ch.server_nonce);
+  pcs_auth_proof(token_.c_str(), PCS_ROLE_SERVER, hello.client_nonce, ch.server_nonce, table_.hash(), ch.server_proof);
+  int cn = pcs_encode_challenge(&ch, buf.data(), static_cast<uint32_t>(buf.size()));
+  pcs_send_frame(&c, PCS_MSG_CHALLENGE, 0, buf.data(), static_cast<uint32_t>(cn), deadline);
+  pcs_auth auth{};
+  if (pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline) != SL_OK ||
+      h.type != PCS_MSG_AUTH || pcs_decode_auth(buf.data(), h.payload_size, &auth) != SL_OK ||
+      !pcs_auth_check(token_.c_str(), PCS_ROLE_HOST, hello.client_nonce, ch.server_nonce, table_.hash(),
+                      auth.client_proof)) {
+    if (h.type != PCS_MSG_ABORT) pcs_send_abort(&c, 0, 1, "test peer refuses: token", deadline);
+    error_ = h.type == PCS_MSG_ABORT ? "client aborted the handshake" : "refused";
     sl_close(&c);
     return;
   }
@@ -108,6 +125,44 @@ void TestPeer::serve() {
     ++steps_;
   }
   sl_close(&c);
+}
+
+std::string raw_client_handshake(sl_socket& s, const config::PortTable& t, const std::string& token,
+                                 uint16_t header_version, bool check_server) {
+  if (pcs_auth_init() != SL_OK) return "cannot initialise libsodium";
+  const int64_t deadline = sl_now_ms() + 5000;
+  pcs_hello hello{PCS_PROTOCOL_VERSION, t.hash(), t.dt, static_cast<uint32_t>(t.subcycles), {}};
+  pcs_random_nonce(hello.client_nonce);
+  uint8_t payload[256], frame[512], buf[2048];
+  const int n = pcs_encode_hello(&hello, payload, sizeof payload);
+  pcs_header h{PCS_MAGIC, header_version, PCS_MSG_HELLO, 0, static_cast<uint32_t>(n)};
+  pcs_encode_header(&h, frame);
+  std::copy(payload, payload + n, frame + PCS_HEADER_SIZE);
+  if (sl_send_all(&s, frame, PCS_HEADER_SIZE + static_cast<size_t>(n), deadline) != SL_OK) return "cannot send HELLO";
+  auto answer = [&](uint16_t want) -> std::string {
+    const int rc = pcs_recv_frame(&s, &h, buf, sizeof buf, deadline);
+    if ((rc == SL_OK || rc == SL_EVERSION) && h.type == PCS_MSG_ABORT) {
+      pcs_abort a{};
+      pcs_decode_abort(buf, h.payload_size, &a);
+      return std::string("ABORT: ") + a.reason;
+    }
+    if (rc != SL_OK) return sl_err_name(rc);
+    if (h.type != want) return std::string("unexpected ") + pcs_msg_name(h.type);
+    return "";
+  };
+  std::string why = answer(PCS_MSG_CHALLENGE);
+  if (!why.empty()) return why;
+  pcs_challenge ch{};
+  if (pcs_decode_challenge(buf, h.payload_size, &ch) != SL_OK) return "malformed CHALLENGE";
+  if (check_server &&
+      !pcs_auth_check(token.c_str(), PCS_ROLE_SERVER, hello.client_nonce, ch.server_nonce, t.hash(), ch.server_proof))
+    return "the server's proof does not match the token";
+  pcs_auth auth{};
+  pcs_auth_proof(token.c_str(), PCS_ROLE_HOST, hello.client_nonce, ch.server_nonce, t.hash(), auth.client_proof);
+  const int an = pcs_encode_auth(&auth, payload, sizeof payload);
+  if (pcs_send_frame(&s, PCS_MSG_AUTH, 0, payload, static_cast<uint32_t>(an), deadline) != SL_OK)
+    return "cannot send AUTH";
+  return answer(PCS_MSG_HELLO_ACK);
 }
 
 }  // namespace testing_support

@@ -47,4 +47,11 @@ class TestPeer {
   std::thread thread_;
 };
 
+// The client's side of the handshake by hand on a connected socket, with
+// a chosen header version: "" when the server answered HELLO_ACK, else what
+// went wrong ("ABORT: <reason>" when the server refused). With check_server
+// false it sends its AUTH whatever the server's proof, as a stranger would.
+std::string raw_client_handshake(sl_socket& s, const config::PortTable& t, const std::string& token = "",
+                                 uint16_t header_version = PCS_PROTOCOL_VERSION, bool check_server = true);
+
 }  // namespace testing_support

@@ -1,6 +1,6 @@
 // tlm_host: the TLM system simulator of the hydraulic circuit.
 //
-//   tlm_host MODEL [--fmu FILE.fmu] [--server HOST:PORT] [--token T]
+//   tlm_host MODEL [--fmu FILE.fmu] [--server HOST:PORT] [--token-file F]
 //            [--out results.h5] [--set comp.param=value ...] [--quiet]
 #include <csignal>
 #include <fstream>
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "config/cli.hpp"
+#include "config/token.hpp"
 #include "model.hpp"
 
 namespace {
@@ -17,7 +18,8 @@ int usage(std::ostream& os, int rc) {
   os << "usage: tlm_host MODEL [options]\n"
         "  --fmu FILE          FMU for every FmuQ component that names none\n"
         "  --server HOST:PORT  fe_server address for every FmuQ component\n"
-        "  --token TOKEN       session token for fe_server\n"
+        "  --token-file FILE   session token for fe_server, first line of FILE (mode 600, yours);\n"
+        "                      else the FMU takes $PCS_TOKEN or the file named by $PCS_TOKEN_FILE\n"
         "  --out FILE          HDF5 results (default results.h5)\n"
         "  --set C.P=VALUE     override parameter P of component C (repeatable);\n"
         "                      simulation.timestep / stoptime / log_every too\n"
@@ -41,9 +43,14 @@ int main(int argc, char** argv) {
     while (args.next()) {
       if (args.is("--fmu")) fmu = args.value();
       else if (args.is("--server")) server = args.value();
-      else if (args.is("--token")) token = args.value();
+      else if (args.is("--token")) throw std::invalid_argument(config::token_on_command_line_refused("tlm_host"));
+      else if (args.is("--token-file")) token = config::read_token_file(args.value());
       else if (args.is("--out")) out = args.value();
-      else if (args.is("--set")) overrides.push_back(args.value());
+      else if (args.is("--set")) {
+        overrides.push_back(args.value());
+        const std::string& o = overrides.back();
+        if (o.find(".token=") != std::string::npos) throw std::invalid_argument(config::token_on_command_line_refused("tlm_host"));
+      }
       else if (args.is("--quiet")) quiet = true;
       else if (args.is("--report")) report_path = args.value();
       else if (args.is("--csv")) csv_path = args.value();

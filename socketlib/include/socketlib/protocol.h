@@ -14,7 +14,11 @@
  * The header layout never changes between versions, so a peer of another
  * version can still read an ABORT that says why it was refused.
  *
- * Handshake: client sends HELLO, server answers HELLO_ACK or ABORT(reason).
+ * Handshake (auth.h): client sends HELLO with its nonce, server answers
+ * CHALLENGE (its nonce and its proof of the token), client checks that proof
+ * and sends AUTH (its own proof), server answers HELLO_ACK; either side
+ * answers ABORT(reason) instead where a check fails. The token itself never
+ * crosses the wire.
  * Each coupling step: client sends STEP k, server answers RESULT k; while a
  * step takes long the server sends HEARTBEAT k now and then, and the client
  * restarts its receive deadline on each, so a slow step is not a dead peer.
@@ -23,6 +27,7 @@
 #ifndef SOCKETLIB_PROTOCOL_H
 #define SOCKETLIB_PROTOCOL_H
 
+#include "socketlib/auth.h"
 #include "socketlib/socketlib.h"
 
 #ifdef __cplusplus
@@ -30,20 +35,22 @@ extern "C" {
 #endif
 
 #define PCS_MAGIC 0x43534350u /* bytes 'P','C','S','C' in little-endian order */
-#define PCS_PROTOCOL_VERSION 2u /* 2: HEARTBEAT */
+#define PCS_PROTOCOL_VERSION 3u /* 2: HEARTBEAT; 3: challenge-response (CHALLENGE, AUTH) */
 #define PCS_HEADER_SIZE 24u
 #define PCS_MAX_PAYLOAD (16u * 1024u * 1024u)
-#define PCS_MAX_TOKEN 256u
+#define PCS_MAX_TOKEN 256u /* a token is at most 255 bytes (it is an HMAC key, never sent) */
 #define PCS_MAX_REASON 1024u
 
 typedef enum {
-  PCS_MSG_HELLO = 1,     /* client → server: version, port-table hash, dt, subcycles, token */
+  PCS_MSG_HELLO = 1,     /* client → server: version, port-table hash, dt, subcycles, client nonce */
   PCS_MSG_HELLO_ACK = 2, /* server → client: port-table hash, dt, subcycles */
   PCS_MSG_STEP = 3,      /* client → server: time, dt, input values */
   PCS_MSG_RESULT = 4,    /* server → client: time, output values */
   PCS_MSG_ABORT = 5,     /* either way: error code and reason text */
   PCS_MSG_BYE = 6,       /* client → server: session ends cleanly */
-  PCS_MSG_HEARTBEAT = 7  /* server → client during a long step: "still computing step k" */
+  PCS_MSG_HEARTBEAT = 7, /* server → client during a long step: "still computing step k" */
+  PCS_MSG_CHALLENGE = 8, /* server → client: server nonce, server's proof of the token */
+  PCS_MSG_AUTH = 9       /* client → server: client's proof of the token */
 } pcs_msg_type;
 
 /* Name of a message type ("HELLO", ...), "UNKNOWN" otherwise. */
@@ -83,6 +90,7 @@ void pcs_put_u32(pcs_writer *w, uint32_t v);
 void pcs_put_u64(pcs_writer *w, uint64_t v);
 void pcs_put_f64(pcs_writer *w, double v);
 void pcs_put_str(pcs_writer *w, const char *s); /* u32 length + bytes, no NUL */
+void pcs_put_bytes(pcs_writer *w, const uint8_t *p, uint32_t n); /* n raw bytes, no length */
 
 typedef struct {
   const uint8_t *data;
@@ -97,6 +105,8 @@ uint64_t pcs_get_u64(pcs_reader *r);
 double pcs_get_f64(pcs_reader *r);
 /* Copies at most cap-1 bytes and NUL-terminates; longer strings set error. */
 void pcs_get_str(pcs_reader *r, char *out, uint32_t cap);
+/* n raw bytes into out (zeros and error set if fewer remain). */
+void pcs_get_bytes(pcs_reader *r, uint8_t *out, uint32_t n);
 
 /* ---- typed messages ---- */
 typedef struct {
@@ -104,8 +114,17 @@ typedef struct {
   uint64_t table_hash; /* config::PortTable::hash() of the sender's port table */
   double dt;           /* coupling time step, s */
   uint32_t subcycles;  /* FE steps per coupling step */
-  char token[PCS_MAX_TOKEN];
+  uint8_t client_nonce[PCS_NONCE_SIZE];
 } pcs_hello;
+
+typedef struct {
+  uint8_t server_nonce[PCS_NONCE_SIZE];
+  uint8_t server_proof[PCS_PROOF_SIZE];
+} pcs_challenge;
+
+typedef struct {
+  uint8_t client_proof[PCS_PROOF_SIZE];
+} pcs_auth;
 
 typedef struct {
   uint64_t table_hash;
@@ -123,6 +142,10 @@ int pcs_encode_hello(const pcs_hello *m, uint8_t *buf, uint32_t cap);
 int pcs_decode_hello(const uint8_t *buf, uint32_t len, pcs_hello *m);
 int pcs_encode_hello_ack(const pcs_hello_ack *m, uint8_t *buf, uint32_t cap);
 int pcs_decode_hello_ack(const uint8_t *buf, uint32_t len, pcs_hello_ack *m);
+int pcs_encode_challenge(const pcs_challenge *m, uint8_t *buf, uint32_t cap);
+int pcs_decode_challenge(const uint8_t *buf, uint32_t len, pcs_challenge *m);
+int pcs_encode_auth(const pcs_auth *m, uint8_t *buf, uint32_t cap);
+int pcs_decode_auth(const uint8_t *buf, uint32_t len, pcs_auth *m);
 int pcs_encode_abort(const pcs_abort *m, uint8_t *buf, uint32_t cap);
 int pcs_decode_abort(const uint8_t *buf, uint32_t len, pcs_abort *m);
 
@@ -141,9 +164,6 @@ uint32_t pcs_values_size(uint32_t count);
  * the link may already be gone). */
 void pcs_send_abort(sl_socket *s, uint64_t step, uint32_t code, const char *reason,
                     int64_t deadline_ms);
-
-/* Compare two NUL-terminated tokens in time independent of where they differ. */
-int pcs_token_equal(const char *a, const char *b);
 
 #ifdef __cplusplus
 }

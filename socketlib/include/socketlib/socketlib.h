@@ -1,6 +1,6 @@
 /*
  * socketlib: TCP sockets with deadlines, and the framed wire protocol
- * (protocol.h). C, libc only; no globals, no printing.
+ * (protocol.h). C, libc only (auth.h adds libsodium); no printing.
  *
  * Every blocking call takes an absolute deadline on the monotonic clock
  * (sl_now_ms() + budget). A call that cannot finish by then returns

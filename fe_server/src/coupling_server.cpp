@@ -11,6 +11,7 @@
 #include <sstream>
 #include <thread>
 
+#include "config/stop_signal.hpp"
 #include "socketlib/protocol.h"
 
 namespace fe {
@@ -327,6 +328,10 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
     } else {
       rc = sl_wait_any(set.data(), set.size(), wake, ready.data());
     }
+    if (rc == SL_EINTERRUPTED) {
+      for (auto& p : pending) refused(p, "the server is stopping");
+      return stop(0, "while waiting for the host", message);
+    }
     if (rc < 0) {
       message = "waiting for the host: " + link_error(rc, listener_);
       abort_all(0, static_cast<uint32_t>(-rc), message);
@@ -411,6 +416,13 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
   return kExitOk;
 }
 
+ExitCode CouplingServer::stop(uint64_t step, const std::string& where, std::string& message) {
+  const int signo = config::stop_signal();
+  message = "stopped by " + config::signal_name(signo) + " " + where;
+  abort_all(step, SL_EINTERRUPTED, "fe_server " + message);
+  return stopped_by(signo);
+}
+
 ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, std::string& message) {
   if (listener_.fd < 0) bind();
   const ExitCode accepted = accept_clients(message);
@@ -424,10 +436,15 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
   uint64_t expected = 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (;;) {
+    if (config::stop_signal())
+      return stop(expected, "at coupling step " + std::to_string(expected) + " (t = " + std::to_string(solver.time()) + " s)",
+                  message);
     size_t byes = 0;
     for (Client& c : clients_) {
       pcs_header h{};
       int rc = pcs_recv_frame(&c.conn, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout_));
+      if (rc == SL_EINTERRUPTED)
+        return stop(expected, "waiting for STEP " + std::to_string(expected) + name_of(c), message);
       if (rc != SL_OK) {
         message = "link lost waiting for STEP " + std::to_string(expected) + name_of(c) + ": " + link_error(rc, c.conn);
         abort_all(expected, static_cast<uint32_t>(-rc), message);

@@ -110,6 +110,8 @@ class CouplingServer {
   std::string advance_handshake(Pending& p, bool& bound);
   std::string on_hello(Pending& p, const pcs_header& h);
   std::string on_auth(Pending& p, const pcs_header& h);
+  // A stop by signal: `message` says which and where, the clients are told.
+  ExitCode stop(uint64_t step, const std::string& where, std::string& message);
   // Tells every connected client why the session ends (best effort).
   void abort_all(uint64_t step, uint32_t code, const std::string& why);
   std::string name_of(const Client& c) const;

@@ -15,6 +15,12 @@ enum ExitCode : int {
   kExitPeerAbort = 7,      // the host sent ABORT
   kExitNumerical = 8,      // NaN/Inf in an input or in the FE state
   kExitInternal = 9,       // anything else (a bug: please report)
+  kExitStopped = 128,      // + the signal's number: stopped by SIGINT (130), SIGTERM (143) or
+                           // SIGHUP (129), results flushed and the host told
 };
 
+}  // namespace fe
+
+namespace fe {
+inline ExitCode stopped_by(int signo) { return static_cast<ExitCode>(kExitStopped + signo); }
 }  // namespace fe

@@ -15,6 +15,7 @@
 #include "cavity_load.hpp"
 #include "config/cli.hpp"
 #include "config/port_table.hpp"
+#include "config/stop_signal.hpp"
 #include "config/token.hpp"
 #include "coupling_advice.hpp"
 #include "coupling_server.hpp"
@@ -46,7 +47,8 @@ int usage(std::ostream& os, int rc) {
         "  --step-timeout S      per-step receive deadline (default: the port table's timeout)\n"
         "  --quiet               no progress output\n"
         "Exit codes: 0 ok, 2 usage, 3 input rejected, 4 no host (every connection refused or none came),\n"
-        "            6 link lost, 7 host aborted, 8 non-finite values or energy far off, 9 internal error.\n";
+        "            6 link lost, 7 host aborted, 8 non-finite values or energy far off, 9 internal error,\n"
+        "            128 + N stopped by signal N (130 Ctrl-C, 143 SIGTERM) with results flushed.\n";
   return rc;
 }
 
@@ -99,6 +101,13 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
   auto last = t0;
   try {
     for (long k = 0; k < steps; ++k) {
+      if (const int signo = config::stop_signal()) {
+        history.flush();
+        std::cerr << "fe_server: stopped by " << config::signal_name(signo) << " at step " << k << " (t = "
+                  << solver.time() << " s); history up to that step (" << history.rows() << " rows) kept in " << out
+                  << "\n";
+        return fe::stopped_by(signo);
+      }
       solver.step();
       history.record(solver, {}, {});
       if (!quiet && (k & 1023) == 0 && std::chrono::steady_clock::now() - last > std::chrono::seconds(5)) {
@@ -129,6 +138,7 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
 
 int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
+  config::install_stop_handlers();
   std::string deck, listen = "127.0.0.1:0", out = "fe_results.h5";
   std::vector<std::string> ports_paths;
   fe::ServerOptions opt;

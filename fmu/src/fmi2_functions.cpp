@@ -115,7 +115,7 @@ void fmi2FreeInstance(fmi2Component c) {
   if (!c) return;
   auto* inst = static_cast<Instance*>(c);
   try {
-    inst->abort_link("the importer freed the FMU instance");
+    inst->abort_link("the importer freed the FMU instance before fmi2Terminate (it stopped; its log says why)");
   } catch (...) {
   }
   delete inst;

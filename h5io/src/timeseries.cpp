@@ -1,5 +1,6 @@
 #include "h5io/timeseries.hpp"
 
+#include <chrono>
 #include <cstdio>
 #include <stdexcept>
 
@@ -25,10 +26,27 @@ void put_string_attribute(hid_t obj, const std::string& name, const std::string&
 }
 }  // namespace
 
-TimeSeriesWriter::TimeSeriesWriter(const std::string& path, size_t rows_per_chunk)
-    : path_(path), chunk_(rows_per_chunk ? rows_per_chunk : 1) {
-  file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+namespace {
+int64_t now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+}  // namespace
+
+TimeSeriesWriter::TimeSeriesWriter(const std::string& path, size_t rows_per_chunk, double flush_interval)
+    : path_(path), flush_interval_(flush_interval), chunk_(rows_per_chunk ? rows_per_chunk : 1) {
+  // SWMR needs the file format of HDF5 1.10 or later.
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_libver_bounds(fapl, H5F_LIBVER_LATEST, H5F_LIBVER_LATEST);
+  file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  H5Pclose(fapl);
   if (file_ < 0) fail("cannot create file", path);
+  last_flush_ns_ = now_ns();
+}
+
+void TimeSeriesWriter::start_live() {
+  if (H5Fstart_swmr_write(file_) < 0) fail("cannot switch to SWMR writing", path_);
+  live_ = true;
 }
 
 TimeSeriesWriter::~TimeSeriesWriter() {
@@ -60,6 +78,7 @@ size_t TimeSeriesWriter::add_series(const std::string& name, const std::string& 
 }
 
 void TimeSeriesWriter::set_attribute(const std::string& name, const std::string& value) {
+  if (live_) fail("attribute '" + name + "' set after the first row", path_);
   put_string_attribute(file_, name, value, path_);
 }
 
@@ -70,9 +89,16 @@ void TimeSeriesWriter::set_attribute(const std::string& name, double value) {
 }
 
 void TimeSeriesWriter::append(const double* row) {
-  if (buffer_.size() != series_.size() * chunk_) buffer_.assign(series_.size() * chunk_, 0.0);  // sized once, at the first row
+  if (!live_) {  // the first row: everything is declared
+    buffer_.assign(series_.size() * chunk_, 0.0);
+    start_live();
+  }
   for (size_t c = 0; c < series_.size(); ++c) buffer_[c * chunk_ + buffered_] = row[c];
   if (++buffered_ == chunk_) write_buffer();
+  if (++rows_since_check_ >= 64) {  // the clock is read every 64 rows only
+    rows_since_check_ = 0;
+    if (static_cast<double>(now_ns() - last_flush_ns_) >= flush_interval_ * 1e9) flush();
+  }
 }
 
 void TimeSeriesWriter::write_buffer() {
@@ -99,10 +125,23 @@ void TimeSeriesWriter::flush() {
   if (file_ < 0) return;
   write_buffer();
   if (H5Fflush(file_, H5F_SCOPE_GLOBAL) < 0) fail("cannot flush", path_);
+  last_flush_ns_ = now_ns();
 }
 
+namespace {
+// Opens for reading; a file still marked as being written (its writer was
+// killed, or is running) is opened as an SWMR reader.
+hid_t open_for_reading(const std::string& file) {
+  hid_t f = -1;
+  H5E_BEGIN_TRY { f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT); }
+  H5E_END_TRY;
+  if (f < 0) f = H5Fopen(file.c_str(), H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, H5P_DEFAULT);
+  return f;
+}
+}  // namespace
+
 std::vector<double> read_series(const std::string& file, const std::string& dataset) {
-  hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t f = open_for_reading(file);
   if (f < 0) fail("cannot open file", file);
   hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
   if (d < 0) {
@@ -121,7 +160,7 @@ std::vector<double> read_series(const std::string& file, const std::string& data
 }
 
 std::string read_attribute(const std::string& file, const std::string& name) {
-  hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t f = open_for_reading(file);
   if (f < 0) fail("cannot open file", file);
   std::string out;
   if (H5Aexists(f, name.c_str()) > 0) {

@@ -56,12 +56,25 @@ static int sl__sys(sl_socket *s, int err) {
   return SL_ESYSTEM;
 }
 
+static const volatile sig_atomic_t *sl__stop_flag = NULL;
+
+void sl_set_stop_flag(const volatile sig_atomic_t *flag) { sl__stop_flag = flag; }
+
+static int sl__stopping(void) { return sl__stop_flag && *sl__stop_flag; }
+
 /* Milliseconds left until the deadline, clamped to poll()'s range. */
 static int sl__remaining(int64_t deadline_ms) {
   int64_t left = deadline_ms - sl_now_ms();
   if (left <= 0) return 0;
   if (left > 1000000000) return 1000000000;
   return (int)left;
+}
+
+/* How long one poll() may sleep: to the deadline, but with a stop flag at
+ * most 200 ms, so a signal that lands just before poll() is seen soon. */
+static int sl__slice(int64_t deadline_ms) {
+  int left = sl__remaining(deadline_ms);
+  return (sl__stop_flag && left > 200) ? 200 : left;
 }
 
 /* Wait until fd is ready for events or the deadline passes.
@@ -72,13 +85,14 @@ static int sl__wait(sl_socket *s, short events, int64_t deadline_ms) {
     p.fd = s->fd;
     p.events = events;
     p.revents = 0;
-    int r = poll(&p, 1, sl__remaining(deadline_ms));
+    if (sl__stopping()) return SL_EINTERRUPTED;
+    int r = poll(&p, 1, sl__slice(deadline_ms));
     if (r > 0) return 1;
     if (r == 0) {
-      if (sl__remaining(deadline_ms) > 0) continue; /* woke a little early */
+      if (sl__remaining(deadline_ms) > 0) continue; /* a slice ended, or woke a little early */
       return 0;
     }
-    if (errno == EINTR) continue;
+    if (errno == EINTR) continue; /* the loop's head looks at the stop flag */
     return sl__sys(s, errno);
   }
 }
@@ -313,7 +327,8 @@ int sl_wait_any(sl_socket *const *socks, size_t n, int64_t deadline_ms, int *rea
       p[i].events = POLLIN;
       p[i].revents = 0;
     }
-    int r = poll(p, (nfds_t)n, sl__remaining(deadline_ms));
+    if (sl__stopping()) return SL_EINTERRUPTED;
+    int r = poll(p, (nfds_t)n, sl__slice(deadline_ms));
     if (r > 0) {
       int count = 0;
       for (size_t i = 0; i < n; ++i) {

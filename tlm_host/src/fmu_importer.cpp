@@ -1,4 +1,8 @@
 #include "fmu_importer.hpp"
+#include <cerrno>
+#include <unistd.h>
+#include <signal.h>
+#include <sys/stat.h>
 
 #include "config/keyword_reader.hpp"
 
@@ -179,6 +183,31 @@ uint64_t fmu_unpack_limit() {
   return 1ull << 30;
 }
 
+namespace {
+constexpr const char* kFolderPrefix = "tlm_host_fmu_";
+
+// Removes tlm_host_fmu_<pid>_* folders of ours whose process no longer
+// exists: what a host killed by SIGKILL (or a power loss) left behind. A
+// folder whose pid is alive (or reused by a live process) is left alone.
+void remove_folders_of_dead_hosts(const std::string& tmp_dir) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(tmp_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(kFolderPrefix, 0) != 0) continue;
+    const std::string rest = name.substr(std::strlen(kFolderPrefix));
+    const size_t underscore = rest.find('_');
+    if (underscore == std::string::npos || underscore == 0 || underscore > 9) continue;
+    if (rest.find_first_not_of("0123456789") != underscore) continue;
+    const pid_t pid = static_cast<pid_t>(std::stol(rest.substr(0, underscore)));
+    struct stat st {};
+    if (::lstat(entry.path().c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != ::geteuid()) continue;
+    if (pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH) continue;
+    std::error_code rm;
+    fs::remove_all(entry.path(), rm);
+  }
+}
+}  // namespace
+
 FmuArchive::FmuArchive(const std::string& fmu_path) : path_(fmu_path) {
   int err = 0;
   zip_t* z = zip_open(fmu_path.c_str(), ZIP_RDONLY, &err);
@@ -190,7 +219,11 @@ FmuArchive::FmuArchive(const std::string& fmu_path) : path_(fmu_path) {
     throw FmuError("cannot open FMU '" + fmu_path + "': " + why);
   }
   const char* tmp = std::getenv("TMPDIR");
-  std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/tlm_host_fmu_XXXXXX";
+  const std::string tmp_dir = tmp && *tmp ? tmp : "/tmp";
+  remove_folders_of_dead_hosts(tmp_dir);
+  // The folder's name carries our process id, so a later host can tell it
+  // was left by a host that was killed (kill -9 runs no clean-up).
+  std::string templ = tmp_dir + "/" + kFolderPrefix + std::to_string(::getpid()) + "_XXXXXX";
   std::vector<char> buf(templ.begin(), templ.end());
   buf.push_back('\0');
   if (!mkdtemp(buf.data())) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "config/cli.hpp"
+#include "config/stop_signal.hpp"
 #include "config/token.hpp"
 #include "model.hpp"
 
@@ -27,7 +28,8 @@ int usage(std::ostream& os, int rc) {
         "  --report FILE       write the percussion report (model's *REPORT block) to FILE\n"
         "                      (JSON in SI units when FILE ends in .json)\n"
         "  --quiet             no progress line\n"
-        "Exit codes: 0 ok, 2 usage, 3 model rejected, 4 simulation failed.\n";
+        "Exit codes: 0 ok, 2 usage, 3 model rejected, 4 simulation failed,\n"
+        "            128 + N stopped by signal N (130 Ctrl-C, 143 SIGTERM) with results flushed.\n";
   return rc;
 }
 
@@ -35,6 +37,7 @@ int usage(std::ostream& os, int rc) {
 
 int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
+  config::install_stop_handlers();
   std::string model_path, fmu, server, token, out = "results.h5", report_path, csv_path;
   std::vector<std::string> overrides;
   bool quiet = false;
@@ -88,6 +91,10 @@ int main(int argc, char** argv) {
   }
   try {
     system->run(out, !quiet);
+  } catch (const config::StopRequested& e) {
+    std::cerr << "tlm_host: " << e.what() << "\n";
+    system.reset();  // frees the FMUs now: fe_server is told, their folders removed
+    return config::stop_exit_code(e.signo());
   } catch (const std::exception& e) {
     std::cerr << "tlm_host: " << e.what() << "\n";
     return 4;

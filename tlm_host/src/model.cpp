@@ -1,5 +1,7 @@
 #include "model.hpp"
 
+#include "config/stop_signal.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -275,6 +277,7 @@ void System::run(const std::string& out_path, bool progress) {
   long k = 0;
   try {
     for (; k < steps; ++k) {
+      if (const int signo = config::stop_signal()) throw config::StopRequested(signo);
       const double t = static_cast<double>(k) * dt;
       for (Component* c : signal_) c->simulate_one_step(t);
       for (Component* c : c_type_) c->simulate_one_step(t);
@@ -305,6 +308,8 @@ void System::run(const std::string& out_path, bool progress) {
     std::ostringstream s;
     s << "at step " << k << " (t = " << static_cast<double>(k) * dt << " s): " << e.what()
       << "; results up to the last completed step kept in " << out_path;
+    // A signal may also show as the peer's ABORT (fe_server got it too): a stop either way.
+    if (const int signo = config::stop_signal()) throw config::StopRequested(signo, s.str());
     throw std::runtime_error(s.str());
   }
   for (auto& c : components_) c->finalize();

@@ -2,10 +2,23 @@
 // 1-D dataset per series (unit as attribute), rows buffered in memory and
 // written in chunks. flush() makes everything appended so far durable, so a
 // run that stops on an error keeps what it had computed.
+//
+// The file is written in HDF5's single-writer/multiple-reader (SWMR) mode
+// from the first row on, and flushed at least every flush_interval seconds
+// (default 1 s, checked every 64 rows). Then:
+//  - a reader may watch the file while it grows (h5py: File(path, "r",
+//    swmr=True), dataset.refresh());
+//  - after kill -9 or a power loss the file still opens with every row up
+//    to the last flush: SWMR's write order keeps the file consistent at all
+//    times (HDF5 1.10 "SWMR User's Guide"). Such a file is still marked as
+//    being written: open it with swmr=True, or clear the mark with
+//    `h5clear -s FILE` (Debian's hdf5-tools). read_series() does the former.
+// Datasets and attributes are therefore all declared before the first row.
 #pragma once
 
 #include <hdf5.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -14,7 +27,7 @@ namespace h5io {
 class TimeSeriesWriter {
  public:
   // Creates (or truncates) the file.
-  explicit TimeSeriesWriter(const std::string& path, size_t rows_per_chunk = 4096);
+  explicit TimeSeriesWriter(const std::string& path, size_t rows_per_chunk = 4096, double flush_interval = 1.0);
   ~TimeSeriesWriter();
   TimeSeriesWriter(const TimeSeriesWriter&) = delete;
   TimeSeriesWriter& operator=(const TimeSeriesWriter&) = delete;
@@ -22,7 +35,8 @@ class TimeSeriesWriter {
   // Declare a series before the first append; `name` may contain '/' groups.
   // Returns its column index.
   size_t add_series(const std::string& name, const std::string& unit);
-  // A string attribute on the file's root group (scene, model, settings...).
+  // A string attribute on the file's root group (scene, model, settings...);
+  // before the first row.
   void set_attribute(const std::string& name, const std::string& value);
   void set_attribute(const std::string& name, double value);
   // One value for every declared series, in declaration order.
@@ -36,7 +50,12 @@ class TimeSeriesWriter {
 
  private:
   void write_buffer();
+  void start_live();  // SWMR from here on: no new datasets or attributes
   std::string path_;
+  double flush_interval_;
+  int64_t last_flush_ns_ = 0;
+  unsigned rows_since_check_ = 0;
+  bool live_ = false;
   hid_t file_ = -1;
   size_t chunk_;
   std::vector<hid_t> series_;

@@ -9,10 +9,15 @@
  * one table below; sl_strerror() gives the message. For SL_ESYSTEM the errno
  * of the failing call is kept in sl_socket.sys_errno. Reads and writes never
  * block in the kernel (MSG_DONTWAIT + poll), whatever the descriptor's mode.
+ *
+ * The one process-wide setting: sl_set_stop_flag(). Once the flag is non-zero
+ * (a signal handler sets it), every wait returns SL_EINTERRUPTED within
+ * 200 ms instead of waiting on to its deadline.
  */
 #ifndef SOCKETLIB_SOCKETLIB_H
 #define SOCKETLIB_SOCKETLIB_H
 
+#include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -35,7 +40,8 @@ extern "C" {
   X(INVAL, -11, "invalid argument")                                                  \
   X(NOMEM, -12, "out of memory")                                                     \
   X(UNEXPECTED, -13, "unexpected message type or step index")                        \
-  X(REFUSED_BY_PEER, -14, "peer refused the session (ABORT received)")
+  X(REFUSED_BY_PEER, -14, "peer refused the session (ABORT received)")           \
+  X(INTERRUPTED, -15, "interrupted: the program was asked to stop (signal)")
 
 typedef enum {
   SL_OK = 0,
@@ -55,6 +61,10 @@ typedef struct sl_socket {
 } sl_socket;
 
 #define SL_SOCKET_INIT {-1, 0}
+
+/* The flag that makes waits return SL_EINTERRUPTED (NULL: waits run to their
+ * deadline). Set once, before any wait, by the program's main thread. */
+void sl_set_stop_flag(const volatile sig_atomic_t *flag);
 
 /* Milliseconds on the monotonic clock; add a budget to make a deadline. */
 int64_t sl_now_ms(void);

@@ -1,0 +1,159 @@
+// Signals (issue 17, items 2 and 4): SIGINT and SIGTERM stop either side
+// cleanly (results flushed and closed, the peer told through ABORT, exit
+// 128 + signal); after kill -9 the results file still opens with its rows up
+// to the last periodic flush, and the killed host's FMU folder is removed
+// by the next host.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <thread>
+
+#include "h5io/timeseries.hpp"
+#include "integration_support.hpp"
+
+namespace {
+
+// True if the file opens as an ordinary HDF5 file: its writer closed it.
+// (A file whose writer was killed is still marked as being written.)
+bool closed_cleanly(const std::string& path) {
+  hid_t f = -1;
+  H5E_BEGIN_TRY { f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT); }
+  H5E_END_TRY;
+  if (f < 0) return false;
+  H5Fclose(f);
+  return true;
+}
+
+// Rows whose time is finite and increasing: a consistent series.
+void expect_consistent_rows(const std::string& path, size_t at_least) {
+  const std::vector<double> t = h5io::read_series(path, "time");
+  EXPECT_GE(t.size(), at_least) << path;
+  for (size_t i = 1; i < t.size(); ++i)
+    if (!(t[i] > t[i - 1])) {
+      ADD_FAILURE() << path << ": time not increasing at row " << i;
+      break;
+    }
+}
+
+size_t fmu_folders(const std::string& dir) {
+  size_t n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().filename().string().rfind("tlm_host_fmu_", 0) == 0) ++n;
+  return n;
+}
+
+// A long co-simulation of the one-DOF scene, the host's FMU unpacked under
+// `tmp` (TMPDIR), so a test can see what it leaves there.
+std::unique_ptr<ChildProcess> start_host(const TempDir& dir, int port, const std::string& tmp) {
+  setenv("TMPDIR", tmp.c_str(), 1);  // inherited by the child only: each test is its own process
+  auto host = std::make_unique<ChildProcess>(std::vector<std::string>{
+      PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server",
+      "127.0.0.1:" + std::to_string(port), "--out", dir.file("host.h5"), "--quiet", "--set", "simulation.stoptime=100",
+      "--set", "piston.verbose=0"});
+  unsetenv("TMPDIR");
+  return host;
+}
+
+// Runs until both sides have written a few thousand rows.
+void let_it_run() { std::this_thread::sleep_for(std::chrono::milliseconds(1500)); }
+
+}  // namespace
+
+TEST(Signals, SigintOrSigtermStopsTheServerCleanlyAndTellsTheHost) {
+  for (const int sig : {SIGINT, SIGTERM}) {
+    SCOPED_TRACE(sig == SIGINT ? "SIGINT" : "SIGTERM");
+    TempDir dir;
+    Server server(dir);
+    ASSERT_GT(server.port, 0) << server.child->output();
+    auto host = start_host(dir, server.port, dir.path());
+    let_it_run();
+    kill(server.child->pid(), sig);
+    EXPECT_EQ(server.child->wait(kHardTimeout), 128 + sig) << server.child->output();
+    const std::string name = sig == SIGINT ? "SIGINT" : "SIGTERM";
+    EXPECT_NE(server.child->output().find("stopped by " + name + " "), std::string::npos) << server.child->output();
+    EXPECT_EQ(host->wait(kHardTimeout), 4) << host->output();
+    EXPECT_NE(host->output().find("fe_server stopped by " + name), std::string::npos)
+        << "the host is told why through ABORT:\n" << host->output();
+    EXPECT_TRUE(closed_cleanly(server.out));
+    EXPECT_TRUE(closed_cleanly(dir.file("host.h5")));
+    expect_consistent_rows(server.out, 1000);
+    expect_consistent_rows(dir.file("host.h5"), 1000);
+    EXPECT_EQ(fmu_folders(dir.path()), 0u) << "the host removed its FMU folder";
+  }
+}
+
+TEST(Signals, SigintOrSigtermStopsTheHostCleanlyAndTellsTheServer) {
+  for (const int sig : {SIGINT, SIGTERM}) {
+    SCOPED_TRACE(sig == SIGINT ? "SIGINT" : "SIGTERM");
+    TempDir dir;
+    Server server(dir);
+    ASSERT_GT(server.port, 0) << server.child->output();
+    auto host = start_host(dir, server.port, dir.path());
+    let_it_run();
+    EXPECT_EQ(fmu_folders(dir.path()), 1u) << "the running host's FMU folder";
+    kill(host->pid(), sig);
+    EXPECT_EQ(host->wait(kHardTimeout), 128 + sig) << host->output();
+    EXPECT_NE(host->output().find(std::string("stopped by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM")),
+              std::string::npos)
+        << host->output();
+    EXPECT_EQ(server.child->wait(kHardTimeout), 7) << server.child->output();
+    EXPECT_NE(server.child->output().find("host aborted"), std::string::npos) << server.child->output();
+    EXPECT_TRUE(closed_cleanly(dir.file("host.h5")));
+    EXPECT_TRUE(closed_cleanly(server.out));
+    expect_consistent_rows(dir.file("host.h5"), 1000);
+    expect_consistent_rows(server.out, 1000);
+    EXPECT_EQ(fmu_folders(dir.path()), 0u) << "the stopped host removed its FMU folder";
+  }
+}
+
+// kill -9 runs no clean-up at all: what survives is what was flushed. The
+// writers flush at least once a second, so after 2.5 s of running each file
+// holds at least the first second's rows.
+TEST(Signals, AfterKillMinus9BothFilesOpenWithTheirFlushedRows) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0) << server.child->output();
+  auto host = start_host(dir, server.port, dir.path());
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  kill(server.child->pid(), SIGKILL);
+  kill(host->pid(), SIGKILL);
+  EXPECT_EQ(server.child->wait(kHardTimeout), -1000 - SIGKILL);
+  EXPECT_EQ(host->wait(kHardTimeout), -1000 - SIGKILL);
+  EXPECT_FALSE(closed_cleanly(server.out)) << "a killed writer cannot close its file";
+  expect_consistent_rows(server.out, 1000);
+  expect_consistent_rows(dir.file("host.h5"), 1000);
+  // The killed host left its FMU folder; the next host removes it.
+  EXPECT_EQ(fmu_folders(dir.path()), 1u);
+  TempDir next_dir;
+  Server next_server(next_dir);
+  ASSERT_GT(next_server.port, 0) << next_server.child->output();
+  setenv("TMPDIR", dir.path().c_str(), 1);
+  ChildProcess next({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server",
+                     "127.0.0.1:" + std::to_string(next_server.port), "--out", next_dir.file("host.h5"), "--quiet",
+                     "--set", "simulation.stoptime=0.001", "--set", "piston.verbose=0"});
+  unsetenv("TMPDIR");
+  EXPECT_EQ(next.wait(kHardTimeout), 0) << next.output();
+  EXPECT_EQ(fmu_folders(dir.path()), 0u) << next.output();
+}
+
+// A user can watch a running job's file: it opens while it is written and
+// grows from one look to the next.
+TEST(Signals, ARunningJobsFileCanBeWatchedLive) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0) << server.child->output();
+  auto host = start_host(dir, server.port, dir.path());
+  let_it_run();
+  const size_t first = h5io::read_series(server.out, "time").size();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  const size_t second = h5io::read_series(server.out, "time").size();
+  EXPECT_GT(first, 0u);
+  EXPECT_GT(second, first) << "the file grows while it is watched";
+  kill(host->pid(), SIGTERM);
+  EXPECT_EQ(host->wait(kHardTimeout), 128 + SIGTERM) << host->output();
+  EXPECT_EQ(server.child->wait(kHardTimeout), 7) << server.child->output();
+}

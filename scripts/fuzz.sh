@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Fuzz the input readers with libFuzzer (clang, ASan + UBSan):
-#   scripts/fuzz.sh [RUNS]        (default 1000000 executions per target)
+#   scripts/fuzz.sh [RUNS [TARGET...]]   (default 1000000 executions of every target)
 # Targets: frame (wire protocol), port_table, deck (FE keyword deck), model
-# (TLM host model). Any crashing input is copied into tests/fuzz/corpus/<target>/,
+# (TLM host model), include (*INCLUDE in a deck), fmu_unpack (the importer's
+# unzip and checks), handshake (fe_server's handshake state machine), set
+# (tlm_host's --set overrides). Any crashing input is copied into tests/fuzz/corpus/<target>/,
 # where the regular test suite replays it from then on.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -17,9 +19,11 @@ if [ -n "${missing:-}" ]; then
 fi
 build=$root/build-fuzz
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DPCS_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
-cmake --build "$build" --target fuzz_frame fuzz_port_table fuzz_deck fuzz_model
+targets=(frame port_table deck model include fmu_unpack handshake set)
+[ $# -gt 1 ] && targets=("${@:2}")
+cmake --build "$build" --target "${targets[@]/#/fuzz_}"
 status=0
-for t in frame port_table deck model; do
+for t in "${targets[@]}"; do
   work=$(mktemp -d)
   cp -r "$root/tests/fuzz/corpus/$t/." "$work/"
   mkdir -p "$build/artifacts/$t"

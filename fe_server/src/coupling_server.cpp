@@ -190,6 +190,47 @@ static std::string refuse(sl_socket& conn, const std::string& reason) {
   return reason;
 }
 
+CouplingServer::HandshakeProgress CouplingServer::handshake_step(Pending& p, std::string& why) {
+  constexpr int64_t kPartialFramePauseMs = 20;
+  peek_.resize(PCS_HEADER_SIZE + buf_.size());
+  const int n = sl_peek(&p.conn, peek_.data(), peek_.size());
+  if (n == SL_ECLOSED) {
+    why = p.challenged ? "closed the connection during the handshake" : "closed the connection without a HELLO";
+    return HandshakeProgress::Refused;
+  }
+  if (n < 0) {
+    why = std::string(sl_err_name(n)) + ": " + sl_strerror(n);
+    return HandshakeProgress::Refused;
+  }
+  const size_t have = static_cast<size_t>(n);
+  if (have == 0) {  // readable yet nothing to peek: look again after a pause, not in a spin
+    p.pause_until = sl_now_ms() + kPartialFramePauseMs;
+    return HandshakeProgress::Waiting;
+  }
+  uint8_t magic[4];  // the protocol's magic as it arrives on the wire
+  for (int b = 0; b < 4; ++b) magic[b] = static_cast<uint8_t>(PCS_MAGIC >> (8 * b));
+  // Only a whole frame is read, so the server never waits on a stranger;
+  // foreign magic or a length beyond any handshake frame is refused at once.
+  if (std::memcmp(peek_.data(), magic, std::min<size_t>(have, 4)) != 0) {
+    why = "foreign bytes (not this protocol's magic)";
+    return HandshakeProgress::Refused;
+  }
+  pcs_header h{};
+  if (have >= PCS_HEADER_SIZE) pcs_decode_header(peek_.data(), &h);
+  if (have >= PCS_HEADER_SIZE && h.payload_size > buf_.size()) {
+    why = "a frame of " + std::to_string(h.payload_size) + " bytes, more than any handshake message";
+    return HandshakeProgress::Refused;
+  }
+  if (have < PCS_HEADER_SIZE || have < PCS_HEADER_SIZE + static_cast<size_t>(h.payload_size)) {
+    p.pause_until = sl_now_ms() + kPartialFramePauseMs;  // the rest is still on its way
+    return HandshakeProgress::Waiting;
+  }
+  bool bound = false;
+  why = advance_handshake(p, bound);
+  if (!why.empty()) return HandshakeProgress::Refused;
+  return bound ? HandshakeProgress::Bound : HandshakeProgress::Waiting;
+}
+
 std::string CouplingServer::advance_handshake(Pending& p, bool& bound) {
   bound = false;
   pcs_header h{};
@@ -268,7 +309,6 @@ std::string CouplingServer::on_auth(Pending& p, const pcs_header& h) {
 }
 
 ExitCode CouplingServer::accept_clients(std::string& message) {
-  constexpr int64_t kPartialFramePauseMs = 20;
   std::vector<Pending> pending;
   size_t bound = 0;
   const int64_t accept_deadline = deadline_after(opt_.accept_timeout);
@@ -277,9 +317,6 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
     std::cerr << "fe_server: refused " << p.peer << ": " << why << std::endl;
     sl_close(&p.conn);
   };
-  std::vector<uint8_t> peek(PCS_HEADER_SIZE + buf_.size());
-  uint8_t magic[4];  // the protocol's magic as it arrives on the wire
-  for (int b = 0; b < 4; ++b) magic[b] = static_cast<uint8_t>(PCS_MAGIC >> (8 * b));
   std::vector<sl_socket*> set;
   std::vector<int> ready;
   std::vector<size_t> polled;  // the pending connection behind each set entry after the listener
@@ -344,45 +381,12 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
       if (!ready[i]) continue;
       const size_t k = polled[i - offset];
       Pending& p = pending[k];
-      const int n = sl_peek(&p.conn, peek.data(), peek.size());
-      if (n == SL_ECLOSED) {
-        refused(p, "closed the connection without a HELLO");
-        done.push_back(k);
-        continue;
-      }
-      if (n < 0) {
-        refused(p, std::string(sl_err_name(n)) + ": " + sl_strerror(n));
-        done.push_back(k);
-        continue;
-      }
-      pcs_header h{};
-      if (static_cast<uint32_t>(n) >= PCS_HEADER_SIZE) pcs_decode_header(peek.data(), &h);
-      // Only a whole frame is read, so the server never waits on a stranger;
-      // foreign magic or a length beyond any handshake frame is refused at once.
-      const bool complete = static_cast<uint32_t>(n) >= PCS_HEADER_SIZE &&
-                            static_cast<uint64_t>(n) >= PCS_HEADER_SIZE + static_cast<uint64_t>(h.payload_size);
-      const size_t have = static_cast<size_t>(n);
-      const size_t magic_bytes = std::min<size_t>(have, 4);
-      if (std::memcmp(peek.data(), magic, magic_bytes) != 0) {
-        refused(p, "foreign bytes (not this protocol's magic)");
-        done.push_back(k);
-        continue;
-      }
-      if (have >= PCS_HEADER_SIZE && h.payload_size > buf_.size()) {
-        refused(p, "a frame of " + std::to_string(h.payload_size) + " bytes, more than any handshake message");
-        done.push_back(k);
-        continue;
-      }
-      if (!complete) {  // the rest of the frame is still on its way
-        p.pause_until = sl_now_ms() + kPartialFramePauseMs;
-        continue;
-      }
-      bool now_bound = false;
-      const std::string why = advance_handshake(p, now_bound);
-      if (!why.empty()) {
+      std::string why;
+      const HandshakeProgress progress = handshake_step(p, why);
+      if (progress == HandshakeProgress::Refused) {
         refused(p, why);
         done.push_back(k);
-      } else if (now_bound) {
+      } else if (progress == HandshakeProgress::Bound) {
         Client& c = clients_[static_cast<size_t>(p.which)];
         c.conn = p.conn;
         p.conn = SL_SOCKET_INIT;

@@ -74,12 +74,6 @@ class CouplingServer {
   // Serve one session. Returns an exit code; `message` says what happened.
   ExitCode run(Solver& solver, PortMap& ports, History& history, std::string& message);
 
- private:
-  struct Client {
-    const config::PortTable* table = nullptr;
-    sl_socket conn = SL_SOCKET_INIT;
-    size_t in_offset = 0, out_offset = 0;  // of its variables in the combined table
-  };
   // A connection in its handshake: HELLO expected, then (after our
   // CHALLENGE) AUTH.
   struct Pending {
@@ -94,6 +88,21 @@ class CouplingServer {
     uint8_t client_nonce[PCS_NONCE_SIZE] = {};
     uint8_t server_nonce[PCS_NONCE_SIZE] = {};
   };
+  enum class HandshakeProgress { Waiting, Bound, Refused };
+  // One look at a connection in its handshake (accept_clients calls it when
+  // the connection is readable; the handshake fuzz target drives it too):
+  // refuses foreign magic or an oversize length at once, waits while a frame
+  // is partial (setting p.pause_until), else reads the frame and answers it.
+  // Bound: the handshake is complete for client p.which. Refused: `why`
+  // says why (the peer was told where it speaks the protocol).
+  HandshakeProgress handshake_step(Pending& p, std::string& why);
+
+ private:
+  struct Client {
+    const config::PortTable* table = nullptr;
+    sl_socket conn = SL_SOCKET_INIT;
+    size_t in_offset = 0, out_offset = 0;  // of its variables in the combined table
+  };
   // Waits for every client until the accept deadline. Up to kMaxPending
   // connections are examined at once (more wait in the kernel's backlog);
   // a connection's frame is read only once it has arrived whole, so a silent
@@ -104,7 +113,7 @@ class CouplingServer {
   ExitCode accept_clients(std::string& message);
   static constexpr size_t kMaxPending = 32;
   // Reads the whole frame waiting on p.conn (HELLO, or AUTH once
-  // challenged) and answers it. Returns "" while the handshake goes on or
+  // challenged) and answers it (handshake_step's second half). Returns "" while the handshake goes on or
   // is complete (p.which bound when `bound` is set), else the reason for
   // refusing, already told to the peer.
   std::string advance_handshake(Pending& p, bool& bound);
@@ -122,6 +131,7 @@ class CouplingServer {
   sl_socket listener_ = SL_SOCKET_INIT;
   int port_ = 0;
   std::vector<uint8_t> buf_;
+  std::vector<uint8_t> peek_;  // what handshake_step looks at
 };
 
 }  // namespace fe

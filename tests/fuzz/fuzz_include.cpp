@@ -1,0 +1,43 @@
+// Fuzz target: *INCLUDE in the FE keyword deck. The input is a main deck and
+// an included file, split at the first line "#FILE"; both are written into
+// a private folder where the main deck may include "inc.k" (which may
+// include itself, or the main deck: a cycle must be refused, not followed).
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "deck_reader.hpp"
+
+namespace {
+const std::string& folder() {
+  static const std::string dir = [] {
+    char templ[] = "/tmp/pcs_fuzz_include_XXXXXX";
+    const char* made = mkdtemp(templ);
+    return std::string(made ? made : "/tmp");
+  }();
+  return dir;
+}
+void write(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  f << text;
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  const size_t cut = text.find("\n#FILE\n");
+  const std::string main_deck = text.substr(0, cut);
+  const std::string included = cut == std::string::npos ? "" : text.substr(cut + 7);
+  write(folder() + "/main.k", main_deck);
+  write(folder() + "/inc.k", included);
+  try {
+    fe::DeckWarnings warnings;
+    (void)fe::read_deck(folder() + "/main.k", &warnings);
+  } catch (const std::exception&) {
+  }
+  return 0;
+}

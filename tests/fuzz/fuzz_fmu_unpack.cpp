@@ -13,14 +13,22 @@
 #include "fmu_importer.hpp"
 
 namespace {
+std::string g_folder;  // removed at exit: a fuzz run or replay leaves nothing in /tmp
+void remove_folder() {
+  std::error_code ec;
+  std::filesystem::remove_all(g_folder, ec);
+}
 const std::string& folder() {
   static const std::string dir = [] {
     char templ[] = "/tmp/pcs_fuzz_fmu_XXXXXX";
     const char* made = mkdtemp(templ);
-    const std::string d = made ? made : "/tmp";
+    if (!made) std::abort();
+    g_folder = made;
+    std::atexit(remove_folder);
+    const std::string& d = g_folder;
     setenv("TMPDIR", d.c_str(), 1);                 // the importer unpacks here
     setenv("PCS_FMU_MAX_UNPACKED", "1000000", 1);  // 1 MB: a bomb is stopped quickly
-    return d;
+    return g_folder;
   }();
   return dir;
 }

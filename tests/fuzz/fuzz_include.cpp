@@ -13,11 +13,19 @@
 #include "deck_reader.hpp"
 
 namespace {
+std::string g_folder;  // removed at exit: a fuzz run or replay leaves nothing in /tmp
+void remove_folder() {
+  std::error_code ec;
+  std::filesystem::remove_all(g_folder, ec);
+}
 const std::string& folder() {
   static const std::string dir = [] {
     char templ[] = "/tmp/pcs_fuzz_include_XXXXXX";
     const char* made = mkdtemp(templ);
-    return std::string(made ? made : "/tmp");
+    if (!made) std::abort();
+    g_folder = made;
+    std::atexit(remove_folder);
+    return g_folder;
   }();
   return dir;
 }

@@ -4,13 +4,17 @@
 //  (2) ns per element-cycle of 1D bar elements;
 //  (3) coaxial bar impact (steel Ø20 mm, piston 0.2 m at 8 m/s on a 0.8 m
 //      tool, ν = 0): error in plateau stress and in W = (A·c/E)∫σ²dt against
-//      1D theory, and wall time, for three mesh sizes.
+//      1D theory, and wall time, for three mesh sizes;
+//  (4) ns per element-cycle of the axisymmetric quad against model size;
+//  (5) the same bar impact with axisymmetric quads: the Pareto points to
+//      set beside (3), hex8 against axisymmetric at equal error.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
+#include "axi_decks.hpp"
 #include "cavity_load.hpp"
 #include "deck_reader.hpp"
 #include "mesher.hpp"
@@ -106,11 +110,55 @@ void bar_impact_convergence() {
     std::printf("csv:fe_pareto,%g,%g,%zu,%.4f,%.4f,%.4f\n", h * 1e3, factor, m.solids.size(), e_sigma, e_W, wall);
   }
 }
+void axi_cycle_cost() {
+  std::printf("axisymmetric quad element-cycle cost (free cylinder, one core):\n  %10s %10s %12s\n", "elements", "steps",
+              "ns/el-cycle");
+  for (double h : {0.005, 0.0025, 0.00125}) {
+    const int nr = static_cast<int>(std::lround(0.03 / h)), ny = static_cast<int>(std::lround(0.4 / h));
+    fe::Model m = fe::parse_deck("*KEYWORD\n" + axi_test::block(1, 1, 0.0, 0.03, nr, 0.0, 0.4, ny) +
+                                     "*PART\np\n1,1,1\n*SECTION_SHELL\n1,15\n0\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n",
+                                 "cyl2d.k");
+    for (size_t i = 0; i < m.x0.size(); ++i) m.v0[i] = fe::Vec3(0, 1.0 * m.x0[i].y(), 0);  // stretching
+    fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
+    const int steps = std::max(20, static_cast<int>(2e7 / m.axis.size()));
+    auto t0 = Clock::now();
+    for (int k = 0; k < steps; ++k) s.step();
+    const double ns = 1e9 * since(t0) / (static_cast<double>(steps) * m.axis.size());
+    std::printf("  %10zu %10d %12.1f\n", m.axis.size(), steps, ns);
+    std::printf("csv:fe_cost,axi4,%zu,%.2f\n", m.axis.size(), ns);
+  }
+}
+
+void axi_bar_impact_convergence() {
+  const double E = 2.1e11, rho = 7850, c = std::sqrt(E / rho), v0 = 8.0, Lp = 0.2, Lt = 0.8, r = 0.01;
+  std::printf("axisymmetric bar impact vs 1D theory (same case as above):\n");
+  std::printf("  %8s %9s %12s %10s %10s\n", "h [mm]", "elements", "sigma err %", "W err %", "wall [s]");
+  for (double h : {0.005, 0.0025, 0.00125}) {
+    auto t0 = Clock::now();
+    const auto res = axi_test::run_bar_impact(Lp, r, Lt, r, h, v0, 0.0, {0.2}, 0.2 / c + 4.0 * Lp / c);
+    const double wall = since(t0);
+    std::vector<double> comp;
+    double W = 0.0;
+    for (size_t i = 0; i < res.t.size(); ++i) {
+      const double sz = res.gauges[0].sigma[i];
+      if (sz < -1e6) comp.push_back(sz);
+      W += res.area_tool * c / E * sz * sz * (i ? res.t[i] - res.t[i - 1] : res.t[0]);
+    }
+    std::sort(comp.begin(), comp.end());
+    const double plateau = comp[comp.size() / 2];
+    const double W_exact = 0.5 * rho * res.area_tool * Lp * v0 * v0;
+    const double e_sigma = 100 * (-plateau / (E * v0 / (2 * c)) - 1), e_W = 100 * (W / W_exact - 1);
+    std::printf("  %8.2f %9zu %12.2f %10.2f %10.3f\n", h * 1e3, res.elements, e_sigma, e_W, wall);
+    std::printf("csv:fe_pareto_axi,%g,0.9,%zu,%.4f,%.4f,%.4f\n", h * 1e3, res.elements, e_sigma, e_W, wall);
+  }
+}
 }  // namespace
 
 int main() {
   element_cycle_cost();
   bar_cycle_cost();
+  axi_cycle_cost();
   bar_impact_convergence();
+  axi_bar_impact_convergence();
   return 0;
 }

@@ -8,6 +8,14 @@
 namespace fe {
 
 Vec3 segment_area_vector(const Segment& s, const std::vector<Vec3>& x) {
+  if (s.line()) {
+    // The ring a 2D line segment sweeps about the y axis: 2π·r̄·L along the
+    // outward normal (to the right of n0 → n1), r̄ the mean radius (Pappus).
+    const Vec3& a = x[static_cast<size_t>(s.n[0])];
+    const Vec3& b = x[static_cast<size_t>(s.n[1])];
+    const Vec3 d = b - a;
+    return 2.0 * 3.141592653589793 * 0.5 * (a.x() + b.x()) * Vec3(d.y(), -d.x(), 0.0);
+  }
   // Half the cross product of the diagonals: exact for a planar quad, the
   // mean area vector for a warped one, and for a triangle (n4 = n3) equal to
   // ½(x2 − x1) × (x3 − x1).

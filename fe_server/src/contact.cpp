@@ -12,7 +12,13 @@
 namespace fe {
 
 namespace {
-int corners(const Segment& s) { return s.n[3] == s.n[2] ? 3 : 4; }
+int corners(const Segment& s) { return s.line() ? 2 : s.n[3] == s.n[2] ? 3 : 4; }
+
+// A segment's length scale: the side of its area, or a line's length.
+double segment_size(const Segment& s, const std::vector<Vec3>& x) {
+  if (s.line()) return (x[static_cast<size_t>(s.n[1])] - x[static_cast<size_t>(s.n[0])]).norm();
+  return std::sqrt(segment_area_vector(s, x).norm());
+}
 
 std::vector<int> nodes_of(const std::vector<Segment>& segs) {
   std::set<int> n;
@@ -53,7 +59,7 @@ PenaltyContact::PenaltyContact(const Model& model, const ContactDef& def, double
   int count = 0;
   for (const auto* set : {&slave, &master})
     for (const auto& s : *set) {
-      sum += std::sqrt(segment_area_vector(s, model.x0).norm());
+      sum += segment_size(s, model.x0);
       ++count;
     }
   size_ = count ? sum / count : 0.0;
@@ -81,6 +87,19 @@ bool PenaltyContact::behind(const Segment& seg, size_t node, const std::vector<V
   const int nc = corners(seg);
   for (int k = 0; k < nc; ++k)
     if (static_cast<size_t>(seg.n[k]) == node) return false;
+  if (seg.line()) {  // 2D: the outward normal lies to the right of n0 → n1 in the x–y plane
+    const Vec3& a = x[static_cast<size_t>(seg.n[0])];
+    const Vec3 d = x[static_cast<size_t>(seg.n[1])] - a;
+    const double len2 = d.squaredNorm();
+    if (!(len2 > 0.0)) return false;
+    c.n = Vec3(d.y(), -d.x(), 0.0) / std::sqrt(len2);
+    c.g = (x[node] - a).dot(c.n);
+    if (c.g >= 0.0 || c.g < -depth_limit) return false;
+    const double t = (x[node] - a).dot(d) / len2;
+    if (t < -1e-6 || t > 1.0 + 1e-6) return false;
+    c.w[0] = 1.0 - t, c.w[1] = t, c.w[2] = c.w[3] = 0.0;
+    return true;
+  }
   const Vec3 area = segment_area_vector(seg, x);
   const double a = area.norm();
   if (!(a > 0.0)) return false;

@@ -1,5 +1,6 @@
 #include "deck_reader.hpp"
 
+#include "element_axi4.hpp"
 #include "element_hex8.hpp"
 
 #include <cmath>
@@ -57,7 +58,7 @@ struct Reader {
   std::map<int, std::pair<double, double>> spring_mats;  // mid → (k, c)
   std::map<int, std::pair<int, double>> sections;         // secid → (elform, bar area)
   std::vector<Card> discrete_cards, mass_cards, spc_cards, spc_set_cards, vel_cards, rigid_cards, solid_cards,
-      beam_cards;
+      beam_cards, shell_cards;
   std::vector<std::pair<Card, Card>> vel_set_cards, vel_gen_cards;
 
   void warn(const config::SourceLocation& w, const std::string& msg) {
@@ -113,6 +114,23 @@ struct Reader {
         sections[static_cast<int>(c1.integer(0, "SECID"))] = {3, area};
       }
       if (b.cards.size() % 2) b.fail("*SECTION_BEAM needs two cards per section");
+    } else if (kw == "*SECTION_SHELL") {
+      // Card 1: SECID, ELFORM, ...; card 2: T1..T4, ... (not used by 2D solids).
+      // ELFORM 15 (axisymmetric, volume weighted) is the element; 14 (area
+      // weighted) runs as 15: both solve the same equations and converge to
+      // the same answer, 15 conserves momentum and energy with the full-ring
+      // loads that the cavity hook and contacts apply (element_axi4.hpp).
+      for (size_t i = 0; i + 1 < b.cards.size(); i += 2) {
+        Card c1 = fields_of(b.cards[i], kW10);
+        const long elform = c1.integer_or(1, "ELFORM", 2);
+        if (elform != 14 && elform != 15)
+          c1.fail("ELFORM " + std::to_string(elform) +
+                  ": this fe_server has shells only as 2D axisymmetric solids, ELFORM 15 (or 14)");
+        if (elform == 14)
+          warn(c1.where, "ELFORM 14 (area weighted axisymmetric) runs as ELFORM 15 (volume weighted)");
+        sections[static_cast<int>(c1.integer(0, "SECID"))] = {15, 0.0};
+      }
+      if (b.cards.size() % 2) b.fail("*SECTION_SHELL needs two cards per section");
     } else if (kw == "*SECTION_DISCRETE") {
       for (const Card& raw : b.cards) {
         Card c = fields_of(raw, kW10);
@@ -152,6 +170,8 @@ struct Reader {
       for (const Card& raw : b.cards) solid_cards.push_back(fields_of(raw, kW8));
     } else if (kw == "*ELEMENT_BEAM") {
       for (const Card& raw : b.cards) beam_cards.push_back(fields_of(raw, kW8));
+    } else if (kw == "*ELEMENT_SHELL") {
+      for (const Card& raw : b.cards) shell_cards.push_back(fields_of(raw, kW8));
     } else if (kw == "*ELEMENT_DISCRETE") {
       for (const Card& raw : b.cards) discrete_cards.push_back(fields_of(raw, {8, 8, 8, 8, 8, 16, 8, 16}));
     } else if (kw == "*ELEMENT_MASS") {
@@ -270,7 +290,29 @@ struct Reader {
       for (int id : id_list(b, 0, "ID")) m.history_solids.push_back(id);  // resolved after the elements
     } else if (kw == "*DATABASE_HISTORY_BEAM") {
       for (int id : id_list(b, 0, "ID")) m.history_bars.push_back(id);  // resolved after the elements
-    } else if (kw == "*ELEMENT_SHELL" || kw == "*LOAD_SEGMENT_SET" || kw == "*LOAD_NODE_SET" ||
+    } else if (kw == "*DATABASE_HISTORY_SHELL") {
+      for (int id : id_list(b, 0, "ID")) m.history_axis.push_back(id);  // resolved after the elements
+    } else if (kw == "*CONTACT_2D_AUTOMATIC_SURFACE_TO_SURFACE") {
+      // Card 1: SIDS, SIDM (part sets whose outer boundaries meet), SFACT,
+      // FREQ, FS, FD, DC, MEMBS; card 2 (TBIRTH, ...) is not used; an optional
+      // card 3: VC, VDC (damping, % of critical; 20 when not given, as for
+      // the 3D contact).
+      if (b.cards.empty()) b.fail(kw + " needs card 1 (SIDS, SIDM, ...)");
+      Card c1 = fields_of(b.cards[0], kW10);
+      ContactDef d;
+      d.where = c1.where;
+      d.planar = true;
+      d.slave_set = static_cast<int>(c1.integer(0, "SIDS"));
+      d.master_set = static_cast<int>(c1.integer(1, "SIDM"));
+      if (d.slave_set <= 0 || d.master_set <= 0)
+        c1.fail("SIDS and SIDM must be part sets (> 0); node sets (< 0) are not supported");
+      d.stiffness_factor = c1.real_or(2, "SFACT", 1.0);
+      if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
+      d.friction = c1.real_or(4, "FS", 0.0);
+      if (d.friction != 0.0) warn(c1.where, "contact friction FS is not modelled yet (frictionless contact)");
+      if (b.cards.size() > 2) d.damping = fields_of(b.cards[2], kW10).real_or(1, "VDC", 20.0) / 100.0;
+      m.contacts.push_back(d);
+    } else if (kw == "*LOAD_SEGMENT_SET" || kw == "*LOAD_NODE_SET" ||
                kw.rfind("*CONTACT_", 0) == 0 || kw.rfind("*MAT_", 0) == 0 || kw.rfind("*CONSTRAINED_", 0) == 0) {
       b.fail(kw + " is not supported by this fe_server version; ignoring it would change the physics");
     } else {
@@ -294,7 +336,41 @@ struct Reader {
         nodes.insert(e.n1);
         nodes.insert(e.n2);
       }
+    for (const auto& e : m.axis)
+      if (pids.count(e.part)) nodes.insert(e.n, e.n + 4);
     return {nodes.begin(), nodes.end()};
+  }
+
+  // The outer boundary of the axisymmetric elements of a part set, as line
+  // segments with the body on their left: the edges that belong to one
+  // element only, in that element's counter-clockwise direction.
+  std::vector<Segment> boundary_of_part_set(int sid, const config::SourceLocation& where) {
+    auto it = m.part_sets.find(sid);
+    if (it == m.part_sets.end()) throw InputError(where, "part set " + std::to_string(sid) + " is not defined");
+    const std::set<int> pids(it->second.begin(), it->second.end());
+    std::map<std::pair<int, int>, std::pair<int, int>> edges;  // undirected edge → (count, directed start)
+    std::vector<std::pair<int, int>> order;
+    for (const auto& e : m.axis) {
+      if (!pids.count(e.part)) continue;
+      for (int k = 0; k < 4; ++k) {
+        const int a = e.n[k], b = e.n[(k + 1) % 4];
+        if (a == b) continue;  // the collapsed edge of a triangle
+        auto key = std::minmax(a, b);
+        auto& entry = edges[{key.first, key.second}];
+        if (entry.first++ == 0) order.push_back({a, b});
+      }
+    }
+    std::vector<Segment> out;
+    for (const auto& [a, b] : order) {
+      auto key = std::minmax(a, b);
+      if (edges[{key.first, key.second}].first != 1) continue;
+      Segment s;
+      s.n[0] = a, s.n[1] = b, s.n[2] = s.n[3] = -1;
+      out.push_back(s);
+    }
+    if (out.empty())
+      throw InputError(where, "part set " + std::to_string(sid) + " has no axisymmetric elements to contact");
+    return out;
   }
 
   void finish(const std::string& name) {
@@ -302,6 +378,7 @@ struct Reader {
     const size_t n = m.node_ids.size();
     m.v0.assign(n, Vec3::Zero());
     elements();
+    constrain_axisymmetric_nodes();
     for (const Card& c : mass_cards) {
       double mass = c.real(2, "MASS");
       if (!(mass > 0.0)) c.fail("MASS must be positive");
@@ -354,6 +431,15 @@ struct Reader {
       if (!ls.force && !m.segment_sets.count(ls.segment_set))
         throw InputError(ls.where, "segment set " + std::to_string(ls.segment_set) + " is not defined in *SET_SEGMENT");
     }
+    int planar_sets = 0;
+    for (auto& c : m.contacts) {
+      if (!c.planar) continue;
+      // Built segment sets get negative ids, which no deck can use.
+      const int s_id = -(++planar_sets), m_id = -(++planar_sets);
+      m.segment_sets[s_id] = boundary_of_part_set(c.slave_set, c.where);
+      m.segment_sets[m_id] = boundary_of_part_set(c.master_set, c.where);
+      c.slave_set = s_id, c.master_set = m_id;
+    }
     for (const auto& c : m.contacts) {
       if (c.slave_nodes && !m.node_sets.count(c.slave_set))
         throw InputError(c.where, "contact node set " + std::to_string(c.slave_set) + " is not defined in *SET_NODE_LIST");
@@ -366,6 +452,13 @@ struct Reader {
     for (int& id : m.history_solids) {
       auto it = solid_index.find(id);
       if (it == solid_index.end()) throw InputError({name, 1}, "*DATABASE_HISTORY_SOLID names element " + std::to_string(id) + ", which is not a solid element");
+      id = it->second;
+    }
+    std::map<int, int> axi_index;
+    for (size_t i = 0; i < m.axis.size(); ++i) axi_index[m.axis[i].id] = static_cast<int>(i);
+    for (int& id : m.history_axis) {
+      auto it = axi_index.find(id);
+      if (it == axi_index.end()) throw InputError({name, 1}, "*DATABASE_HISTORY_SHELL names element " + std::to_string(id) + ", which is not an axisymmetric element");
       id = it->second;
     }
     std::map<int, int> bar_index;
@@ -431,6 +524,51 @@ struct Reader {
       m.mass[static_cast<size_t>(e.n1)] += half;
       m.mass[static_cast<size_t>(e.n2)] += half;
       m.bars.push_back(e);
+    }
+    axisymmetric_elements();
+  }
+
+  // Nodes of axisymmetric elements move in the x–y plane only; those on the
+  // axis (x = 0) do not move radially.
+  void constrain_axisymmetric_nodes() {
+    for (const auto& e : m.axis)
+      for (int k = 0; k < 4; ++k) {
+        const size_t i = static_cast<size_t>(e.n[k]);
+        m.fixed[i][2] = true;
+        if (m.x0[i].x() == 0.0) m.fixed[i][0] = true;
+      }
+  }
+
+  void axisymmetric_elements() {
+    for (const Card& c : shell_cards) {
+      AxiElement e;
+      e.id = static_cast<int>(c.integer(0, "EID"));
+      e.part = static_cast<int>(c.integer(1, "PID"));
+      const Material& mat = material_of(e.part, c);
+      auto sec = sections.find(m.parts[e.part].section);
+      if (sec == sections.end() || sec->second.first != 15)
+        c.fail("part " + std::to_string(e.part) + " needs a *SECTION_SHELL with ELFORM 15 or 14 (axisymmetric solid)");
+      std::vector<int> ids;
+      for (size_t k = 2; k < c.fields.size() && ids.size() < 4; ++k)
+        if (!c.fields[k].empty() && c.integer(k, "N") != 0) ids.push_back(static_cast<int>(c.integer(k, "N")));
+      if (ids.size() == 3) ids.push_back(ids[2]);  // a triangle: N4 = N3
+      if (ids.size() != 4) c.fail("an axisymmetric element needs 3 or 4 nodes, got " + std::to_string(ids.size()));
+      Mat42 x;
+      for (int k = 0; k < 4; ++k) {
+        e.n[k] = m.index_of(ids[static_cast<size_t>(k)], c.where);
+        const Vec3& p = m.x0[static_cast<size_t>(e.n[k])];
+        if (p.x() < 0.0 || p.z() != 0.0)
+          c.fail("node " + std::to_string(ids[static_cast<size_t>(k)]) +
+                 " of an axisymmetric element must lie in the x-y plane with x (the radius) >= 0 and z = 0");
+        x(k, 0) = p.x(), x(k, 1) = p.y();
+      }
+      Axi4Geometry g;
+      if (!axi4_geometry(x, g))
+        c.fail("axisymmetric element " + std::to_string(e.id) + " has area " + std::to_string(g.area) +
+               " m²: its nodes must run counter-clockwise in the x-y plane (x the radius, y the axis)");
+      const Eigen::Vector4d mass = axi4_lumped_masses(x, mat.rho);
+      for (int k = 0; k < 4; ++k) m.mass[static_cast<size_t>(e.n[k])] += mass(k);
+      m.axis.push_back(e);
     }
   }
 

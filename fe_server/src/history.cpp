@@ -27,6 +27,11 @@ History::History(const std::string& path, const Model& model, const config::Port
     std::string base = "solids/" + std::to_string(model.solids[static_cast<size_t>(e)].id) + "/";
     for (const char* c : {"sxx", "syy", "szz", "sxy", "syz", "szx"}) writer_.add_series(base + c, "Pa");
   }
+  for (int e : model.history_axis) {
+    // Axisymmetric: x is the radius, y the axis; von Mises for a quick look.
+    std::string base = "axisymmetric/" + std::to_string(model.axis[static_cast<size_t>(e)].id) + "/";
+    for (const char* c : {"radial", "axial", "hoop", "shear_ry", "von_mises"}) writer_.add_series(base + c, "Pa");
+  }
   for (int e : model.history_bars)
     writer_.add_series("bars/" + std::to_string(model.bars[static_cast<size_t>(e)].id) + "/axial_stress", "Pa");
   if (!model.contacts.empty()) {
@@ -75,6 +80,12 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
   }
   for (int e : model_.history_solids)
     for (int c = 0; c < 6; ++c) row_[k++] = s.stress(static_cast<size_t>(e))(c);
+  for (int e : model_.history_axis) {
+    const auto& sg = s.axi_stress(static_cast<size_t>(e));
+    for (int c = 0; c < 4; ++c) row_[k++] = sg(c);
+    const double a = sg(0) - sg(1), b = sg(1) - sg(2), c = sg(2) - sg(0);
+    row_[k++] = std::sqrt(0.5 * (a * a + b * b + c * c) + 3.0 * sg(3) * sg(3));
+  }
   for (int e : model_.history_bars) row_[k++] = s.bar_stress(static_cast<size_t>(e));
   if (!model_.contacts.empty()) {
     row_[k++] = s.contact_force();

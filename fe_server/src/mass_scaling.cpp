@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "element_axi4.hpp"
 #include "element_hex8.hpp"
 
 namespace fe {
@@ -52,6 +53,27 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
     m.mass[static_cast<size_t>(e.n1)] += added / 2.0;
     m.mass[static_cast<size_t>(e.n2)] += added / 2.0;
     part.second += added;
+    ++r.elements_scaled;
+  }
+  for (auto& e : m.axis) {
+    const Material& mat = m.materials.at(m.parts.at(e.part).material);
+    Mat42 x;
+    bool fixed_r[4];
+    for (int k = 0; k < 4; ++k) {
+      const size_t i = static_cast<size_t>(e.n[k]);
+      x(k, 0) = m.x0[i].x(), x(k, 1) = m.x0[i].y();
+      fixed_r[k] = m.fixed[i][0];
+    }
+    const Eigen::Vector4d mass = axi4_lumped_masses(x, mat.rho);
+    auto& part = r.per_part[e.part];
+    part.first += mass.sum();
+    if (mat.rigid) continue;
+    const double dt_e = axi4_stable_step(x, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2, fixed_r);
+    const double f = dt / (m.dt_scale * dt_e);
+    if (f <= 1.0) continue;
+    e.mass_scale = f * f;
+    for (int k = 0; k < 4; ++k) m.mass[static_cast<size_t>(e.n[k])] += (f * f - 1.0) * mass(k);
+    part.second += (f * f - 1.0) * mass.sum();
     ++r.elements_scaled;
   }
   for (auto& rb : m.rigid_bodies) {  // bodies carry their nodes' masses

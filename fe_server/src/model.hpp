@@ -37,6 +37,10 @@ struct RigidBody {
 
 struct Segment {
   int n[4] = {0, 0, 0, 0};  // node indices; n[3] == n[2] for a triangle
+  // A 2-node line segment of an axisymmetric boundary has n[2] = n[3] = -1;
+  // its outward normal points to the right of n[0] → n[1] in the x–y plane
+  // (the body lies on its left, as for a counter-clockwise element).
+  bool line() const { return n[2] < 0; }
 };
 
 struct Material {
@@ -65,6 +69,14 @@ struct SolidElement {
   double mass_scale = 1.0;  // density factor from selective mass scaling
 };
 
+// Four-node axisymmetric solid (element_axi4.hpp): *ELEMENT_SHELL of a part
+// whose *SECTION_SHELL has ELFORM 14 or 15; nodes in the x–y plane, x = r.
+struct AxiElement {
+  int id = 0, part = 0;
+  int n[4] = {0, 0, 0, 0};  // node indices, counter-clockwise in (r, y)
+  double mass_scale = 1.0;  // density factor from selective mass scaling
+};
+
 // Two-node 1D bar (truss): axial force only, area from its section.
 struct BarElement {
   int id = 0, part = 0;
@@ -78,6 +90,10 @@ struct BarElement {
 struct ContactDef {
   int slave_set = 0, master_set = 0;  // segment set ids (slave: a node set id when slave_nodes)
   bool slave_nodes = false;           // SSTYP 4: the slave side is a node set
+  // *CONTACT_2D_AUTOMATIC_SURFACE_TO_SURFACE: the sets are segment sets of
+  // 2-node line segments (the boundaries of the parts of two part sets,
+  // built by the reader), checked in the x–y plane.
+  bool planar = false;
   double friction = 0.0;              // FS (not used yet: frictionless normal contact)
   double damping = 0.2;               // VDC as a fraction of critical
   double stiffness_factor = 1.0;      // SFS
@@ -112,10 +128,12 @@ struct Model {
   std::map<int, Part> parts;
   std::vector<SolidElement> solids;
   std::vector<BarElement> bars;
+  std::vector<AxiElement> axis;     // axisymmetric solids
   std::vector<ContactDef> contacts;
   std::map<int, std::vector<int>> part_sets;
   std::vector<int> history_solids;  // element indices into solids
   std::vector<int> history_bars;    // element indices into bars (*DATABASE_HISTORY_BEAM)
+  std::vector<int> history_axis;    // element indices into axis (*DATABASE_HISTORY_SHELL)
   double snapshot_interval = 0.0;  // *DATABASE_BINARY_D3PLOT DT (0: no field output)
   double dt2ms = 0.0;              // *CONTROL_TIMESTEP DT2MS (< 0: mass scaling to |DT2MS|)
   double hourglass_q = 0.1;        // *CONTROL_HOURGLASS QH

@@ -18,6 +18,15 @@ Mat83 gather(const std::vector<Vec3>& a, const SolidElement& e) {
   return out;
 }
 
+Mat42 gather_axi(const std::vector<Vec3>& a, const AxiElement& e) {
+  Mat42 out;
+  for (int k = 0; k < 4; ++k) {
+    const Vec3& p = a[static_cast<size_t>(e.n[k])];
+    out(k, 0) = p.x(), out(k, 1) = p.y();
+  }
+  return out;
+}
+
 bool in_rigid_part(const Model& m, int part) {
   auto p = m.parts.find(part);
   if (p == m.parts.end()) return false;
@@ -76,6 +85,16 @@ StableStep Solver::stable_dt(const Model& m) {
     if (dt_e > 0.0)  // 0: inverted, which the reader refuses
       consider(dt_e, "solid element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
   }
+  for (const auto& e : m.axis) {
+    if (in_rigid_part(m, e.part)) continue;
+    const Material& mat = m.materials.at(m.parts.at(e.part).material);
+    bool fixed_r[4];
+    for (int k = 0; k < 4; ++k) fixed_r[k] = m.fixed[static_cast<size_t>(e.n[k])][0];
+    const double dt_e =
+        axi4_stable_step(gather_axi(m.x0, e), mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2, fixed_r);
+    if (dt_e > 0.0)
+      consider(dt_e, "axisymmetric element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
+  }
   return best;
 }
 
@@ -112,6 +131,18 @@ Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt) {
     hex8_gradients(xe, b, volume);
     const Material& mat = *solid_material_[e];
     hourglass_coef_[e] = model.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0;
+  }
+  axi_sigma_.assign(model.axis.size(), Voigt::Zero());
+  axi_active_.resize(model.axis.size());
+  axi_const_.resize(model.axis.size());
+  for (size_t e = 0; e < model.axis.size(); ++e) {
+    const AxiElement& el = model.axis[e];
+    axi_active_[e] = !in_rigid_part(model, el.part);
+    const Material& mat = model.materials.at(model.parts.at(el.part).material);
+    Axi4Geometry g;
+    axi4_geometry(gather_axi(model.x0, el), g);
+    axi_const_[e] = {mat.lambda(), mat.mu(), mat.rho, mat.wave_speed(),
+                     axi4_hourglass_coefficient(g, model.hourglass_q, mat.rho, mat.wave_speed())};
   }
   body_of_.assign(n, -1);
   body_fixed_.assign(model.rigid_bodies.size(), Eigen::Matrix<bool, 3, 1>(false, false, false));
@@ -256,12 +287,85 @@ void Solver::solid_forces() {
   }
 }
 
+void Solver::axi_forces() {
+  // The formulas of element_axi4.hpp written out in scalars: the 2×2
+  // Jacobian's inverse and the centre gradients in closed form, so the
+  // compiler keeps everything in registers (measured: bench_fe, axi4).
+  constexpr double kXi[4] = {-1, 1, 1, -1}, kEta[4] = {-1, -1, 1, 1}, kH[4] = {1, -1, 1, -1};
+  constexpr double kTwoPi = 6.283185307179586;
+  const double q1 = m_.bulk_q1, q2 = m_.bulk_q2;
+  for (size_t e = 0; e < m_.axis.size(); ++e) {
+    if (!axi_active_[e]) continue;
+    const AxiElement& el = m_.axis[e];
+    const AxiConstants& k = axi_const_[e];
+    double r[4], y[4], vr[4], vy[4];
+    for (int a = 0; a < 4; ++a) {
+      const size_t n = static_cast<size_t>(el.n[a]);
+      r[a] = x_[n].x(), y[a] = x_[n].y(), vr[a] = v_[n].x(), vy[a] = v_[n].y();
+    }
+    const double J00 = 0.25 * (-r[0] + r[1] + r[2] - r[3]), J01 = 0.25 * (-r[0] - r[1] + r[2] + r[3]);
+    const double J10 = 0.25 * (-y[0] + y[1] + y[2] - y[3]), J11 = 0.25 * (-y[0] - y[1] + y[2] + y[3]);
+    const double det = J00 * J11 - J01 * J10;
+    const double r_c = 0.25 * (r[0] + r[1] + r[2] + r[3]);
+    if (!(det > 0.0) || !(r_c > 0.0)) {
+      std::ostringstream s;
+      s << "axisymmetric element " << el.id << " (part " << el.part << ") inverted at t = " << t_ << " s, step " << n_
+        << " (area " << 4.0 * det << " m²): the mesh is too coarse for this deformation, or the step is too large";
+      throw std::runtime_error(s.str());
+    }
+    const double inv = 0.25 / det, area = 4.0 * det, volume = kTwoPi * r_c * area;
+    double br[4], by[4];
+    double d_rr = 0.0, d_yy = 0.0, l_ry = 0.0, l_yr = 0.0, hr = 0.0, hy = 0.0;
+    for (int a = 0; a < 4; ++a) {
+      br[a] = (kXi[a] * J11 - kEta[a] * J10) * inv;
+      by[a] = (kEta[a] * J00 - kXi[a] * J01) * inv;
+      d_rr += vr[a] * br[a], d_yy += vy[a] * by[a];
+      l_ry += vr[a] * by[a], l_yr += vy[a] * br[a];
+      hr += kH[a] * r[a], hy += kH[a] * y[a];
+    }
+    const double d_ry = 0.5 * (l_ry + l_yr);
+    const double d_tt = 0.25 * (vr[0] + vr[1] + vr[2] + vr[3]) / r_c;
+    const double trD = d_rr + d_yy + d_tt;
+    Voigt& sig = axi_sigma_[e];
+    const double o0 = sig(0), o1 = sig(1), o2 = sig(2), o3 = sig(3);
+    const double lt = k.lambda * trD;
+    sig(0) += dt_ * (lt + 2 * k.mu * d_rr);
+    sig(1) += dt_ * (lt + 2 * k.mu * d_yy);
+    sig(2) += dt_ * (lt + 2 * k.mu * d_tt);
+    sig(3) += dt_ * 2 * k.mu * d_ry;
+    double q = 0.0;  // bulk viscosity in compression, as for the hex8
+    if (trD < 0.0) {
+      const double dx1 = r[2] - r[0], dy1 = y[2] - y[0], dx2 = r[3] - r[1], dy2 = y[3] - y[1];
+      const double len = area / std::sqrt(std::max(dx1 * dx1 + dy1 * dy1, dx2 * dx2 + dy2 * dy2));
+      q = k.rho * len * (q1 * len * trD * trD - q2 * k.wave_speed * trD);
+    }
+    const double s_rr = sig(0) - q, s_yy = sig(1) - q, s_tt = sig(2) - q, s_ry = sig(3);
+    // Hourglass (viscous FB), one mode: γ = h − (h·r)·b_r − (h·y)·b_y.
+    double gamma[4], qr = 0.0, qy = 0.0;
+    for (int a = 0; a < 4; ++a) {
+      gamma[a] = kH[a] - hr * br[a] - hy * by[a];
+      qr += gamma[a] * vr[a], qy += gamma[a] * vy[a];
+    }
+    const double hoop = volume * s_tt * 0.25 / r_c;
+    for (int a = 0; a < 4; ++a) {
+      Vec3& f = f_int_[static_cast<size_t>(el.n[a])];
+      f.x() -= volume * (s_rr * br[a] + s_ry * by[a]) + hoop + k.hourglass * gamma[a] * qr;
+      f.y() -= volume * (s_ry * br[a] + s_yy * by[a]) + k.hourglass * gamma[a] * qy;
+    }
+    const double sd = 0.5 * ((o0 + sig(0)) * d_rr + (o1 + sig(1)) * d_yy + (o2 + sig(2)) * d_tt) + (o3 + sig(3)) * d_ry;
+    energies_.internal += volume * sd * dt_;
+    energies_.hourglass += k.hourglass * (qr * qr + qy * qy) * dt_;
+    damping_power_ += -q * trD * volume;
+  }
+}
+
 void Solver::internal_forces() {
   for (auto& f : f_int_) f.setZero();
   damping_power_ = 0.0;
   spring_forces();
   bar_forces();
   solid_forces();
+  axi_forces();
 }
 
 double Solver::step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f) const {

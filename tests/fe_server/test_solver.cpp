@@ -74,7 +74,21 @@ TEST(DeckReader, ErrorsAndWarningsNameTheLine) {
   std::string bad = kOscillator;
   bad.replace(bad.find("1, 1, 2, 1\n"), 11, "1, 1, 7, 1\n");
   EXPECT_NE(deck_error(bad).find("deck.k:17: node 7 is not defined"), std::string::npos) << deck_error(bad);
-  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n*ELEMENT_SHELL\n1,1,1,1,1,1\n").find("change the physics"),
+  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n*LOAD_SEGMENT_SET\n1,1,1.0\n").find("change the physics"),
+            std::string::npos);
+  // A shell is an axisymmetric solid only: its part must say so.
+  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n*ELEMENT_SHELL\n1,1,1,2,3,4\n"
+                       "*PART\np\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1,7850,2e11,0.3\n")
+                .find("deck.k:8: part 1 needs a *SECTION_SHELL with ELFORM 15 or 14"),
+            std::string::npos);
+  EXPECT_NE(deck_error("*KEYWORD\n*SECTION_SHELL\n1,2\n0\n").find("deck.k:3: ELFORM 2"), std::string::npos);
+  // Clockwise nodes, or a node off the x–y plane, are named.
+  const std::string axi_tail = "*PART\np\n1,1,1\n*SECTION_SHELL\n1,15\n0\n*MAT_ELASTIC\n1,7850,2e11,0.3\n";
+  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n*ELEMENT_SHELL\n1,1,1,4,3,2\n" + axi_tail)
+                .find("counter-clockwise"),
+            std::string::npos);
+  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0.5\n4,0,1,0\n*ELEMENT_SHELL\n1,1,1,2,3,4\n" + axi_tail)
+                .find("x-y plane"),
             std::string::npos);
   EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n").find("has no mass"), std::string::npos);
   fe::DeckWarnings w;

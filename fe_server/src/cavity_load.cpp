@@ -26,13 +26,30 @@ Vec3 segment_area_vector(const Segment& s, const std::vector<Vec3>& x) {
   return 0.5 * (c - a).cross(d - b);
 }
 
-static int corners(const Segment& s) { return s.n[3] == s.n[2] ? 3 : 4; }
+void segment_corner_weights(const Segment& s, const std::vector<Vec3>& x, double w[4]) {
+  w[0] = w[1] = w[2] = w[3] = 0.0;
+  if (s.line()) {
+    const double ra = x[static_cast<size_t>(s.n[0])].x(), rb = x[static_cast<size_t>(s.n[1])].x();
+    const double sum = ra + rb;
+    if (!(sum > 0.0)) {  // a line on the axis sweeps no area: any split is exact
+      w[0] = w[1] = 0.5;
+      return;
+    }
+    w[0] = (2.0 * ra + rb) / (3.0 * sum);
+    w[1] = (ra + 2.0 * rb) / (3.0 * sum);
+    return;
+  }
+  const int nc = s.corners();
+  for (int k = 0; k < nc; ++k) w[k] = 1.0 / nc;
+}
 
-double wetted_fraction(const Segment& s, const std::vector<Vec3>& x, double lo, double hi, double ramp) {
+static int corners(const Segment& s) { return s.corners(); }
+
+double wetted_fraction(const Segment& s, const std::vector<Vec3>& x, double lo, double hi, double ramp, int axis) {
   double zmin = 1e300, zmax = -1e300, zc = 0.0;
   const int nc = corners(s);
   for (int k = 0; k < nc; ++k) {
-    const double z = x[static_cast<size_t>(s.n[k])].z();
+    const double z = x[static_cast<size_t>(s.n[k])][axis];
     zmin = std::min(zmin, z);
     zmax = std::max(zmax, z);
     zc += z / nc;
@@ -76,10 +93,15 @@ CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTab
     ps.normal0 = total.normalized();
     ps.nodes.assign(nodes.begin(), nodes.end());
     ps.segment_area.assign(ps.segments.size(), Vec3::Zero());
+    ps.corner_weight.assign(4 * ps.segments.size(), 0.0);
+    for (size_t s = 0; s < ps.segments.size(); ++s)
+      segment_corner_weights(ps.segments[s], model.x0, &ps.corner_weight[4 * s]);
     for (const auto& seg : ps.segments)
       for (int k = 0; k < 4; ++k)
-        ps.corner_node.push_back(static_cast<int>(std::lower_bound(ps.nodes.begin(), ps.nodes.end(), seg.n[k]) -
-                                                  ps.nodes.begin()));
+        ps.corner_node.push_back(k < seg.corners() ? static_cast<int>(std::lower_bound(ps.nodes.begin(), ps.nodes.end(),
+                                                                                        seg.n[k]) -
+                                                                       ps.nodes.begin())
+                                                   : -1);
     ps.node_weight.assign(ps.nodes.size(), Vec3::Zero());
     surfaces_.push_back(std::move(ps));
   }
@@ -106,15 +128,17 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
   for (size_t i = 0; i < surfaces_.size(); ++i) {
     PortSurface& ps = surfaces_[i];
     const LoadingSet& b = ps.bounds;
-    const double shift = b.reference_node >= 0 ? x[static_cast<size_t>(b.reference_node)].z() -
-                                                     model_.x0[static_cast<size_t>(b.reference_node)].z()
+    const int axis = model_.symmetry_axis;
+    const double shift = b.reference_node >= 0 ? x[static_cast<size_t>(b.reference_node)][axis] -
+                                                     model_.x0[static_cast<size_t>(b.reference_node)][axis]
                                                : 0.0;
     const bool bounded = b.z_min > -1e299 || b.z_max < 1e299;
     // Wetted area vectors first: the TLM pressure needs the flow they carry.
     Vec3 total = Vec3::Zero();
     for (size_t s = 0; s < ps.segments.size(); ++s) {
+      segment_corner_weights(ps.segments[s], x, &ps.corner_weight[4 * s]);
       Vec3 a = segment_area_vector(ps.segments[s], x);
-      if (bounded) a *= wetted_fraction(ps.segments[s], x, b.z_min + shift, b.z_max + shift, b.ramp);
+      if (bounded) a *= wetted_fraction(ps.segments[s], x, b.z_min + shift, b.z_max + shift, b.ramp, axis);
       ps.segment_area[s] = a;
       total += a;
     }
@@ -122,9 +146,9 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
     if (tlm_[i]) continue;  // solved with the velocity of t_n, in apply_implicit
     for (size_t s = 0; s < ps.segments.size(); ++s) {
       const Segment& seg = ps.segments[s];
-      const int nc = corners(seg);
-      const Vec3 f_node = -pressure_[i] * ps.segment_area[s] / nc;  // pushes against the normal
-      for (int k = 0; k < nc; ++k) f_ext[static_cast<size_t>(seg.n[k])] += f_node;
+      const Vec3 f_seg = -pressure_[i] * ps.segment_area[s];  // pushes against the normal
+      for (int k = 0; k < seg.corners(); ++k)
+        f_ext[static_cast<size_t>(seg.n[k])] += ps.corner_weight[4 * s + static_cast<size_t>(k)] * f_seg;
     }
   }
 }
@@ -169,8 +193,9 @@ void CavityPressureLoad::apply_implicit(const Mobility& mob, const std::vector<V
     std::fill(ps.node_weight.begin(), ps.node_weight.end(), Vec3::Zero());
     for (size_t s = 0; s < ps.segments.size(); ++s) {
       const int nc = corners(ps.segments[s]);
-      const Vec3 share = ps.segment_area[s] / nc;
-      for (int k = 0; k < nc; ++k) ps.node_weight[static_cast<size_t>(ps.corner_node[4 * s + static_cast<size_t>(k)])] += share;
+      for (int k = 0; k < nc; ++k)
+        ps.node_weight[static_cast<size_t>(ps.corner_node[4 * s + static_cast<size_t>(k)])] +=
+            ps.corner_weight[4 * s + static_cast<size_t>(k)] * ps.segment_area[s];
     }
     std::fill(ps.group_weight.begin(), ps.group_weight.end(), Vec3::Zero());
     double q_pred = 0.0;
@@ -227,10 +252,9 @@ double CavityPressureLoad::flow(int slot, const std::vector<Vec3>& v) const {
   double q = 0.0;
   for (size_t s = 0; s < ps.segments.size(); ++s) {
     const Segment& seg = ps.segments[s];
-    const int nc = corners(seg);
     Vec3 vm = Vec3::Zero();
-    for (int k = 0; k < nc; ++k) vm += v[static_cast<size_t>(seg.n[k])];
-    q += ps.segment_area[s].dot(vm / nc);
+    for (int k = 0; k < seg.corners(); ++k) vm += ps.corner_weight[4 * s + static_cast<size_t>(k)] * v[static_cast<size_t>(seg.n[k])];
+    q += ps.segment_area[s].dot(vm);
   }
   return q;
 }

@@ -12,7 +12,7 @@
 namespace fe {
 
 namespace {
-int corners(const Segment& s) { return s.line() ? 2 : s.n[3] == s.n[2] ? 3 : 4; }
+int corners(const Segment& s) { return s.corners(); }
 
 // A segment's length scale: the side of its area, or a line's length.
 double segment_size(const Segment& s, const std::vector<Vec3>& x) {

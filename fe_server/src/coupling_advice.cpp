@@ -21,7 +21,7 @@ std::vector<PortStability> coupling_stability(const Model& model, const config::
     Vec3 area = Vec3::Zero();
     for (const auto& seg : model.segment_sets.at(ls.segment_set)) {
       area += segment_area_vector(seg, model.x0);
-      for (int k = 0; k < 4; ++k) nodes.insert(seg.n[k]);
+      for (int k = 0; k < seg.corners(); ++k) nodes.insert(seg.n[k]);
     }
     s.area = area.norm();
     for (const auto& b : model.rigid_bodies)

@@ -58,7 +58,7 @@ struct Reader {
   std::map<int, std::pair<double, double>> spring_mats;  // mid → (k, c)
   std::map<int, std::pair<int, double>> sections;         // secid → (elform, bar area)
   std::vector<Card> discrete_cards, mass_cards, spc_cards, spc_set_cards, vel_cards, rigid_cards, solid_cards,
-      beam_cards, shell_cards;
+      beam_cards, shell_cards, line_set_cards;
   std::vector<std::pair<Card, Card>> vel_set_cards, vel_gen_cards;
 
   void warn(const config::SourceLocation& w, const std::string& msg) {
@@ -190,13 +190,21 @@ struct Reader {
       for (size_t i = 1; i < b.cards.size(); ++i) {
         Card c = fields_of(b.cards[i], kW10);
         Segment s;
-        for (int k = 0; k < 4; ++k) {
-          long id = c.integer_or(static_cast<size_t>(k), "N", k == 3 ? 0 : -1);
-          if (k == 3 && id == 0) {
-            s.n[3] = s.n[2];  // triangle
-            continue;
+        const long n3 = c.integer_or(2, "N3", 0), n4 = c.integer_or(3, "N4", 0);
+        if (n3 == 0 && n4 == 0) {  // N1, N2 only: a 2D line (axisymmetric decks), body on its left
+          s.n[0] = m.index_of(static_cast<int>(c.integer(0, "N1")), c.where);
+          s.n[1] = m.index_of(static_cast<int>(c.integer(1, "N2")), c.where);
+          s.n[2] = s.n[3] = -1;
+          line_set_cards.push_back(c);
+        } else {
+          for (int k = 0; k < 4; ++k) {
+            long id = c.integer_or(static_cast<size_t>(k), "N", k == 3 ? 0 : -1);
+            if (k == 3 && id == 0) {
+              s.n[3] = s.n[2];  // triangle
+              continue;
+            }
+            s.n[k] = m.index_of(static_cast<int>(id), c.where);
           }
-          s.n[k] = m.index_of(static_cast<int>(id), c.where);
         }
         list.push_back(s);
       }
@@ -379,6 +387,14 @@ struct Reader {
     m.v0.assign(n, Vec3::Zero());
     elements();
     constrain_axisymmetric_nodes();
+    if (!m.axis.empty()) {
+      m.symmetry_axis = 1;  // LS-DYNA's 2D convention: y is the axis
+      if (!m.solids.empty())
+        throw InputError(solid_cards.front().where,
+                         "a deck is either 3D (solids, axis z) or 2D axisymmetric (shells, axis y): this one has both");
+    } else if (!line_set_cards.empty()) {
+      line_set_cards.front().fail("a *SET_SEGMENT of two nodes is a 2D line: only an axisymmetric deck has those");
+    }
     for (const Card& c : mass_cards) {
       double mass = c.real(2, "MASS");
       if (!(mass > 0.0)) c.fail("MASS must be positive");

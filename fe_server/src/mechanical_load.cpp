@@ -29,20 +29,20 @@ int MechanicalLoad::slot_of_port(int port_id) const {
 void MechanicalLoad::apply(double, const std::vector<Vec3>&, const std::vector<Vec3>&, std::vector<Vec3>& f_ext) {
   for (size_t i = 0; i < ports_.size(); ++i) {
     const double share = force_[i] / static_cast<double>(nodes_[i].size());
-    for (int n : nodes_[i]) f_ext[static_cast<size_t>(n)].z() += share;
+    for (int n : nodes_[i]) f_ext[static_cast<size_t>(n)][model_.symmetry_axis] += share;
   }
 }
 
 double MechanicalLoad::displacement(int slot, const std::vector<Vec3>& x) const {
   double u = 0;
   for (int n : nodes_[static_cast<size_t>(slot)])
-    u += x[static_cast<size_t>(n)].z() - model_.x0[static_cast<size_t>(n)].z();
+    u += x[static_cast<size_t>(n)][model_.symmetry_axis] - model_.x0[static_cast<size_t>(n)][model_.symmetry_axis];
   return u / static_cast<double>(nodes_[static_cast<size_t>(slot)].size());
 }
 
 double MechanicalLoad::velocity(int slot, const std::vector<Vec3>& v) const {
   double s = 0;
-  for (int n : nodes_[static_cast<size_t>(slot)]) s += v[static_cast<size_t>(n)].z();
+  for (int n : nodes_[static_cast<size_t>(slot)]) s += v[static_cast<size_t>(n)][model_.symmetry_axis];
   return s / static_cast<double>(nodes_[static_cast<size_t>(slot)].size());
 }
 

@@ -41,6 +41,8 @@ struct Segment {
   // its outward normal points to the right of n[0] → n[1] in the x–y plane
   // (the body lies on its left, as for a counter-clockwise element).
   bool line() const { return n[2] < 0; }
+  // Distinct corners: 2 for a line, 3 for a triangle, 4 for a quad.
+  int corners() const { return line() ? 2 : n[3] == n[2] ? 3 : 4; }
 };
 
 struct Material {
@@ -100,22 +102,27 @@ struct ContactDef {
   config::SourceLocation where;
 };
 
-// A co-simulation port acting on a segment set (*USER_LOADING_SET).
+// A co-simulation port acting on a segment set (*USER_LOADING_SET); "along
+// the axis" below is Model::symmetry_axis (z in 3D, y in 2D axisymmetric decks).
 struct LoadingSet {
   int port_id = 0;
   int segment_set = 0;  // PRESSS: a segment set; FORCE: a node set
-  bool force = false;   // FORCE: a mechanical port's force along z on a node set
-  // Cavity bounds along z, moving with the reference node (e.g. on the
-  // housing; -1: fixed). A segment is loaded by the fraction of it inside.
+  bool force = false;   // FORCE: a mechanical port's force along the axis on a node set
+  // Cavity bounds along the axis, moving with the reference node (e.g. on
+  // the housing; -1: fixed). A segment is loaded by the fraction of it inside.
   double z_min = -1e300, z_max = 1e300;
   int reference_node = -1;
-  double ramp = 0.0;  // m: width over which a face normal to z enters the cavity (0: a step)
+  double ramp = 0.0;  // m: width over which a face normal to the axis enters the cavity (0: a step)
   config::SourceLocation where;
 };
 
 struct Model {
   std::string title;
   std::string source;
+  // The axis of the bodies of revolution: z (2) in 3D decks, y (1) in a 2D
+  // axisymmetric deck (LS-DYNA's convention). Cavity bounds, mechanical port
+  // forces and their displacements are along it.
+  int symmetry_axis = 2;
   // Per node, indexed 0..N-1; node_ids maps back to the deck's ids.
   std::vector<int> node_ids;
   std::map<int, int> node_index;

@@ -6,6 +6,8 @@
 #include <cmath>
 
 #include "axi_decks.hpp"
+#include "cavity_load.hpp"
+#include "config/port_table.hpp"
 #include "element_axi4.hpp"
 
 using axi_test::kE;
@@ -180,4 +182,46 @@ TEST(Axi4BarImpact, SteppedImpedanceGivesBothSteps) {
   EXPECT_NEAR(s1, step1, 0.01 * std::fabs(step1));
   EXPECT_NEAR(s2, step2, 0.03 * std::fabs(step2));
   std::printf("stepped tool: %.2f / %.2f MPa (theory %.1f / %.1f)\n", s1 / 1e6, s2 / 1e6, step1 / 1e6, step2 / 1e6);
+}
+
+// The cavity hook on 2D segments: a line's load and its flow use the ring it
+// sweeps, 2π·r̄·L, shared by its nodes as ∫N_a·r ds, and only the part
+// inside the cavity's bounds along the axis (y) is wetted, exactly as in 3D.
+// Then p·q equals the power the pressure takes from the structure, whatever
+// the nodes' velocities.
+TEST(Axi4CavityHook, RingAreasLoadAndFlowBalanceOnFacesNormalAndAlongTheAxis) {
+  // Two by two cells over r ∈ [0.01, 0.03], y ∈ [0, 0.02]; node id 1 + 3j + i.
+  const std::string deck = "*KEYWORD\n" + axi_test::block(1, 1, 0.01, 0.03, 2, 0.0, 0.02, 2) +
+                           "*PART\np\n1,1,1\n*SECTION_SHELL\n1,15\n0\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n"
+                           "*SET_SEGMENT\n1\n1,2\n2,3\n"        // the bottom face, facing −y
+                           "*SET_SEGMENT\n2\n3,6\n6,9\n"        // the outer face, facing +x
+                           "*USER_LOADING_SET\n1,PRESSS,1\n2,PRESSS,2,-1.0,0.005\n";
+  fe::Model m = fe::parse_deck(deck, "ring.k");
+  EXPECT_EQ(m.symmetry_axis, 1);
+  auto t = config::parse_port_table(
+      "$FMU_SETTINGS\nmodel, p\ntimestep, 1e-4\n$FMU_HOPSAN_PORTS\n1, bottom, Hydraulic\n2, side, Hydraulic\n"
+      "$FMU_HOPSAN_SEND\n1, p\n2, p\n$FMU_HOPSAN_RECEIVE\n1, q\n2, q\n",
+      "p.cfg");
+  fe::CavityPressureLoad load(m, t);
+  const double p = 3.0e6;
+  for (int slot : {0, 1}) load.set_pressure(slot, p);
+  // Arbitrary in-plane velocities: the balance must hold for any.
+  std::vector<fe::Vec3> v(m.x0.size());
+  for (size_t i = 0; i < v.size(); ++i) v[i] = fe::Vec3(0.3 * std::sin(1.0 + i), 0.7 * std::cos(2.0 * i), 0.0);
+  std::vector<fe::Vec3> f(m.x0.size(), fe::Vec3::Zero());
+  load.apply(0.0, m.x0, v, f);
+  const double annulus = M_PI * (0.03 * 0.03 - 0.01 * 0.01);
+  EXPECT_NEAR(load.area(0), annulus, 1e-15);
+  // The side: 2π·0.03 around, wetted from y = 0 to the bound at 0.005.
+  EXPECT_NEAR(load.area(1), 2 * M_PI * 0.03 * 0.005, 1e-15);
+  fe::Vec3 total = fe::Vec3::Zero();
+  for (const auto& fi : f) total += fi;
+  EXPECT_NEAR(total.y(), p * annulus, 1e-9 * p * annulus) << "the bottom face is pushed up (+y)";
+  EXPECT_NEAR(total.x(), -p * load.area(1), 1e-9 * p * annulus) << "the side is pushed inwards";
+  // The node on the inner radius carries less of the annulus than the outer one.
+  EXPECT_LT(std::fabs(f[0].y()), std::fabs(f[2].y()));
+  const double power = p * (load.flow(0, v) + load.flow(1, v));
+  double structural = 0.0;
+  for (size_t i = 0; i < f.size(); ++i) structural -= f[i].dot(v[i]);
+  EXPECT_NEAR(power, structural, 1e-12 * std::fabs(p * annulus));
 }

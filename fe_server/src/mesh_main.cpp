@@ -1,10 +1,11 @@
-// fe_mesh: bodies of revolution → keyword mesh (nodes, hex8 elements, face sets).
+// fe_mesh: bodies of revolution → keyword mesh (nodes, elements, face sets).
 //
 //   fe_mesh --sections "L,ro[,ri]; L,ro[,ri]; ..." [--size h] [--part PID] [--z0 Z]
 //           [--node-offset N] [--element-offset E] [--set-offset S] [--title T]
-//           [--gauge Z ...] -o mesh.k
+//           [--gauge Z ...] [--axisymmetric [--radial-growth G]] -o mesh.k
 // Include the result from a deck (*INCLUDE) that defines the part's *PART,
-// *SECTION_SOLID and material.
+// *SECTION_SOLID (hex8) or *SECTION_SHELL ELFORM 15 (--axisymmetric: quads
+// in the x–y plane, y the axis; --z0 and --gauge are then along y) and material.
 #include <fstream>
 #include <iostream>
 
@@ -14,6 +15,7 @@
 int main(int argc, char** argv) {
   fe::RevolutionMeshOptions opt;
   std::string sections, out;
+  bool axisymmetric = false;
   try {
     config::Args args(argc, argv);
     while (args.next()) {
@@ -27,21 +29,25 @@ int main(int argc, char** argv) {
       else if (args.is("--set-offset")) opt.set_offset = args.integer();
       else if (args.is("--title")) opt.title = args.value();
       else if (args.is("--gauge")) opt.gauges.push_back(args.real());
+      else if (args.is("--axisymmetric")) axisymmetric = true;
+      else if (args.is("--radial-growth")) opt.radial_growth = args.real(1.0, 10.0);
       else if (args.is("-o")) out = args.value();
       else args.unknown();
     }
     if (sections.empty() || out.empty()) throw std::invalid_argument("--sections and -o are required");
-    fe::RevolutionMesh mesh = fe::mesh_revolution(fe::parse_sections(sections), opt);
+    const auto table = fe::parse_sections(sections);
+    fe::RevolutionMesh mesh = axisymmetric ? fe::mesh_axisymmetric(table, opt) : fe::mesh_revolution(table, opt);
     std::ofstream f(out);
     f << mesh.keyword_text;
     if (!f) throw std::runtime_error("cannot write " + out);
     std::cout << "fe_mesh: " << mesh.nodes << " nodes, " << mesh.elements << " elements -> " << out << "\n";
     for (const auto& face : mesh.faces)
-      std::cout << "  set " << face.id << ": z = " << face.z << " facing " << (face.direction < 0 ? "-z" : "+z")
+      std::cout << "  set " << face.id << ": " << (axisymmetric ? "y" : "z") << " = " << face.z << " facing "
+                << (face.direction < 0 ? "-" : "+") << (axisymmetric ? "y" : "z")
                 << ", r " << face.r_in << " to " << face.r_out << "\n";
   } catch (const std::exception& e) {
     std::cerr << "fe_mesh: " << e.what() << "\n"
-              << "usage: fe_mesh --sections \"L,ro[,ri]; ...\" [--size h] [--part PID] [--z0 Z] -o mesh.k\n";
+              << "usage: fe_mesh --sections \"L,ro[,ri]; ...\" [--size h] [--part PID] [--z0 Z] [--axisymmetric] -o mesh.k\n";
     return 2;
   }
   return 0;

@@ -8,6 +8,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "deck_reader.hpp"
 #include "h5io/timeseries.hpp"
 #include "process.hpp"
 
@@ -112,4 +113,68 @@ TEST(SteppedPistonScene, FirstPlateauMatchesTheImpedanceStepAndEnergyIsConserved
   double worst = 0;
   for (double b : bal) worst = std::max(worst, std::fabs(b));
   EXPECT_LT(worst, 0.01 * ke.front());
+}
+
+// The 2D LS-DYNA-style deck of the bar impact (axisymmetric quads, ν = 0.3)
+// run by fe_server as a user would, checked from its HDF5 histories: the
+// plateau at 0.3 m within 1 % of −ρ·c0·v0/2 (mean of the central 60 % of the
+// pulse), the pulse energy at 0.1 m at least 98 % of the piston's kinetic
+// energy (tests/fe_server/test_axisymmetric.cpp says why 98), energy balance
+// within its bound.
+TEST(BarImpactAxiScene, TwoDimensionalDeckMeetsTheOneDimensionalFigures) {
+  TempDir dir;
+  const std::string out = run_scene("bar_impact_axi", dir);
+  const fe::Model m = fe::read_deck(kBuilt + "/bar_impact_axi/deck.k");
+  // The gauge layers: elements listed in the *DATABASE_HISTORY_SHELL blocks, in order.
+  ASSERT_EQ(m.history_axis.size() % 2, 0u);
+  const size_t per_layer = m.history_axis.size() / 2;
+  const auto t = h5io::read_series(out, "time");
+  auto layer_mean = [&](size_t layer) {
+    std::vector<double> mean(t.size(), 0.0);
+    double wsum = 0.0;
+    for (size_t k = layer * per_layer; k < (layer + 1) * per_layer; ++k) {
+      const fe::AxiElement& e = m.axis[static_cast<size_t>(m.history_axis[k])];
+      double rc = 0.0;
+      for (int a = 0; a < 4; ++a) rc += 0.25 * m.x0[static_cast<size_t>(e.n[a])].x();  // ring weight
+      const auto s = h5io::read_series(out, "axisymmetric/" + std::to_string(e.id) + "/axial");
+      for (size_t i = 0; i < s.size(); ++i) mean[i] += rc * s[i];
+      wsum += rc;
+    }
+    for (double& v : mean) v /= wsum;
+    return mean;
+  };
+  const auto near = layer_mean(0), far = layer_mean(1);
+  const double E = 2.1e11, rho = 7850, c0 = std::sqrt(E / rho), v0 = 8.0, A = M_PI * 0.03 * 0.03;
+    // A gauge's pulse: from its first to its last sample below half the peak.
+  auto pulse = [](const std::vector<double>& s, size_t& first, size_t& last) {
+    const double peak = *std::min_element(s.begin(), s.end());
+    first = last = 0;
+    for (size_t i = 0; i < s.size(); ++i)
+      if (s[i] < 0.5 * peak) {
+        if (!first) first = i;
+        last = i;
+      }
+  };
+  size_t a = 0, b = 0;
+  pulse(far, a, b);
+  double sum = 0.0;
+  int n = 0;
+  for (size_t i = 0; i < t.size(); ++i)
+    if (t[i] > t[a] + 0.2 * (t[b] - t[a]) && t[i] < t[b] - 0.2 * (t[b] - t[a])) sum += far[i], ++n;
+  ASSERT_GT(n, 0);
+  EXPECT_NEAR(sum / n, -rho * c0 * v0 / 2, 0.01 * rho * c0 * v0 / 2);
+  // W over the near gauge's pulse and 30 µs either side (two rise times; the
+  // reflection from the tool's far end passes this gauge 1.1 m of travel after the impact).
+  size_t na = 0, nb = 0;
+  pulse(near, na, nb);
+  double W = 0.0;
+  for (size_t i = 1; i < t.size(); ++i)
+    if (t[i] > t[na] - 30e-6 && t[i] < t[nb] + 30e-6) W += A * c0 / E * near[i] * near[i] * (t[i] - t[i - 1]);
+  const double ke = h5io::read_series(out, "energy/kinetic").front();
+  EXPECT_GE(W, 0.98 * ke);
+  EXPECT_LE(W, 1.03 * ke);
+  const auto bal = h5io::read_series(out, "energy/balance_error");
+  double worst = 0;
+  for (double x : bal) worst = std::max(worst, std::fabs(x));
+  EXPECT_LT(worst, 0.01 * ke);
 }

@@ -15,10 +15,10 @@
 #include <sstream>
 
 #include "axi_decks.hpp"
-#include "cavity_load.hpp"
-#include "deck_reader.hpp"
-#include "mesher.hpp"
-#include "solver.hpp"
+#include "loads/cavity_load.hpp"
+#include "input/deck_reader.hpp"
+#include "input/mesher.hpp"
+#include "solver/solver.hpp"
 
 namespace {
 using Clock = std::chrono::steady_clock;

@@ -12,20 +12,20 @@
 #include <memory>
 #include <string>
 
-#include "cavity_load.hpp"
+#include "loads/cavity_load.hpp"
 #include "config/cli.hpp"
 #include "config/port_table.hpp"
 #include "config/stop_signal.hpp"
 #include "config/token.hpp"
-#include "coupling_advice.hpp"
-#include "coupling_server.hpp"
-#include "deck_reader.hpp"
-#include "exit_codes.hpp"
-#include "history.hpp"
-#include "mass_scaling.hpp"
+#include "coupling/coupling_advice.hpp"
+#include "coupling/coupling_server.hpp"
+#include "input/deck_reader.hpp"
+#include "coupling/exit_codes.hpp"
+#include "output/history.hpp"
+#include "solver/mass_scaling.hpp"
 #include "socketlib/auth.h"
 #include "socketlib/socketlib.h"
-#include "solver.hpp"
+#include "solver/solver.hpp"
 
 namespace {
 
@@ -127,8 +127,11 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
   const std::string energy = history.energy_summary(solver, &drift, &failed);
   if (!quiet)
     std::cout << "fe_server: standalone run, " << steps << " steps of " << dt << " s (limited by " << crit.limited_by
-              << "), " << wall << " s wall; " << energy << "; " << history.rows() << " history rows, "
-              << history.snapshots() << " field snapshots in " << out << "\n";
+              << "), " << wall << " s wall; " << energy << "; " << history.rows() << " history rows in " << out
+              << (history.snapshots() ? "; " + std::to_string(history.snapshots()) + " field snapshots in " +
+                                            history.fields_path() + " (open it in ParaView)"
+                                      : std::string())
+              << "\n";
   const std::string hourglass = fe::hourglass_warning(solver.energies());
   if (!hourglass.empty()) std::cerr << "fe_server: warning: " << hourglass << "\n";
   return energy_verdict(energy, drift, failed);

@@ -10,7 +10,7 @@
 #include <iostream>
 
 #include "config/cli.hpp"
-#include "mesher.hpp"
+#include "input/mesher.hpp"
 
 int main(int argc, char** argv) {
   fe::RevolutionMeshOptions opt;

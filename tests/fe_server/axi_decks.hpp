@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "deck_reader.hpp"
-#include "solver.hpp"
+#include "input/deck_reader.hpp"
+#include "solver/solver.hpp"
 
 namespace axi_test {
 

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "cavity_load.hpp"
-#include "deck_reader.hpp"
-#include "mesher.hpp"
-#include "solver.hpp"
+#include "loads/cavity_load.hpp"
+#include "input/deck_reader.hpp"
+#include "input/mesher.hpp"
+#include "solver/solver.hpp"
 
 namespace fe_test {
 
@@ -21,7 +21,8 @@ constexpr double kRho = 7850.0, kE = 210e9;
 
 // Two coaxial cylinders of radius r along z: a piston (part 1) of length Lp
 // moving at −v0 towards a tool (part 2) of length Lt below it, 0.1 mm apart.
-inline std::string bar_impact_deck(double Lp, double Lt, double r, double h, double v0, double E_tool, double sfs = 1.0) {
+inline std::string bar_impact_deck(double Lp, double Lt, double r, double h, double v0, double E_tool, double sfs = 1.0,
+                                   double nu = 0.0) {
   fe::RevolutionMeshOptions tool, piston;
   tool.element_size = piston.element_size = h;
   tool.part = 2;
@@ -37,7 +38,7 @@ inline std::string bar_impact_deck(double Lp, double Lt, double r, double h, dou
   std::ostringstream d;
   d << "*KEYWORD\n" << mt.keyword_text << mp.keyword_text;
   d << "*PART\npiston\n1,1,1\n*PART\ntool\n2,1,2\n*SECTION_SOLID\n1,1\n";
-  d << "*MAT_ELASTIC\n1," << kRho << "," << kE << ",0.0\n2," << kRho << "," << E_tool << ",0.0\n";
+  d << "*MAT_ELASTIC\n1," << kRho << "," << kE << "," << nu << "\n2," << kRho << "," << E_tool << "," << nu << "\n";
   // Tool top face: set 2 (z = 0 facing +z); piston bottom face: set 11.
   d << "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n11,2,0,0\n0,0,0,0,20\n" << sfs << "\n";
   d << "*INITIAL_VELOCITY_GENERATION\n1,2,0,0,0," << -v0 << "\n0,0,0,0,0,0\n";

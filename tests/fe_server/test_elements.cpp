@@ -7,12 +7,12 @@
 #include <cmath>
 #include <sstream>
 
-#include "cavity_load.hpp"
-#include "deck_reader.hpp"
-#include "mass_scaling.hpp"
-#include "element_hex8.hpp"
-#include "mesher.hpp"
-#include "solver.hpp"
+#include "loads/cavity_load.hpp"
+#include "input/deck_reader.hpp"
+#include "solver/mass_scaling.hpp"
+#include "elements/element_hex8.hpp"
+#include "input/mesher.hpp"
+#include "solver/solver.hpp"
 #include "impact_decks.hpp"
 
 namespace {

@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "cavity_load.hpp"
+#include "loads/cavity_load.hpp"
 #include "config/port_table.hpp"
-#include "deck_reader.hpp"
-#include "history.hpp"
-#include "solver.hpp"
+#include "input/deck_reader.hpp"
+#include "output/history.hpp"
+#include "solver/solver.hpp"
 
 namespace {
 

@@ -10,11 +10,11 @@
 #include <cmath>
 #include <string>
 
-#include "cavity_load.hpp"
+#include "loads/cavity_load.hpp"
 #include "config/port_table.hpp"
-#include "deck_reader.hpp"
-#include "mechanical_load.hpp"
-#include "solver.hpp"
+#include "input/deck_reader.hpp"
+#include "loads/mechanical_load.hpp"
+#include "solver/solver.hpp"
 
 namespace {
 

@@ -3,8 +3,8 @@
 #include <cstdint>
 #include <string>
 
-#include "deck_reader.hpp"
-#include "solver.hpp"
+#include "input/deck_reader.hpp"
+#include "solver/solver.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

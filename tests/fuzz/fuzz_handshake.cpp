@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "config/port_table.hpp"
-#include "coupling_server.hpp"
+#include "coupling/coupling_server.hpp"
 
 namespace {
 const char* kTable =

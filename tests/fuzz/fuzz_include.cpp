@@ -10,7 +10,7 @@
 #include <fstream>
 #include <string>
 
-#include "deck_reader.hpp"
+#include "input/deck_reader.hpp"
 
 namespace {
 std::string g_folder;  // removed at exit: a fuzz run or replay leaves nothing in /tmp

@@ -8,12 +8,12 @@
 #include <stdexcept>
 #include <string>
 
-#include "cavity_load.hpp"
+#include "loads/cavity_load.hpp"
 #include "config/port_table.hpp"
-#include "deck_reader.hpp"
+#include "input/deck_reader.hpp"
 #include "impact_decks.hpp"
-#include "mass_scaling.hpp"
-#include "solver.hpp"
+#include "solver/mass_scaling.hpp"
+#include "solver/solver.hpp"
 
 namespace {
 

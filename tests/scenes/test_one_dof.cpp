@@ -10,8 +10,8 @@
 #include <numeric>
 #include <sstream>
 
-#include "cavity_load.hpp"
-#include "deck_reader.hpp"
+#include "loads/cavity_load.hpp"
+#include "input/deck_reader.hpp"
 #include "h5io/timeseries.hpp"
 #include "model.hpp"
 #include "process.hpp"

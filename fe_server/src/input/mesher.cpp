@@ -1,4 +1,4 @@
-#include "mesher.hpp"
+#include "input/mesher.hpp"
 
 #include <algorithm>
 #include <array>

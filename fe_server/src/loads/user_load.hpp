@@ -15,7 +15,7 @@
 
 #include <vector>
 
-#include "model.hpp"
+#include "model/model.hpp"
 
 namespace fe {
 

@@ -1,4 +1,4 @@
-#include "element_hex8.hpp"
+#include "elements/element_hex8.hpp"
 
 #include <Eigen/Geometry>
 #include <Eigen/Cholesky>

@@ -9,7 +9,7 @@
 #include <map>
 #include <string>
 
-#include "model.hpp"
+#include "model/model.hpp"
 
 namespace fe {
 

@@ -1,10 +1,10 @@
-#include "coupling_advice.hpp"
+#include "coupling/coupling_advice.hpp"
 
 #include <cmath>
 #include <set>
 #include <sstream>
 
-#include "cavity_load.hpp"
+#include "loads/cavity_load.hpp"
 
 namespace fe {
 

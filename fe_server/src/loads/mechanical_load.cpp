@@ -1,4 +1,4 @@
-#include "mechanical_load.hpp"
+#include "loads/mechanical_load.hpp"
 
 namespace fe {
 

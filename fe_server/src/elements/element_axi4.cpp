@@ -1,4 +1,4 @@
-#include "element_axi4.hpp"
+#include "elements/element_axi4.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>

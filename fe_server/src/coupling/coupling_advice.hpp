@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "config/port_table.hpp"
-#include "model.hpp"
+#include "model/model.hpp"
 
 namespace fe {
 

@@ -1,7 +1,7 @@
-#include "deck_reader.hpp"
+#include "input/deck_reader.hpp"
 
-#include "element_axi4.hpp"
-#include "element_hex8.hpp"
+#include "elements/element_axi4.hpp"
+#include "elements/element_hex8.hpp"
 
 #include <cmath>
 #include <set>

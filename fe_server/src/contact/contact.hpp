@@ -19,7 +19,7 @@
 
 #include <vector>
 
-#include "model.hpp"
+#include "model/model.hpp"
 
 namespace fe {
 

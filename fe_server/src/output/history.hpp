@@ -5,10 +5,10 @@
 #include <memory>
 #include <string>
 
-#include "cavity_load.hpp"
+#include "loads/cavity_load.hpp"
 #include "config/port_table.hpp"
 #include "h5io/timeseries.hpp"
-#include "solver.hpp"
+#include "solver/solver.hpp"
 
 namespace fe {
 
@@ -24,6 +24,8 @@ class History {
   void flush() { writer_.flush(); }
   size_t rows() const { return writer_.rows(); }
   size_t snapshots() const;
+  // The XDMF index of the field snapshots ("" when the deck asks for none).
+  std::string fields_path() const;
   // "energy balance error X J (Y % of Z J)"; *exceeded is set when the error
   // is above its bound, 1 % of the largest energy the run held (kinetic +
   // internal, or the work done on it), *failed when it is 100 times above

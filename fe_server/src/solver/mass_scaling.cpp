@@ -1,9 +1,9 @@
-#include "mass_scaling.hpp"
+#include "solver/mass_scaling.hpp"
 
 #include <cstdio>
 
-#include "element_axi4.hpp"
-#include "element_hex8.hpp"
+#include "elements/element_axi4.hpp"
+#include "elements/element_hex8.hpp"
 
 namespace fe {
 

@@ -1,9 +1,9 @@
-#include "history.hpp"
+#include "output/history.hpp"
 
 #include <cmath>
 #include <cstdio>
 
-#include "field_output.hpp"
+#include "output/field_output.hpp"
 
 namespace fe {
 
@@ -43,13 +43,16 @@ History::History(const std::string& path, const Model& model, const config::Port
   row_.resize(writer_.columns());
   if (model.snapshot_interval > 0.0) {
     std::string base = path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0 ? path.substr(0, path.size() - 3) : path;
-    fields_ = std::make_unique<FieldWriter>(base + "_fields.h5", model);
+    fields_ = std::make_unique<FieldWriter>(base + "_fields.h5", model);  // writes the snapshot at t = 0
+    next_snapshot_ = model.snapshot_interval;
   }
 }
 
 History::~History() = default;
 
 size_t History::snapshots() const { return fields_ ? fields_->snapshots() : 0; }
+
+std::string History::fields_path() const { return fields_ ? fields_->xdmf_path() : std::string(); }
 
 std::string History::energy_summary(const Solver& s, bool* exceeded, bool* failed) const {
   const double err = s.energies().balance_error;

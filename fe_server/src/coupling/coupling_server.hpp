@@ -11,13 +11,13 @@
 
 #include <string>
 
-#include "cavity_load.hpp"
+#include "loads/cavity_load.hpp"
 #include "config/port_table.hpp"
-#include "exit_codes.hpp"
-#include "history.hpp"
-#include "mechanical_load.hpp"
+#include "coupling/exit_codes.hpp"
+#include "output/history.hpp"
+#include "loads/mechanical_load.hpp"
 #include "socketlib/protocol.h"
-#include "solver.hpp"
+#include "solver/solver.hpp"
 
 namespace fe {
 

@@ -20,11 +20,11 @@
 #include <string>
 #include <vector>
 
-#include "contact.hpp"
-#include "element_axi4.hpp"
-#include "element_hex8.hpp"
-#include "model.hpp"
-#include "user_load.hpp"
+#include "contact/contact.hpp"
+#include "elements/element_axi4.hpp"
+#include "elements/element_hex8.hpp"
+#include "model/model.hpp"
+#include "loads/user_load.hpp"
 
 namespace fe {
 

@@ -1,4 +1,4 @@
-#include "cavity_load.hpp"
+#include "loads/cavity_load.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>

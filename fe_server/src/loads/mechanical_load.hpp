@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "config/port_table.hpp"
-#include "user_load.hpp"
+#include "loads/user_load.hpp"
 
 namespace fe {
 

@@ -1,4 +1,4 @@
-#include "coupling_server.hpp"
+#include "coupling/coupling_server.hpp"
 
 #include <algorithm>
 #include <cerrno>

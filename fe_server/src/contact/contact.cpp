@@ -1,4 +1,4 @@
-#include "contact.hpp"
+#include "contact/contact.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "cavity_load.hpp"
+#include "loads/cavity_load.hpp"
 
 namespace fe {
 

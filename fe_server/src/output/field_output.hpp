@@ -1,0 +1,59 @@
+// Field snapshots for ParaView: displacements and velocities per node,
+// stress components and von Mises stress per element, the part, element and
+// node ids of the deck, written to an HDF5 file with an XDMF index beside it
+// (a temporal collection of grids over one shared mesh: hexahedra in a 3D
+// deck, quadrilaterals in the x–y plane in a 2D axisymmetric deck). The XDMF
+// file is rewritten after every snapshot, so a run that stops early still
+// leaves a readable index.
+//
+// What a ParaView user needs and meets (ParaView 5.11): the initial state is
+// a snapshot at t = 0 (a colour scale does not start from an all-zero first
+// frame); times are written to full precision; every stress component is a
+// scalar of its own with its name (stress_xx ... or stress_radial ...), since
+// readers disagree on the slot order of XDMF's Tensor6; units are in each
+// attribute's Information and on each HDF5 dataset.
+#pragma once
+
+#include <hdf5.h>
+
+#include <string>
+#include <vector>
+
+#include "model/model.hpp"
+#include "solver/solver.hpp"
+
+namespace fe {
+
+class FieldWriter {
+ public:
+  // `path` is the HDF5 file; the XDMF index goes to the same name with .xdmf.
+  // Writes the mesh and the snapshot at t = 0 (the model's initial state).
+  FieldWriter(const std::string& path, const Model& model);
+  ~FieldWriter();
+  FieldWriter(const FieldWriter&) = delete;
+  FieldWriter& operator=(const FieldWriter&) = delete;
+  void write(const Solver& s);
+  size_t snapshots() const { return times_.size(); }
+  const std::string& xdmf_path() const { return xdmf_; }
+
+ private:
+  struct Field {
+    std::string name, center, unit;  // center: Node or Cell
+  };
+  bool axisymmetric() const { return m_.solids.empty() && !m_.axis.empty(); }
+  size_t cells() const { return axisymmetric() ? m_.axis.size() : m_.solids.size(); }
+  // One snapshot from nodal displacements, velocities and element stresses
+  // (Voigt per element, the solver's layout).
+  void write_snapshot(double time, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                      const std::vector<Eigen::Matrix<double, 6, 1>>& stress);
+  void write_dataset(const std::string& name, const double* data, hsize_t rows, hsize_t cols, const std::string& unit);
+  void write_int_dataset(const std::string& name, const std::vector<int>& data, hsize_t rows, hsize_t cols);
+  void write_index() const;
+  const Model& m_;
+  std::string path_, xdmf_;
+  hid_t file_ = -1;
+  std::vector<double> times_;
+  std::vector<Field> fields_;  // per snapshot, in the order written
+};
+
+}  // namespace fe

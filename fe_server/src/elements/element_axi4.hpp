@@ -37,6 +37,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
+
+#include "elements/element_work.hpp"
+#include "model/model.hpp"
 
 namespace fe {
 
@@ -73,5 +77,25 @@ double axi4_characteristic_length(const Mat42& x, double area);
 // removed; then reduced for the linear bulk viscosity Q2. 0 if degenerate.
 double axi4_stable_step(const Mat42& x, double lambda, double mu, double rho, double q2,
                         const bool fixed_r[4]);
+
+// The axisymmetric elements' state in the solver: stress per element and
+// what is resolved once, so the element loop does no lookups.
+struct Axi4State {
+  struct Constants {
+    double lambda, mu, rho, wave_speed;
+    double hourglass;  // axi4_hourglass_coefficient of the initial shape
+  };
+  std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // rr, yy (axial), θθ (hoop), ry, 0, 0
+  std::vector<char> active;                        // 0 for elements of rigid parts
+  std::vector<Constants> constants;
+  explicit Axi4State(const Model& m);
+};
+
+// One step of every axisymmetric element: the formulas above written out in
+// scalars (the 2×2 Jacobian's inverse and the centre gradients in closed
+// form, so the compiler keeps everything in registers; measured: bench_fe,
+// axi4). Forces added to f, energy increments to w. Throws InvertedElement.
+void axi4_forces(const Model& m, Axi4State& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
+                 std::vector<Vec3>& f, ElementWork& w);
 
 }  // namespace fe

@@ -81,4 +81,79 @@ double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, do
   return 2.0 / omega * (std::sqrt(1.0 + q2 * q2) - q2);
 }
 
+namespace {
+Mat83 gather(const std::vector<Vec3>& a, const SolidElement& e) {
+  Mat83 out;
+  for (int k = 0; k < 8; ++k) out.row(k) = a[static_cast<size_t>(e.n[k])].transpose();
+  return out;
+}
+}  // namespace
+
+Hex8State::Hex8State(const Model& m)
+    : sigma(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()),
+      active(m.solids.size()),
+      material(m.solids.size()),
+      hourglass(m.solids.size()) {
+  for (size_t e = 0; e < m.solids.size(); ++e) {
+    const SolidElement& el = m.solids[e];
+    const Material& mat = m.materials.at(m.parts.at(el.part).material);
+    active[e] = !mat.rigid;
+    material[e] = &mat;
+    Mat83 b;
+    double volume = 0.0;
+    hex8_gradients(gather(m.x0, el), b, volume);
+    hourglass[e] = m.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0;
+  }
+}
+
+void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x_all, const std::vector<Vec3>& v_all,
+                 double dt, std::vector<Vec3>& f_all, ElementWork& w) {
+  using Voigt = Eigen::Matrix<double, 6, 1>;
+  const double q1 = m.bulk_q1, q2 = m.bulk_q2;
+  for (size_t e = 0; e < m.solids.size(); ++e) {
+    if (!st.active[e]) continue;
+    const SolidElement& el = m.solids[e];
+    const Material& mat = *st.material[e];
+    const Mat83 x = gather(x_all, el), v = gather(v_all, el);
+    Mat83 b;
+    double volume = 0.0;
+    if (!hex8_gradients(x, b, volume))
+      throw InvertedElement("solid element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
+                            "volume " + std::to_string(volume) + " m³");
+    // Rate of deformation D = sym(L), L_ij = Σ_a v_ai b_aj.
+    const Eigen::Matrix3d L = v.transpose() * b;
+    const Eigen::Matrix3d D = 0.5 * (L + L.transpose());
+    const double trD = D.trace();
+    const double lambda = mat.lambda(), mu = mat.mu();
+    Voigt dsig;
+    dsig << lambda * trD + 2 * mu * D(0, 0), lambda * trD + 2 * mu * D(1, 1), lambda * trD + 2 * mu * D(2, 2),
+        2 * mu * D(0, 1), 2 * mu * D(1, 2), 2 * mu * D(2, 0);
+    Voigt& sig = st.sigma[e];
+    const Voigt old = sig;
+    sig += dt * dsig;
+    // Bulk viscosity in compression (von Neumann–Richtmyer with a linear term, LS-DYNA's Q1, Q2).
+    double q = 0.0;
+    if (trD < 0.0) {
+      const double len = hex8_characteristic_length(x, volume);
+      q = mat.rho * len * (q1 * len * trD * trD - q2 * mat.wave_speed() * trD);
+    }
+    Eigen::Matrix3d s;
+    s << sig(0) - q, sig(3), sig(5), sig(3), sig(1) - q, sig(4), sig(5), sig(4), sig(2) - q;
+    const Mat83 f = -volume * b * s;  // f_a = −V·σ·b_a
+    // Hourglass (viscous FB): f = −c_h Σ_α γ_α ⊗ q_α.
+    const Eigen::Matrix<double, 4, 8> gamma = hex8_hourglass_shapes(x, b);
+    const Eigen::Matrix<double, 4, 3> qa = gamma * v;
+    const double c_h = st.hourglass[e];
+    const Mat83 f_hg = -c_h * gamma.transpose() * qa;
+    for (int k = 0; k < 8; ++k) f_all[static_cast<size_t>(el.n[k])] += (f.row(k) + f_hg.row(k)).transpose();
+    // Energies of this step: elastic σ:D (trapezoidal in σ), hourglass and bulk viscosity dissipation.
+    const Voigt mid = 0.5 * (old + sig);
+    const double sd = mid(0) * D(0, 0) + mid(1) * D(1, 1) + mid(2) * D(2, 2) +
+                      2 * (mid(3) * D(0, 1) + mid(4) * D(1, 2) + mid(5) * D(2, 0));
+    w.internal += volume * sd * dt;
+    w.hourglass += c_h * qa.squaredNorm() * dt;
+    w.damping_power += -q * trD * volume;
+  }
+}
+
 }  // namespace fe

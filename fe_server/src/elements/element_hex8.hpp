@@ -16,6 +16,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
+
+#include "elements/element_work.hpp"
+#include "model/model.hpp"
 
 namespace fe {
 
@@ -41,5 +45,21 @@ double hex8_characteristic_length(const Mat83& x, double volume);
 // volume/face-area length alone (L/c) lets a corner node's breathing mode
 // run at ω·Δt > 2. Returns 0 for an inverted element.
 double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2);
+
+// The hex8 elements' state in the solver: stress per element, and what is
+// resolved once (rigid or not, material, hourglass viscosity).
+struct Hex8State {
+  std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // Voigt: xx, yy, zz, xy, yz, zx
+  std::vector<char> active;                        // 0 for elements of rigid parts
+  std::vector<const Material*> material;
+  std::vector<double> hourglass;  // Q_h·ρ·c·V0^(2/3)/4, fixed per element (V changes little)
+  explicit Hex8State(const Model& m);
+};
+
+// One step of every hex8: stress update over dt from the velocities v
+// (hypoelastic, bulk viscosity, FB hourglass), forces added to f, energy
+// increments to w. Throws InvertedElement.
+void hex8_forces(const Model& m, Hex8State& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
+                 std::vector<Vec3>& f, ElementWork& w);
 
 }  // namespace fe

@@ -10,7 +10,6 @@ namespace fe {
 
 namespace {
 
-using Voigt = Eigen::Matrix<double, 6, 1>;
 
 Mat83 gather(const std::vector<Vec3>& a, const SolidElement& e) {
   Mat83 out;
@@ -98,7 +97,7 @@ StableStep Solver::stable_dt(const Model& m) {
   return best;
 }
 
-Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt) {
+Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt), hex8_(model), axi4_(model), bars_(model) {
   if (!(dt > 0.0) || !std::isfinite(dt)) throw std::runtime_error("FE time step must be positive");
   const StableStep crit = stable_dt(model);
   // 1e-12 relative: mass scaling sets the density for exactly dt = TSSFAC·Δt_e,
@@ -117,33 +116,6 @@ Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt) {
   mass_ = model.mass;
   for (auto* a : {&a_, &f_int_, &f_ext_, &f_ext_prev_, &f_con_, &f_con_prev_}) a->assign(n, Vec3::Zero());
   x_prev_ = x_;
-  sigma_.assign(model.solids.size(), Voigt::Zero());
-  bar_force_.assign(model.bars.size(), 0.0);
-  solid_active_.resize(model.solids.size());
-  solid_material_.resize(model.solids.size());
-  hourglass_coef_.resize(model.solids.size());
-  for (size_t e = 0; e < model.solids.size(); ++e) {
-    const SolidElement& el = model.solids[e];
-    solid_active_[e] = !in_rigid_part(model, el.part);
-    solid_material_[e] = &model.materials.at(model.parts.at(el.part).material);
-    Mat83 xe = gather(model.x0, el), b;
-    double volume = 0.0;
-    hex8_gradients(xe, b, volume);
-    const Material& mat = *solid_material_[e];
-    hourglass_coef_[e] = model.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0;
-  }
-  axi_sigma_.assign(model.axis.size(), Voigt::Zero());
-  axi_active_.resize(model.axis.size());
-  axi_const_.resize(model.axis.size());
-  for (size_t e = 0; e < model.axis.size(); ++e) {
-    const AxiElement& el = model.axis[e];
-    axi_active_[e] = !in_rigid_part(model, el.part);
-    const Material& mat = model.materials.at(model.parts.at(el.part).material);
-    Axi4Geometry g;
-    axi4_geometry(gather_axi(model.x0, el), g);
-    axi_const_[e] = {mat.lambda(), mat.mu(), mat.rho, mat.wave_speed(),
-                     axi4_hourglass_coefficient(g, model.hourglass_q, mat.rho, mat.wave_speed())};
-  }
   body_of_.assign(n, -1);
   body_fixed_.assign(model.rigid_bodies.size(), Eigen::Matrix<bool, 3, 1>(false, false, false));
   for (size_t b = 0; b < model.rigid_bodies.size(); ++b) {
@@ -193,179 +165,29 @@ double Solver::max_penetration() const {
   return p;
 }
 
-void Solver::spring_forces() {
-  spring_energy_ = 0.0;
-  for (const auto& d : m_.discretes) {
-    const size_t i = static_cast<size_t>(d.n1), j = static_cast<size_t>(d.n2);
-    Vec3 axis = x_[j] - x_[i];
-    const double len = axis.norm();
-    axis /= len;
-    // Tension positive: stretch plus the initial offset (LS-DYNA's OFFSET).
-    const double stretch = len - d.length0 + d.offset;
-    const double rate = (v_[j] - v_[i]).dot(axis);
-    const double force = d.k * stretch + d.c * rate;
-    f_int_[i] += force * axis;  // tension pulls node i towards j and j towards i
-    f_int_[j] -= force * axis;
-    spring_energy_ += 0.5 * d.k * stretch * stretch;
-    damping_power_ += d.c * rate * rate;
-  }
-}
-
-void Solver::bar_forces() {
-  for (size_t e = 0; e < m_.bars.size(); ++e) {
-    const BarElement& b = m_.bars[e];
-    const Part& part = m_.parts.at(b.part);
-    const Material& mat = m_.materials.at(part.material);
-    if (mat.rigid) continue;
-    const size_t i = static_cast<size_t>(b.n1), j = static_cast<size_t>(b.n2);
-    Vec3 axis = x_[j] - x_[i];
-    const double len = axis.norm();
-    axis /= len;
-    // Axial stress rate from the elongation rate (hypoelastic, like the solids).
-    const double rate = (v_[j] - v_[i]).dot(axis) / len;
-    const double old = bar_force_[e];
-    bar_force_[e] += dt_ * mat.E * part.bar_area * rate;
-    f_int_[i] += bar_force_[e] * axis;
-    f_int_[j] -= bar_force_[e] * axis;
-    energies_.internal += 0.5 * (old + bar_force_[e]) * rate * len * dt_;
-  }
-}
-
 double Solver::bar_stress(size_t e) const {
   const Part& part = m_.parts.at(m_.bars[e].part);
-  return bar_force_[e] / part.bar_area;
-}
-
-void Solver::solid_forces() {
-  const double q1 = m_.bulk_q1, q2 = m_.bulk_q2;
-  for (size_t e = 0; e < m_.solids.size(); ++e) {
-    if (!solid_active_[e]) continue;
-    const SolidElement& el = m_.solids[e];
-    const Material& mat = *solid_material_[e];
-    const Mat83 x = gather(x_, el), v = gather(v_, el);
-    Mat83 b;
-    double volume = 0.0;
-    if (!hex8_gradients(x, b, volume)) {
-      std::ostringstream s;
-      s << "solid element " << el.id << " (part " << el.part << ") inverted at t = " << t_ << " s, step " << n_
-        << " (volume " << volume << " m³): the mesh is too coarse for this deformation, or the step is too large";
-      throw std::runtime_error(s.str());
-    }
-    // Rate of deformation D = sym(L), L_ij = Σ_a v_ai b_aj.
-    const Eigen::Matrix3d L = v.transpose() * b;
-    const Eigen::Matrix3d D = 0.5 * (L + L.transpose());
-    const double trD = D.trace();
-    const double lambda = mat.lambda(), mu = mat.mu();
-    Voigt dsig;
-    dsig << lambda * trD + 2 * mu * D(0, 0), lambda * trD + 2 * mu * D(1, 1), lambda * trD + 2 * mu * D(2, 2),
-        2 * mu * D(0, 1), 2 * mu * D(1, 2), 2 * mu * D(2, 0);
-    const Voigt old = sigma_[e];
-    sigma_[e] += dt_ * dsig;
-    // Bulk viscosity in compression (von Neumann–Richtmyer with a linear term, LS-DYNA's Q1, Q2).
-    double q = 0.0;
-    if (trD < 0.0) {
-      const double len = hex8_characteristic_length(x, volume);
-      q = mat.rho * len * (q1 * len * trD * trD - q2 * mat.wave_speed() * trD);
-    }
-    Eigen::Matrix3d s;
-    s << sigma_[e](0) - q, sigma_[e](3), sigma_[e](5), sigma_[e](3), sigma_[e](1) - q, sigma_[e](4), sigma_[e](5),
-        sigma_[e](4), sigma_[e](2) - q;
-    const Mat83 f = -volume * b * s;  // f_a = −V·σ·b_a
-    // Hourglass (viscous FB): f = −c_h Σ_α γ_α ⊗ q_α.
-    const Eigen::Matrix<double, 4, 8> gamma = hex8_hourglass_shapes(x, b);
-    const Eigen::Matrix<double, 4, 3> qa = gamma * v;
-    const double c_h = hourglass_coef_[e];
-    const Mat83 f_hg = -c_h * gamma.transpose() * qa;
-    for (int k = 0; k < 8; ++k) f_int_[static_cast<size_t>(el.n[k])] += (f.row(k) + f_hg.row(k)).transpose();
-    // Energies of this step: elastic σ:D (trapezoidal in σ), hourglass and bulk viscosity dissipation.
-    const Voigt mid = 0.5 * (old + sigma_[e]);
-    const double sd = mid(0) * D(0, 0) + mid(1) * D(1, 1) + mid(2) * D(2, 2) +
-                      2 * (mid(3) * D(0, 1) + mid(4) * D(1, 2) + mid(5) * D(2, 0));
-    energies_.internal += volume * sd * dt_;
-    energies_.hourglass += c_h * qa.squaredNorm() * dt_;
-    damping_power_ += -q * trD * volume;
-  }
-}
-
-void Solver::axi_forces() {
-  // The formulas of element_axi4.hpp written out in scalars: the 2×2
-  // Jacobian's inverse and the centre gradients in closed form, so the
-  // compiler keeps everything in registers (measured: bench_fe, axi4).
-  constexpr double kXi[4] = {-1, 1, 1, -1}, kEta[4] = {-1, -1, 1, 1}, kH[4] = {1, -1, 1, -1};
-  constexpr double kTwoPi = 6.283185307179586;
-  const double q1 = m_.bulk_q1, q2 = m_.bulk_q2;
-  for (size_t e = 0; e < m_.axis.size(); ++e) {
-    if (!axi_active_[e]) continue;
-    const AxiElement& el = m_.axis[e];
-    const AxiConstants& k = axi_const_[e];
-    double r[4], y[4], vr[4], vy[4];
-    for (int a = 0; a < 4; ++a) {
-      const size_t n = static_cast<size_t>(el.n[a]);
-      r[a] = x_[n].x(), y[a] = x_[n].y(), vr[a] = v_[n].x(), vy[a] = v_[n].y();
-    }
-    const double J00 = 0.25 * (-r[0] + r[1] + r[2] - r[3]), J01 = 0.25 * (-r[0] - r[1] + r[2] + r[3]);
-    const double J10 = 0.25 * (-y[0] + y[1] + y[2] - y[3]), J11 = 0.25 * (-y[0] - y[1] + y[2] + y[3]);
-    const double det = J00 * J11 - J01 * J10;
-    const double r_c = 0.25 * (r[0] + r[1] + r[2] + r[3]);
-    if (!(det > 0.0) || !(r_c > 0.0)) {
-      std::ostringstream s;
-      s << "axisymmetric element " << el.id << " (part " << el.part << ") inverted at t = " << t_ << " s, step " << n_
-        << " (area " << 4.0 * det << " m²): the mesh is too coarse for this deformation, or the step is too large";
-      throw std::runtime_error(s.str());
-    }
-    const double inv = 0.25 / det, area = 4.0 * det, volume = kTwoPi * r_c * area;
-    double br[4], by[4];
-    double d_rr = 0.0, d_yy = 0.0, l_ry = 0.0, l_yr = 0.0, hr = 0.0, hy = 0.0;
-    for (int a = 0; a < 4; ++a) {
-      br[a] = (kXi[a] * J11 - kEta[a] * J10) * inv;
-      by[a] = (kEta[a] * J00 - kXi[a] * J01) * inv;
-      d_rr += vr[a] * br[a], d_yy += vy[a] * by[a];
-      l_ry += vr[a] * by[a], l_yr += vy[a] * br[a];
-      hr += kH[a] * r[a], hy += kH[a] * y[a];
-    }
-    const double d_ry = 0.5 * (l_ry + l_yr);
-    const double d_tt = 0.25 * (vr[0] + vr[1] + vr[2] + vr[3]) / r_c;
-    const double trD = d_rr + d_yy + d_tt;
-    Voigt& sig = axi_sigma_[e];
-    const double o0 = sig(0), o1 = sig(1), o2 = sig(2), o3 = sig(3);
-    const double lt = k.lambda * trD;
-    sig(0) += dt_ * (lt + 2 * k.mu * d_rr);
-    sig(1) += dt_ * (lt + 2 * k.mu * d_yy);
-    sig(2) += dt_ * (lt + 2 * k.mu * d_tt);
-    sig(3) += dt_ * 2 * k.mu * d_ry;
-    double q = 0.0;  // bulk viscosity in compression, as for the hex8
-    if (trD < 0.0) {
-      const double dx1 = r[2] - r[0], dy1 = y[2] - y[0], dx2 = r[3] - r[1], dy2 = y[3] - y[1];
-      const double len = area / std::sqrt(std::max(dx1 * dx1 + dy1 * dy1, dx2 * dx2 + dy2 * dy2));
-      q = k.rho * len * (q1 * len * trD * trD - q2 * k.wave_speed * trD);
-    }
-    const double s_rr = sig(0) - q, s_yy = sig(1) - q, s_tt = sig(2) - q, s_ry = sig(3);
-    // Hourglass (viscous FB), one mode: γ = h − (h·r)·b_r − (h·y)·b_y.
-    double gamma[4], qr = 0.0, qy = 0.0;
-    for (int a = 0; a < 4; ++a) {
-      gamma[a] = kH[a] - hr * br[a] - hy * by[a];
-      qr += gamma[a] * vr[a], qy += gamma[a] * vy[a];
-    }
-    const double hoop = volume * s_tt * 0.25 / r_c;
-    for (int a = 0; a < 4; ++a) {
-      Vec3& f = f_int_[static_cast<size_t>(el.n[a])];
-      f.x() -= volume * (s_rr * br[a] + s_ry * by[a]) + hoop + k.hourglass * gamma[a] * qr;
-      f.y() -= volume * (s_ry * br[a] + s_yy * by[a]) + k.hourglass * gamma[a] * qy;
-    }
-    const double sd = 0.5 * ((o0 + sig(0)) * d_rr + (o1 + sig(1)) * d_yy + (o2 + sig(2)) * d_tt) + (o3 + sig(3)) * d_ry;
-    energies_.internal += volume * sd * dt_;
-    energies_.hourglass += k.hourglass * (qr * qr + qy * qy) * dt_;
-    damping_power_ += -q * trD * volume;
-  }
+  return bars_.force[e] / part.bar_area;
 }
 
 void Solver::internal_forces() {
   for (auto& f : f_int_) f.setZero();
-  damping_power_ = 0.0;
-  spring_forces();
-  bar_forces();
-  solid_forces();
-  axi_forces();
+  ElementWork w;
+  try {
+    discrete_forces(m_, x_, v_, f_int_, w);
+    bar_forces(m_, bars_, x_, v_, dt_, f_int_, w);
+    hex8_forces(m_, hex8_, x_, v_, dt_, f_int_, w);
+    axi4_forces(m_, axi4_, x_, v_, dt_, f_int_, w);
+  } catch (const InvertedElement& e) {
+    std::ostringstream s;
+    s << e.element << " inverted at t = " << t_ << " s, step " << n_ << " (" << e.measure
+      << "): the mesh is too coarse for this deformation, or the step is too large";
+    throw std::runtime_error(s.str());
+  }
+  energies_.internal += w.internal;
+  energies_.hourglass += w.hourglass;
+  damping_power_ = w.damping_power;
+  spring_energy_ = w.spring_energy;
 }
 
 double Solver::step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f) const {

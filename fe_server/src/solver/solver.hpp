@@ -1,9 +1,9 @@
 // Explicit central-difference time integration with lumped mass.
 //
 // One step, t_n → t_{n+1}, in named stages (each one function):
-//   1 internal_forces      f_int(x_n, v_{n-1/2}): springs, dampers, 1D bars,
-//                          hex8 and axisymmetric quads (stress update, bulk viscosity,
-//                          FB hourglass)
+//   1 internal_forces      f_int(x_n, v_{n-1/2}): the force loop of each element type
+//                          (elements/: springs and dampers, 1D bars, hex8,
+//                          axisymmetric quads)
 //   2 user_loads           f_ext(x_n, v_{n-1/2})  ← the UserLoad hook
 //   3 contact              penalty contact forces
 //   4 accelerations        a_n = (f_ext + f_int + f_contact) / m, rigid bodies as one mass
@@ -22,6 +22,8 @@
 
 #include "contact/contact.hpp"
 #include "elements/element_axi4.hpp"
+#include "elements/element_bar.hpp"
+#include "elements/element_discrete.hpp"
 #include "elements/element_hex8.hpp"
 #include "model/model.hpp"
 #include "loads/user_load.hpp"
@@ -67,10 +69,10 @@ class Solver {
   const std::vector<Vec3>& v() const { return v_; }  // v_{n-1/2} of the next step
   const Energies& energies() const { return energies_; }
   // Stress (Voigt: xx, yy, zz, xy, yz, zx) of solid element e.
-  const Eigen::Matrix<double, 6, 1>& stress(size_t e) const { return sigma_[e]; }
+  const Eigen::Matrix<double, 6, 1>& stress(size_t e) const { return hex8_.sigma[e]; }
   // Stress of axisymmetric element e (Voigt: rr, yy (axial), θθ (hoop), ry,
   // 0, 0), Pa: x is the radius and y the axis.
-  const Eigen::Matrix<double, 6, 1>& axi_stress(size_t e) const { return axi_sigma_[e]; }
+  const Eigen::Matrix<double, 6, 1>& axi_stress(size_t e) const { return axi4_.sigma[e]; }
   // Axial stress of 1D bar element e (tension positive), Pa.
   double bar_stress(size_t e) const;
   double contact_force() const { return contact_force_; }  // total normal force of the last step, N
@@ -88,10 +90,6 @@ class Solver {
   void implicit_loads();
   void energy_account();
   void positions();
-  void solid_forces();
-  void axi_forces();
-  void bar_forces();
-  void spring_forces();
   // Work of force field f over the last step, trapezoidal: ½(f_prev + f)·(x_n − x_{n−1}).
   double step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f) const;
 
@@ -112,19 +110,10 @@ class Solver {
   std::vector<NodalForce> implicit_forces_;
   std::vector<Vec3> group_force_;   // scratch, zero outside implicit_loads()
   std::vector<int> touched_groups_;
-  // Element state, one array per quantity.
-  std::vector<Eigen::Matrix<double, 6, 1>> sigma_;
-  std::vector<double> bar_force_;
-  std::vector<char> solid_active_;  // 0 for elements of rigid parts
-  std::vector<const Material*> solid_material_;
-  std::vector<double> hourglass_coef_;  // Q_h·ρ·c·V0^(2/3)/4, fixed per element (V changes little)
-  std::vector<Eigen::Matrix<double, 6, 1>> axi_sigma_;
-  std::vector<char> axi_active_;              // 0 for elements of rigid parts
-  struct AxiConstants {  // resolved once per element: no lookups in the element loop
-    double lambda, mu, rho, wave_speed;
-    double hourglass;  // axi4_hourglass_coefficient of the initial shape
-  };
-  std::vector<AxiConstants> axi_const_;
+  // Element state, one struct per element type (elements/).
+  Hex8State hex8_;
+  Axi4State axi4_;
+  BarState bars_;
   std::vector<std::unique_ptr<PenaltyContact>> contacts_;
   double spring_energy_ = 0.0, damping_power_ = 0.0, contact_force_ = 0.0;
   Energies energies_;

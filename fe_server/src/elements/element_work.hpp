@@ -1,0 +1,26 @@
+// What the element loops hand back to the solver each step, and the error an
+// inverted element raises (the solver adds the time and step to its message).
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace fe {
+
+// Increments of one step's energy account, summed over an element loop.
+struct ElementWork {
+  double internal = 0.0;       // elastic work of the elements this step, J
+  double hourglass = 0.0;      // dissipated by hourglass control this step, J
+  double damping_power = 0.0;  // dampers and bulk viscosity, W (the solver integrates it)
+  double spring_energy = 0.0;  // energy stored in the springs now, J
+};
+
+// An element whose volume or area became non-positive: `what` names it (e.g.
+// "solid element 5 (part 1)") and `measure` its volume or area.
+struct InvertedElement : std::runtime_error {
+  InvertedElement(const std::string& which, const std::string& size)
+      : std::runtime_error(which + " inverted (" + size + ")"), element(which), measure(size) {}
+  std::string element, measure;
+};
+
+}  // namespace fe

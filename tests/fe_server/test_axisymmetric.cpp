@@ -279,3 +279,60 @@ TEST(Axi4BarImpact, AgreesWithTheHex8MeshOfTheSameImpact) {
   std::printf("hex8 vs axisymmetric: plateau %.2f / %.2f MPa, rise %.1f / %.1f us, int sigma^2 dt ratio %.4f\n",
               p3 / 1e6, p2 / 1e6, q3.rise * 1e6, q2.rise * 1e6, W2 / W3);
 }
+
+// A mixed deck: a rigid axisymmetric block (*MAT_RIGID quads) hits a 1D bar
+// along the axis through a node-set contact: the bar's top node against the
+// block's bottom face as 2D line segments (*SET_SEGMENT of two nodes). The
+// same case as the 3D test Contact.RigidMassOnABarThroughANodeSetContact…,
+// and the same 1D answer: a mass M on a bar of impedance Z sends
+// σ0·exp(−t/τ), σ0 = −ρ·c·v0, τ = M/Z, and the bar takes the energy
+// ½·M·v0²·(1 − exp(−2t/τ)). Tolerances as there: the penalty spring rounds
+// the front (peak between 0.78 and 1.03 of σ0), 2 % on the energy.
+TEST(Axi4Mixed, ARigidAxisymmetricBlockOnABarThroughANodeSetContact) {
+  const double A = 1e-4, L = 1.0, h = 0.005, v0 = 5.0, M = 0.4, a = 0.005;
+  const double c = std::sqrt(kE / kRho), Z = A * std::sqrt(kE * kRho), tau = M / Z;
+  std::ostringstream d;
+  d.precision(17);
+  const int n = static_cast<int>(std::lround(L / h));
+  d << "*KEYWORD\n*NODE\n";
+  for (int i = 0; i <= n; ++i) d << i + 1 << ",0," << -L + h * i << ",0" << (i == 0 ? ",7" : "") << "\n";
+  // The block: 2 × 4 quads over r ∈ [0, a], y ∈ [1 µm, 1 µm + 2a]; node ids 1001 + 3j + i.
+  const double yb = 1e-6;
+  d << axi_test::block(2, 1001, 0.0, a, 2, yb, yb + 2 * a, 4);
+  d << "*PART\nbar\n1,1,1\n*SECTION_BEAM\n1,3\n" << A << "\n*MAT_ELASTIC\n1," << kRho << "," << kE << ",0.3\n";
+  d << "*PART\nblock\n2,2,2\n*SECTION_SHELL\n2,15\n0\n*MAT_RIGID\n2," << M / (M_PI * a * a * 2 * a) << "," << kE
+    << ",0.3\n";
+  d << "*ELEMENT_BEAM\n";
+  for (int i = 0; i < n; ++i) d << 5000 + i << ",1," << i + 1 << "," << i + 2 << "\n";
+  d << "*SET_NODE_LIST\n1\n";
+  for (int i = 2; i <= n + 1; ++i) d << i << (i % 8 == 1 ? "\n" : ",");
+  d << "\n*BOUNDARY_SPC_SET\n1,0,1,0,1\n";  // the bar moves along the axis (y) only
+  d << "*SET_NODE_LIST\n2\n" << n + 1 << "\n";
+  d << "*SET_SEGMENT\n3\n1001,1002\n1002,1003\n";  // the block's bottom face, facing −y: running outwards
+  d << "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n2,3,4,0\n0,0,0,0,0\n2.0\n";
+  d << "*INITIAL_VELOCITY_GENERATION\n2,2,0,0," << -v0 << ",0\n0,0,0,0,0,0\n";
+  const int gauge = n - 10;  // 50 mm below the top
+  d << "*DATABASE_HISTORY_BEAM\n" << 5000 + gauge - 1 << "\n";
+  fe::Model m = fe::parse_deck(d.str(), "axi_mass_on_bar.k");
+  EXPECT_EQ(m.symmetry_axis, 1);
+  ASSERT_EQ(m.rigid_bodies.size(), 1u);
+  EXPECT_NEAR(m.rigid_bodies[0].mass, M, 1e-12 * M);
+  const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
+  fe::Solver s(m, dt);
+  const size_t ge = static_cast<size_t>(m.history_bars[0]);
+  const double t_end = (2.0 * L - 0.06) / c;  // until the fixed end's reflection returns to the gauge
+  double peak = 0.0, W = 0.0;
+  while (s.time() < t_end) {
+    s.step();
+    const double sig = s.bar_stress(ge);
+    peak = std::min(peak, sig);
+    W += A * c / kE * sig * sig * dt;
+  }
+  const double sigma0 = -kRho * c * v0;
+  EXPECT_LT(peak, 0.78 * sigma0);
+  EXPECT_GT(peak, 1.03 * sigma0);
+  const double W_ref = 0.5 * M * v0 * v0 * (1.0 - std::exp(-2.0 * t_end / tau));
+  EXPECT_NEAR(W, W_ref, 0.02 * W_ref);
+  std::printf("rigid axisymmetric block on a bar: peak %.1f MPa (1D %.1f), W %.4f J (1D %.4f)\n", peak / 1e6,
+              sigma0 / 1e6, W, W_ref);
+}

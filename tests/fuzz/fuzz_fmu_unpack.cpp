@@ -10,25 +10,17 @@
 #include <fstream>
 #include <string>
 
+#include "fuzz_folder.hpp"
+
 #include "fmu_importer.hpp"
 
 namespace {
-std::string g_folder;  // removed at exit: a fuzz run or replay leaves nothing in /tmp
-void remove_folder() {
-  std::error_code ec;
-  std::filesystem::remove_all(g_folder, ec);
-}
 const std::string& folder() {
-  static const std::string dir = [] {
-    char templ[] = "/tmp/pcs_fuzz_fmu_XXXXXX";
-    const char* made = mkdtemp(templ);
-    if (!made) std::abort();
-    g_folder = made;
-    std::atexit(remove_folder);
-    const std::string& d = g_folder;
+  static const std::string& dir = [] () -> const std::string& {
+    const std::string& d = fuzz_support::private_folder("pcs_fuzz_fmu");
     setenv("TMPDIR", d.c_str(), 1);                 // the importer unpacks here
     setenv("PCS_FMU_MAX_UNPACKED", "1000000", 1);  // 1 MB: a bomb is stopped quickly
-    return g_folder;
+    return d;
   }();
   return dir;
 }

@@ -10,25 +10,12 @@
 #include <fstream>
 #include <string>
 
+#include "fuzz_folder.hpp"
+
 #include "input/deck_reader.hpp"
 
 namespace {
-std::string g_folder;  // removed at exit: a fuzz run or replay leaves nothing in /tmp
-void remove_folder() {
-  std::error_code ec;
-  std::filesystem::remove_all(g_folder, ec);
-}
-const std::string& folder() {
-  static const std::string dir = [] {
-    char templ[] = "/tmp/pcs_fuzz_include_XXXXXX";
-    const char* made = mkdtemp(templ);
-    if (!made) std::abort();
-    g_folder = made;
-    std::atexit(remove_folder);
-    return g_folder;
-  }();
-  return dir;
-}
+const std::string& folder() { return fuzz_support::private_folder("pcs_fuzz_include"); }
 void write(const std::string& path, const std::string& text) {
   std::ofstream f(path, std::ios::binary | std::ios::trunc);
   f << text;

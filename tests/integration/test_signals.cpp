@@ -61,6 +61,15 @@ std::unique_ptr<ChildProcess> start_host(const TempDir& dir, int port, const std
 // Runs until both sides have written a few thousand rows.
 void let_it_run() { std::this_thread::sleep_for(std::chrono::milliseconds(1500)); }
 
+// After a clean stop of either side: both files closed and whole, no FMU folder left.
+void expect_both_files_closed_and_no_folder(const TempDir& dir, const Server& server) {
+  EXPECT_TRUE(closed_cleanly(server.out));
+  EXPECT_TRUE(closed_cleanly(dir.file("host.h5")));
+  expect_consistent_rows(server.out, 1000);
+  expect_consistent_rows(dir.file("host.h5"), 1000);
+  EXPECT_EQ(fmu_folders(dir.path()), 0u) << "the host removed its FMU folder";
+}
+
 }  // namespace
 
 TEST(Signals, SigintOrSigtermStopsTheServerCleanlyAndTellsTheHost) {
@@ -78,11 +87,7 @@ TEST(Signals, SigintOrSigtermStopsTheServerCleanlyAndTellsTheHost) {
     EXPECT_EQ(host->wait(kHardTimeout), 4) << host->output();
     EXPECT_NE(host->output().find("fe_server stopped by " + name), std::string::npos)
         << "the host is told why through ABORT:\n" << host->output();
-    EXPECT_TRUE(closed_cleanly(server.out));
-    EXPECT_TRUE(closed_cleanly(dir.file("host.h5")));
-    expect_consistent_rows(server.out, 1000);
-    expect_consistent_rows(dir.file("host.h5"), 1000);
-    EXPECT_EQ(fmu_folders(dir.path()), 0u) << "the host removed its FMU folder";
+    expect_both_files_closed_and_no_folder(dir, server);
   }
 }
 
@@ -102,11 +107,7 @@ TEST(Signals, SigintOrSigtermStopsTheHostCleanlyAndTellsTheServer) {
         << host->output();
     EXPECT_EQ(server.child->wait(kHardTimeout), 7) << server.child->output();
     EXPECT_NE(server.child->output().find("host aborted"), std::string::npos) << server.child->output();
-    EXPECT_TRUE(closed_cleanly(dir.file("host.h5")));
-    EXPECT_TRUE(closed_cleanly(server.out));
-    expect_consistent_rows(dir.file("host.h5"), 1000);
-    expect_consistent_rows(server.out, 1000);
-    EXPECT_EQ(fmu_folders(dir.path()), 0u) << "the stopped host removed its FMU folder";
+    expect_both_files_closed_and_no_folder(dir, server);
   }
 }
 

@@ -116,6 +116,54 @@ std::vector<RevolutionSection> parse_sections(const std::string& text_in) {
   return out;
 }
 
+namespace {
+
+// Stations along the axis: every section cut into layers of about the axial
+// size; which section each layer belongs to; the station where each section
+// starts (and, last, where the body ends).
+struct AxialStations {
+  std::vector<double> at;
+  std::vector<size_t> section_of_layer;
+  std::vector<size_t> first_station = {0};
+};
+AxialStations axial_stations(const std::vector<RevolutionSection>& sections, const RevolutionMeshOptions& opt) {
+  AxialStations st;
+  st.at = {opt.z0};
+  const double h = opt.axial_size > 0.0 ? opt.axial_size : opt.element_size;
+  for (size_t i = 0; i < sections.size(); ++i) {
+    const int n = std::max(1, static_cast<int>(std::lround(sections[i].length / h)));
+    for (int k = 1; k <= n; ++k) {
+      st.at.push_back(st.at.back() + sections[i].length / n);
+      st.section_of_layer.push_back(i);
+    }
+    st.first_station.push_back(st.at.size() - 1);
+  }
+  return st;
+}
+
+// Every exposed face normal to the axis: at each section boundary, facing −axis
+// the part of the section above not covered by the one below (own, other),
+// facing +axis the reverse. fn(station, direction, own, other-or-null).
+template <class Fn>
+void for_each_axial_face(const std::vector<RevolutionSection>& sections, const AxialStations& st, Fn fn) {
+  for (size_t k = 0; k < st.first_station.size(); ++k) {
+    const RevolutionSection* below = k > 0 ? &sections[k - 1] : nullptr;
+    const RevolutionSection* above = k < sections.size() ? &sections[k] : nullptr;
+    for (int dir : {-1, +1}) {
+      const RevolutionSection* own = dir < 0 ? above : below;
+      const RevolutionSection* other = dir < 0 ? below : above;
+      if (own) fn(st.first_station[k], dir, *own, other);
+    }
+  }
+}
+
+// A keyword's list of ids, eight to a card.
+void write_ids(std::ostream& k, const std::vector<int>& ids) {
+  for (size_t i = 0; i < ids.size(); ++i) k << ids[i] << ((i % 8 == 7 || i + 1 == ids.size()) ? "\n" : ",");
+}
+
+}  // namespace
+
 RevolutionMesh mesh_revolution(const std::vector<RevolutionSection>& sections, const RevolutionMeshOptions& opt) {
   if (sections.empty()) throw std::invalid_argument("no sections");
   if (!(opt.element_size > 0.0)) throw std::invalid_argument("element size must be positive");
@@ -137,18 +185,9 @@ RevolutionMesh mesh_revolution(const std::vector<RevolutionSection>& sections, c
     return r < s.r_out && (s.r_in == 0.0 ? true : r > s.r_in);
   };
   // Axial stations.
-  std::vector<double> z = {opt.z0};
-  std::vector<size_t> section_of_layer;
-  std::vector<size_t> first_station = {0};
-  for (size_t i = 0; i < sections.size(); ++i) {
-    const double hz = opt.axial_size > 0.0 ? opt.axial_size : opt.element_size;
-    const int nz = std::max(1, static_cast<int>(std::lround(sections[i].length / hz)));
-    for (int k = 1; k <= nz; ++k) {
-      z.push_back(z.back() + sections[i].length / nz);
-      section_of_layer.push_back(i);
-    }
-    first_station.push_back(z.size() - 1);
-  }
+  const AxialStations stations = axial_stations(sections, opt);
+  const std::vector<double>& z = stations.at;
+  const std::vector<size_t>& section_of_layer = stations.section_of_layer;
   // Elements; node id = offset + station·np + 2D index + 1, renumbered to used ones below.
   std::vector<std::array<long, 8>> elems;
   for (size_t layer = 0; layer < section_of_layer.size(); ++layer) {
@@ -200,45 +239,37 @@ RevolutionMesh mesh_revolution(const std::vector<RevolutionSection>& sections, c
     if (ids.empty()) throw std::invalid_argument("gauge z = " + std::to_string(zg) + " is outside the body");
     std::snprintf(buf, sizeof buf, "$ gauge layer at z = %.6g\n*DATABASE_HISTORY_SOLID\n", zg);
     k << buf;
-    for (size_t i = 0; i < ids.size(); ++i) k << ids[i] << ((i % 8 == 7 || i + 1 == ids.size()) ? "\n" : ",");
+    write_ids(k, ids);
   }
   // Exposed axial faces, grouped per station and direction.
   int sid = opt.set_offset;
-  for (size_t st = 0; st < first_station.size(); ++st) {
-    const size_t station = first_station[st];
-    const RevolutionSection* below = st > 0 ? &sections[st - 1] : nullptr;
-    const RevolutionSection* above = st < sections.size() ? &sections[st] : nullptr;
-    for (int dir : {-1, +1}) {
-      // Facing −z: cells of the section above not covered by the one below; +z: the reverse.
-      const RevolutionSection* own = dir < 0 ? above : below;
-      const RevolutionSection* other = dir < 0 ? below : above;
-      if (!own) continue;
-      std::vector<std::array<int, 4>> segs;
-      double r_lo = 1e300, r_hi = 0.0;
-      for (size_t q = 0; q < cs.quads.size(); ++q) {
-        if (!inside(q, *own) || (other && inside(q, *other))) continue;
-        const auto& quad = cs.quads[q];
-        std::array<int, 4> seg;
-        for (int c = 0; c < 4; ++c) seg[static_cast<size_t>(c)] = number[static_cast<long>(station * np) + quad[static_cast<size_t>(c)]];
-        if (dir < 0) std::swap(seg[1], seg[3]);  // clockwise from +z: the normal points to −z
-        segs.push_back(seg);
-        for (int c = 0; c < 4; ++c) {
-          const auto& p = cs.nodes[static_cast<size_t>(quad[static_cast<size_t>(c)])];
-          const double r = std::hypot(p.x, p.y);
-          r_lo = std::min(r_lo, r);
-          r_hi = std::max(r_hi, r);
-        }
+  for_each_axial_face(sections, stations, [&](size_t station, int dir, const RevolutionSection& own,
+                                              const RevolutionSection* other) {
+    std::vector<std::array<int, 4>> segs;
+    double r_lo = 1e300, r_hi = 0.0;
+    for (size_t q = 0; q < cs.quads.size(); ++q) {
+      if (!inside(q, own) || (other && inside(q, *other))) continue;
+      const auto& quad = cs.quads[q];
+      std::array<int, 4> seg;
+      for (int c = 0; c < 4; ++c) seg[static_cast<size_t>(c)] = number[static_cast<long>(station * np) + quad[static_cast<size_t>(c)]];
+      if (dir < 0) std::swap(seg[1], seg[3]);  // clockwise from +z: the normal points to −z
+      segs.push_back(seg);
+      for (int c = 0; c < 4; ++c) {
+        const auto& p = cs.nodes[static_cast<size_t>(quad[static_cast<size_t>(c)])];
+        const double r = std::hypot(p.x, p.y);
+        r_lo = std::min(r_lo, r);
+        r_hi = std::max(r_hi, r);
       }
-      if (segs.empty()) continue;
-      if (r_lo < 0.5 * radii.front()) r_lo = 0.0;  // a full disc (the core has no node on the axis)
-      ++sid;
-      out.faces.push_back({sid, z[station], dir, r_lo, r_hi});
-      std::snprintf(buf, sizeof buf, "$ set %d: face at z = %.6g facing %sz, r %.6g to %.6g\n", sid, z[station],
-                    dir < 0 ? "-" : "+", r_lo, r_hi);
-      k << buf << "*SET_SEGMENT\n" << sid << "\n";
-      for (const auto& s : segs) k << s[0] << "," << s[1] << "," << s[2] << "," << s[3] << "\n";
     }
-  }
+    if (segs.empty()) return;
+    if (r_lo < 0.5 * radii.front()) r_lo = 0.0;  // a full disc (the core has no node on the axis)
+    ++sid;
+    out.faces.push_back({sid, z[station], dir, r_lo, r_hi});
+    std::snprintf(buf, sizeof buf, "$ set %d: face at z = %.6g facing %sz, r %.6g to %.6g\n", sid, z[station],
+                  dir < 0 ? "-" : "+", r_lo, r_hi);
+    k << buf << "*SET_SEGMENT\n" << sid << "\n";
+    for (const auto& sg : segs) k << sg[0] << "," << sg[1] << "," << sg[2] << "," << sg[3] << "\n";
+  });
   out.keyword_text = k.str();
   out.nodes = static_cast<int>(number.size());
   out.elements = static_cast<int>(elems.size());
@@ -289,17 +320,9 @@ RevolutionMesh mesh_axisymmetric(const std::vector<RevolutionSection>& sections,
     const double rm = 0.5 * (r[cell] + r[cell + 1]);
     return rm < s.r_out && rm > s.r_in;
   };
-  std::vector<double> y = {opt.z0};
-  std::vector<size_t> section_of_layer, first_station = {0};
-  for (size_t i = 0; i < sections.size(); ++i) {
-    const double hy = opt.axial_size > 0.0 ? opt.axial_size : opt.element_size;
-    const int ny = std::max(1, static_cast<int>(std::lround(sections[i].length / hy)));
-    for (int k = 1; k <= ny; ++k) {
-      y.push_back(y.back() + sections[i].length / ny);
-      section_of_layer.push_back(i);
-    }
-    first_station.push_back(y.size() - 1);
-  }
+  const AxialStations stations = axial_stations(sections, opt);
+  const std::vector<double>& y = stations.at;
+  const std::vector<size_t>& section_of_layer = stations.section_of_layer;
   // Elements; raw node number = station·nr + radial index, renumbered below.
   std::vector<std::array<long, 4>> elems;
   std::vector<size_t> elem_layer;
@@ -342,37 +365,30 @@ RevolutionMesh mesh_axisymmetric(const std::vector<RevolutionSection>& sections,
     if (ids.empty()) throw std::invalid_argument("gauge y = " + std::to_string(yg) + " is outside the body");
     std::snprintf(buf, sizeof buf, "$ gauge layer at y = %.6g\n*DATABASE_HISTORY_SHELL\n", yg);
     k << buf;
-    for (size_t i = 0; i < ids.size(); ++i) k << ids[i] << ((i % 8 == 7 || i + 1 == ids.size()) ? "\n" : ",");
+    write_ids(k, ids);
   }
   // Exposed faces normal to the axis, per station and direction, as lines
   // with the body on their left: facing −y runs outwards, facing +y inwards.
   int sid = opt.set_offset;
-  for (size_t st = 0; st < first_station.size(); ++st) {
-    const size_t station = first_station[st];
-    const RevolutionSection* below = st > 0 ? &sections[st - 1] : nullptr;
-    const RevolutionSection* above = st < sections.size() ? &sections[st] : nullptr;
-    for (int dir : {-1, +1}) {
-      const RevolutionSection* own = dir < 0 ? above : below;
-      const RevolutionSection* other = dir < 0 ? below : above;
-      if (!own) continue;
-      std::vector<std::array<int, 2>> segs;
-      double r_lo = 1e300, r_hi = 0.0;
-      for (size_t c = 0; c + 1 < nr; ++c) {
-        if (!inside(c, *own) || (other && inside(c, *other))) continue;
-        const int a = number[static_cast<long>(station * nr + c)], b = number[static_cast<long>(station * nr + c + 1)];
-        segs.push_back(dir < 0 ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a});
-        r_lo = std::min(r_lo, r[c]);
-        r_hi = std::max(r_hi, r[c + 1]);
-      }
-      if (segs.empty()) continue;
-      ++sid;
-      out.faces.push_back({sid, y[station], dir, r_lo, r_hi});
-      std::snprintf(buf, sizeof buf, "$ set %d: face at y = %.6g facing %sy, r %.6g to %.6g\n", sid, y[station],
-                    dir < 0 ? "-" : "+", r_lo, r_hi);
-      k << buf << "*SET_SEGMENT\n" << sid << "\n";
-      for (const auto& s2 : segs) k << s2[0] << "," << s2[1] << "\n";
+  for_each_axial_face(sections, stations, [&](size_t station, int dir, const RevolutionSection& own,
+                                              const RevolutionSection* other) {
+    std::vector<std::array<int, 2>> segs;
+    double r_lo = 1e300, r_hi = 0.0;
+    for (size_t c = 0; c + 1 < nr; ++c) {
+      if (!inside(c, own) || (other && inside(c, *other))) continue;
+      const int a = number[static_cast<long>(station * nr + c)], b = number[static_cast<long>(station * nr + c + 1)];
+      segs.push_back(dir < 0 ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a});
+      r_lo = std::min(r_lo, r[c]);
+      r_hi = std::max(r_hi, r[c + 1]);
     }
-  }
+    if (segs.empty()) return;
+    ++sid;
+    out.faces.push_back({sid, y[station], dir, r_lo, r_hi});
+    std::snprintf(buf, sizeof buf, "$ set %d: face at y = %.6g facing %sy, r %.6g to %.6g\n", sid, y[station],
+                  dir < 0 ? "-" : "+", r_lo, r_hi);
+    k << buf << "*SET_SEGMENT\n" << sid << "\n";
+    for (const auto& s2 : segs) k << s2[0] << "," << s2[1] << "\n";
+  });
   out.keyword_text = k.str();
   out.nodes = static_cast<int>(number.size());
   out.elements = static_cast<int>(elems.size());

@@ -2,7 +2,9 @@
 
 #include "config/token.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
 
@@ -182,31 +184,46 @@ void Instance::exit_initialization() {
 }
 
 void Instance::do_step(double t, double h) {
-  // The FE side advances exactly the port table's step; another step size
-  // would silently desynchronise the two clocks.
-  if (std::fabs(h - table_.dt) > 1e-9 * table_.dt)
-    throw FmuError(fmi2Error, "communicationStepSize " + std::to_string(h) +
-                                  " s differs from the port table's timestep " +
-                                  std::to_string(table_.dt) + " s (" + table_.source + ")");
+  // A communication step is a whole number n of the port table's coupling
+  // steps (FMPy, for one, picks 2^k times the DefaultExperiment's stepSize):
+  // n exchanges with fe_server, the inputs held over the interval, the
+  // outputs those of the last. Anything else would desynchronise the clocks.
+  const double dt = table_.dt;
+  const double ratio = h / dt;
+  const double n_real = std::round(ratio);
+  if (!(n_real >= 1.0) || std::fabs(ratio - n_real) > 1e-6 * std::max(1.0, ratio) || n_real > 1e9) {
+    char msg[320];
+    const double lo = std::max(1.0, std::floor(ratio)) * dt, hi = std::max(1.0, std::ceil(ratio)) * dt;
+    if (hi != lo)
+      std::snprintf(msg, sizeof msg,
+                    "communicationStepSize %g s is not a whole multiple of the coupling step %g s (%s): use %g s or %g s",
+                    h, dt, table_.source.c_str(), lo, hi);
+    else
+      std::snprintf(msg, sizeof msg, "communicationStepSize %g s is not a whole multiple of the coupling step %g s (%s): use %g s",
+                    h, dt, table_.source.c_str(), lo);
+    throw FmuError(fmi2Error, msg);
+  }
+  const long n = static_cast<long>(n_real);
   wire_in_.resize(inputs_.size());
   for (size_t i = 0; i < inputs_.size(); ++i) wire_in_[i] = inputs_[i] * table_.to_fe[i].scale;
-  try {
-    client_->step(step_, t, h, wire_in_, wire_out_);
-  } catch (const LinkError& e) {
-    state_ = State::StepFailed;
-    throw FmuError(fmi2Error, e.what());
-  }
-  for (size_t i = 0; i < outputs_.size(); ++i) {
-    if (!std::isfinite(wire_out_[i])) {
-      std::string what = table_.to_host[i].name() + " from fe_server is not finite at step " +
-                         std::to_string(step_);
-      client_->abort(what);
+  for (long k = 0; k < n; ++k) {
+    const double tk = t + static_cast<double>(k) * dt;
+    try {
+      client_->step(step_, tk, dt, wire_in_, wire_out_);
+    } catch (const LinkError& e) {
       state_ = State::StepFailed;
-      throw FmuError(fmi2Error, what);
+      throw FmuError(fmi2Error, e.what());
     }
-    outputs_[i] = wire_out_[i] * table_.to_host[i].scale;
+    for (size_t i = 0; i < outputs_.size(); ++i)
+      if (!std::isfinite(wire_out_[i])) {
+        std::string what = table_.to_host[i].name() + " from fe_server is not finite at step " + std::to_string(step_);
+        client_->abort(what);
+        state_ = State::StepFailed;
+        throw FmuError(fmi2Error, what);
+      }
+    ++step_;
   }
-  ++step_;
+  for (size_t i = 0; i < outputs_.size(); ++i) outputs_[i] = wire_out_[i] * table_.to_host[i].scale;
   time_ = t + h;
 }
 

@@ -77,7 +77,11 @@ std::string model_description_xml(const config::PortTable& t, const std::string&
        "    <Category name=\"logStatusFatal\" description=\"fatal errors\"/>\n"
        "    <Category name=\"logCoupling\" description=\"connection and handshake\"/>\n"
        "  </LogCategories>\n";
-  x << "  <DefaultExperiment startTime=\"0\" stepSize=\"" << num << "\"/>\n";
+  // A stop time of 1000 coupling steps: a short run for an importer's
+  // defaults (FMPy's simulate_fmu without arguments), to be set by the user.
+  char stop[64];
+  std::snprintf(stop, sizeof stop, "%.17g", 1000.0 * t.dt);
+  x << "  <DefaultExperiment startTime=\"0\" stopTime=\"" << stop << "\" stepSize=\"" << num << "\"/>\n";
   x << "  <ModelVariables>\n";
   for (size_t i = 0; i < vars.size(); ++i) {
     const auto& v = vars[i];

@@ -4,6 +4,8 @@
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <chrono>
 #include <cstdarg>
 #include <memory>
@@ -159,16 +161,37 @@ TEST_F(FmuTest, StepsAgainstAPeerWithScalingAndTwoInstances) {
   EXPECT_EQ(peer2.steps(), 3);
 }
 
-TEST_F(FmuTest, WrongStepSizeIsAnErrorNotADesync) {
+// A communication step of n coupling steps is n exchanges with the inputs
+// held (how FMPy steps by default: 2^k times the DefaultExperiment's
+// stepSize); a step that is no whole multiple is refused with the nearest
+// valid ones, never run out of step with fe_server.
+TEST_F(FmuTest, ACommunicationStepOfSeveralCouplingStepsRunsThemAll) {
   TestPeer peer(table);
   Log log;
-  fmi2Component c = instantiate("dt", log);
+  fmi2Component c = instantiate("multi", log);
   point_at(c, peer.port());
   ASSERT_EQ(api->fmi2EnterInitializationMode(c), fmi2OK);
   ASSERT_EQ(api->fmi2ExitInitializationMode(c), fmi2OK);
-  EXPECT_EQ(api->fmi2DoStep(c, 0.0, 2 * table.dt, fmi2True), fmi2Error);
-  EXPECT_NE(log.all().find("communicationStepSize"), std::string::npos) << log.all();
+  fmi2ValueReference in = 0, out = 1;
+  const double p = 50.0;
+  ASSERT_EQ(api->fmi2SetReal(c, &in, 1, &p), fmi2OK);
+  ASSERT_EQ(api->fmi2DoStep(c, 0.0, 4 * table.dt, fmi2True), fmi2OK) << log.all();
+  ASSERT_EQ(api->fmi2DoStep(c, 4 * table.dt, table.dt, fmi2True), fmi2OK) << log.all();
+  double y = 0.0, last = 0.0;
+  ASSERT_EQ(api->fmi2GetReal(c, &out, 1, &y), fmi2OK);
+  EXPECT_DOUBLE_EQ(y, 2.0 * p * table.to_fe[0].scale * table.to_host[0].scale) << "the held input, echoed";
+  EXPECT_EQ(api->fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &last), fmi2OK);
+  EXPECT_DOUBLE_EQ(last, 5 * table.dt);
+  // 2.5 coupling steps: refused, with the two nearest valid steps.
+  EXPECT_EQ(api->fmi2DoStep(c, 5 * table.dt, 2.5 * table.dt, fmi2True), fmi2Error);
+  char want[160];
+  std::snprintf(want, sizeof want, "is not a whole multiple of the coupling step %g s", table.dt);
+  EXPECT_NE(log.all().find(want), std::string::npos) << log.all();
+  std::snprintf(want, sizeof want, "use %g s or %g s", 2 * table.dt, 3 * table.dt);
+  EXPECT_NE(log.all().find(want), std::string::npos) << log.all();
   api->fmi2FreeInstance(c);
+  peer.join();
+  EXPECT_EQ(peer.steps(), 5) << "four coupling steps in the first fmi2DoStep, one in the second";
 }
 
 TEST_F(FmuTest, NoServerFailsWithinTheDeadlineNeverHangs) {

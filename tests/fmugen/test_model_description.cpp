@@ -22,4 +22,8 @@ TEST(ModelDescription, ListsEveryVariableAndEveryOutputInModelStructure) {
   EXPECT_NE(xml.find("<Unknown index=\"3\"/>", outputs), std::string::npos);
   EXPECT_NE(xml.find("<Unknown index=\"3\"/>", initial), std::string::npos);
   EXPECT_EQ(xml.find("<Unknown index=\"1\"/>"), std::string::npos) << "an input is not an output";
+  // A default experiment an importer can run as is: 1000 coupling steps of the table's step.
+  EXPECT_NE(xml.find("<DefaultExperiment startTime=\"0\" stopTime=\"0.01\" stepSize=\"1.0000000000000001e-05\"/>"),
+            std::string::npos)
+      << xml.substr(xml.find("<DefaultExperiment"), 120);
 }

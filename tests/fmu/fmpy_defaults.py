@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""FMPy with its defaults against a live fe_server (issue 18, item 2).
+
+FMPy picks its own communication step (the DefaultExperiment's stepSize,
+doubled while more than 1000 steps remain) and stop time; the FMU must run
+with both, and with FMPy's command line. FMPy is not a dependency of this
+project: the test needs FMPy's source tree outside the repository, named by
+$PCS_FMPY_SRC (the folder that holds the `fmpy` package), and lxml and attrs
+(Debian: python3-lxml python3-attr). Without them it is reported as skipped
+(exit 77). Every wait is bounded; the server listens on an ephemeral
+loopback port that the FMU learns from $PCS_SERVER_PORT.
+
+usage: fmpy_defaults.py FE_SERVER SCENE_DIR FMU
+"""
+import os
+import secrets
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+SKIP = 77
+
+
+def main():
+    fe_server, scene, fmu = sys.argv[1], Path(sys.argv[2]), sys.argv[3]
+    src = os.environ.get("PCS_FMPY_SRC")
+    if not src or not (Path(src) / "fmpy").is_dir():
+        print("skipped: set PCS_FMPY_SRC to FMPy's source folder (the one holding fmpy/) to run this test")
+        return SKIP
+    sys.path.insert(0, src)
+    try:
+        import fmpy  # noqa: F401
+    except Exception as e:  # a missing lxml or attrs
+        print(f"skipped: FMPy does not import ({e}); Debian: python3-lxml python3-attr")
+        return SKIP
+    env = {**os.environ, "PCS_TOKEN": secrets.token_hex(16), "PYTHONPATH": src}
+    failures = []
+    with tempfile.TemporaryDirectory() as d:
+        d = Path(d)
+        # simulate_fmu() and `fmpy simulate` as they come; with stop_time=0.1
+        # FMPy doubles its step to 1.6e-4 s (16 coupling steps per fmi2DoStep).
+        for name, how in (("simulate_fmu()", "api"), ("fmpy simulate", "cli"),
+                          ("simulate_fmu(stop_time=0.1)", "api_long")):
+            port_file = d / f"port_{how}"
+            server = subprocess.Popen([fe_server, "--model", str(scene / "piston.k"), "--ports",
+                                       str(scene / "ports.cfg"), "--listen", "127.0.0.1:0", "--port-file",
+                                       str(port_file), "--out", str(d / f"fe_{how}.h5"), "--accept-timeout", "30",
+                                       "--quiet"], env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                      text=True)
+            try:
+                for _ in range(500):
+                    if port_file.exists() and port_file.read_text().strip():
+                        break
+                    time.sleep(0.02)
+                run_env = {**env, "PCS_SERVER_HOST": "127.0.0.1", "PCS_SERVER_PORT": port_file.read_text().strip()}
+                if how in ("api", "api_long"):
+                    stop = 0.01 if how == "api" else 0.1
+                    args = "" if how == "api" else ", stop_time=0.1"
+                    code = ("import fmpy, sys\n"
+                            f"r = fmpy.simulate_fmu({fmu!r}{args})\n"
+                            "print(len(r), r['time'][1] - r['time'][0], r['time'][-1])\n")
+                    run = subprocess.run([sys.executable, "-c", code], env=run_env, capture_output=True, text=True,
+                                         timeout=120)
+                    words = run.stdout.split()
+                    ok = run.returncode == 0 and len(words) >= 3 and abs(float(words[-1]) - stop) < 1e-9
+                    if ok and how == "api_long":
+                        ok = float(words[-2]) > 1.5e-5  # FMPy's step was several coupling steps
+                        print(f"  FMPy's step: {float(words[-2]):g} s")
+                else:
+                    out = d / "out.csv"
+                    run = subprocess.run([sys.executable, "-m", "fmpy.cli", "simulate", fmu, "--output-file", str(out)],
+                                         env=run_env, capture_output=True, text=True, timeout=120)
+                    ok = run.returncode == 0 and out.exists() and len(out.read_text().splitlines()) > 10
+                server_code = server.wait(timeout=30)
+                if not ok or server_code != 0:
+                    failures.append(f"{name}: FMPy exit {run.returncode}, fe_server exit {server_code}\n"
+                                    f"{run.stdout[-2000:]}{run.stderr[-2000:]}\n{server.stdout.read()[-2000:]}")
+                else:
+                    print(f"{name}: ran to its stop time against fe_server (exit 0)")
+            finally:
+                if server.poll() is None:
+                    server.kill()
+    for f in failures:
+        print("FAILED " + f)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -132,9 +132,9 @@ void expect_port_equation_holds(const std::string& deck, int ports, double dt, c
     for (int k = 0; k < ports; ++k) {
       const double q = load.flow(k, vn);
       const double p = load.pressure(k);
-      const double scale = std::fabs(c[static_cast<size_t>(k)]) + std::fabs(Zc[static_cast<size_t>(k)] * q) + 1.0;
+      const double terms = std::fabs(c[static_cast<size_t>(k)]) + std::fabs(Zc[static_cast<size_t>(k)] * q) + 1.0;
       // Round-off of a solve with a handful of terms: 1e-12 of the terms' size.
-      EXPECT_NEAR(p, c[static_cast<size_t>(k)] + Zc[static_cast<size_t>(k)] * q, 1e-12 * scale)
+      EXPECT_NEAR(p, c[static_cast<size_t>(k)] + Zc[static_cast<size_t>(k)] * q, 1e-12 * terms)
           << "port " << k << ", step " << n;
       EXPECT_NEAR(load.step_flow(k, s.v()), q, 1e-12 * (std::fabs(q) + 1e-9)) << "the flow the host receives";
       ASSERT_TRUE(std::isfinite(p));
@@ -150,9 +150,10 @@ void expect_port_equation_holds(const std::string& deck, int ports, double dt, c
   // stops within a step or two and the account misses it, so those cases
   // check the port equation only. (A single hex suddenly loaded by a constant
   // pressure misses 16 % with Zc = 0 too: its modes sit near the step's limit.)
-  if (check_energy)
+  if (check_energy) {
     EXPECT_LT(std::fabs(s.energies().balance_error), 0.01 * scale)
         << "balance error " << s.energies().balance_error << " J of " << scale << " J";
+  }
 }
 
 }  // namespace

@@ -463,6 +463,7 @@ struct Reader {
         if (!(c.slave_nodes && sid == c.slave_set) && !m.segment_sets.count(sid))
           throw InputError(c.where, "contact segment set " + std::to_string(sid) + " is not defined in *SET_SEGMENT");
     }
+    warn_point_loads_on_the_axis();
     std::map<int, int> solid_index;
     for (size_t i = 0; i < m.solids.size(); ++i) solid_index[m.solids[i].id] = static_cast<int>(i);
     for (int& id : m.history_solids) {
@@ -542,6 +543,30 @@ struct Reader {
       m.bars.push_back(e);
     }
     axisymmetric_elements();
+  }
+
+  // A node on the axis pressed against an elastic axisymmetric surface is a
+  // point load on a body of revolution: the elastic solution under it is
+  // singular, so the surface's nodes there run away. (Against a rigid part
+  // it is fine: a bar's end on a rigid piston.)
+  void warn_point_loads_on_the_axis() {
+    if (m.axis.empty()) return;
+    std::set<int> elastic;
+    for (const auto& e : m.axis)
+      if (!m.materials.at(m.parts.at(e.part).material).rigid) elastic.insert(e.n, e.n + 4);
+    for (const auto& c : m.contacts) {
+      if (!c.slave_nodes) continue;
+      bool elastic_master = false;
+      for (const auto& seg : m.segment_sets.at(c.master_set))
+        for (int k = 0; k < seg.corners(); ++k) elastic_master = elastic_master || elastic.count(seg.n[k]) > 0;
+      if (!elastic_master) continue;
+      for (int id : m.node_sets.at(c.slave_set))
+        if (m.x0[static_cast<size_t>(m.index_of(id, c.where))].x() == 0.0)
+          warn(c.where, "node " + std::to_string(id) +
+                            " lies on the axis and presses on an elastic axisymmetric surface: a point load on a body "
+                            "of revolution, which the surface cannot carry (its solution is singular); make that part "
+                            "rigid, or let a ring of nodes (or a 2D part) carry the load");
+    }
   }
 
   // Nodes of axisymmetric elements move in the x–y plane only; those on the

@@ -1,7 +1,5 @@
 #include "config/stop_signal.hpp"
 
-#include <cstring>
-
 #include "socketlib/socketlib.h"
 
 namespace config {
@@ -9,18 +7,16 @@ namespace config {
 namespace {
 volatile std::sig_atomic_t g_stop = 0;
 
-extern "C" void on_stop_signal(int signo) {
-  g_stop = signo;
-  // The next one of the same kind takes the default action (ends the process).
-  std::signal(signo, SIG_DFL);
-}
+extern "C" void on_stop_signal(int signo) { g_stop = signo; }
 }  // namespace
 
 void install_stop_handlers() {
   struct sigaction sa {};
   sa.sa_handler = on_stop_signal;
   sigemptyset(&sa.sa_mask);
-  sa.sa_flags = 0;  // no SA_RESTART: a blocking wait returns EINTR and looks at the flag
+  // No SA_RESTART: a blocking wait returns EINTR and looks at the flag.
+  // SA_RESETHAND: the next signal of the same kind takes the default action.
+  sa.sa_flags = SA_RESETHAND;
   for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaction(s, &sa, nullptr);
   sl_set_stop_flag(&g_stop);
 }

@@ -77,17 +77,17 @@ static int sl__slice(int64_t deadline_ms) {
   return (sl__stop_flag && left > 200) ? 200 : left;
 }
 
-/* Wait until fd is ready for events or the deadline passes.
- * Returns 1 ready, 0 timed out, <0 error. */
-static int sl__wait(sl_socket *s, short events, int64_t deadline_ms) {
+/* poll() the n entries of p until one is ready or the deadline passes:
+ * restarted after a signal or an early wake, in slices of at most 200 ms when
+ * a stop flag is set (sl__slice), returning SL_EINTERRUPTED once it is.
+ * Returns how many are ready (> 0), 0 at the deadline, <0 error (errno kept
+ * in s->sys_errno). */
+static int sl__poll(struct pollfd *p, nfds_t n, int64_t deadline_ms, sl_socket *s) {
   for (;;) {
-    struct pollfd p;
-    p.fd = s->fd;
-    p.events = events;
-    p.revents = 0;
     if (sl__stopping()) return SL_EINTERRUPTED;
-    int r = poll(&p, 1, sl__slice(deadline_ms));
-    if (r > 0) return 1;
+    for (nfds_t i = 0; i < n; ++i) p[i].revents = 0;
+    int r = poll(p, n, sl__slice(deadline_ms));
+    if (r > 0) return r;
     if (r == 0) {
       if (sl__remaining(deadline_ms) > 0) continue; /* a slice ended, or woke a little early */
       return 0;
@@ -95,6 +95,16 @@ static int sl__wait(sl_socket *s, short events, int64_t deadline_ms) {
     if (errno == EINTR) continue; /* the loop's head looks at the stop flag */
     return sl__sys(s, errno);
   }
+}
+
+/* Wait until fd is ready for events or the deadline passes.
+ * Returns 1 ready, 0 timed out, <0 error. */
+static int sl__wait(sl_socket *s, short events, int64_t deadline_ms) {
+  struct pollfd p;
+  p.fd = s->fd;
+  p.events = events;
+  int r = sl__poll(&p, 1, deadline_ms, s);
+  return r > 0 ? 1 : r;
 }
 
 static int sl__set_nonblocking(int fd) {
@@ -321,30 +331,18 @@ void sl_close(sl_socket *s) {
 int sl_wait_any(sl_socket *const *socks, size_t n, int64_t deadline_ms, int *ready) {
   if (!socks || !ready || n == 0 || n > 4096) return SL_EINVAL;
   struct pollfd p[4096];
-  for (;;) {
-    for (size_t i = 0; i < n; ++i) {
-      p[i].fd = socks[i]->fd;
-      p[i].events = POLLIN;
-      p[i].revents = 0;
-    }
-    if (sl__stopping()) return SL_EINTERRUPTED;
-    int r = poll(p, (nfds_t)n, sl__slice(deadline_ms));
-    if (r > 0) {
-      int count = 0;
-      for (size_t i = 0; i < n; ++i) {
-        ready[i] = (p[i].revents & (POLLIN | POLLHUP | POLLERR)) != 0;
-        count += ready[i];
-      }
-      return count;
-    }
-    if (r == 0) {
-      if (sl__remaining(deadline_ms) > 0) continue; /* woke a little early */
-      for (size_t i = 0; i < n; ++i) ready[i] = 0;
-      return 0;
-    }
-    if (errno == EINTR) continue;
-    return sl__sys(socks[0], errno);
+  for (size_t i = 0; i < n; ++i) {
+    p[i].fd = socks[i]->fd;
+    p[i].events = POLLIN;
   }
+  int r = sl__poll(p, (nfds_t)n, deadline_ms, socks[0]);
+  if (r < 0) return r;
+  int count = 0;
+  for (size_t i = 0; i < n; ++i) {
+    ready[i] = r > 0 && (p[i].revents & (POLLIN | POLLHUP | POLLERR)) != 0;
+    count += ready[i];
+  }
+  return count;
 }
 
 int sl_peek(sl_socket *s, void *buf, size_t len) {

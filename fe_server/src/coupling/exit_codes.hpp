@@ -2,6 +2,8 @@
 // them apart. Documented in the README.
 #pragma once
 
+#include "config/stop_signal.hpp"
+
 namespace fe {
 
 enum ExitCode : int {
@@ -22,5 +24,5 @@ enum ExitCode : int {
 }  // namespace fe
 
 namespace fe {
-inline ExitCode stopped_by(int signo) { return static_cast<ExitCode>(kExitStopped + signo); }
+inline ExitCode stopped_by(int signo) { return static_cast<ExitCode>(config::stop_exit_code(signo)); }
 }  // namespace fe

@@ -1,8 +1,10 @@
 #include "fmu_importer.hpp"
-#include <cerrno>
-#include <unistd.h>
+
 #include <signal.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 
 #include "config/keyword_reader.hpp"
 

@@ -146,6 +146,7 @@ CouplingServer::CouplingServer(const ServerOptions& opt, std::vector<config::Por
   for (const auto& t : tables_) timeout_ = std::max(timeout_, t.timeout);
   if (opt_.step_timeout > 0) timeout_ = opt_.step_timeout;
   buf_.resize(std::max<size_t>(pcs_values_size(static_cast<uint32_t>(widest)), PCS_MAX_REASON + 64));
+  peek_.resize(PCS_HEADER_SIZE + buf_.size());
 }
 
 CouplingServer::~CouplingServer() {
@@ -192,7 +193,6 @@ static std::string refuse(sl_socket& conn, const std::string& reason) {
 
 CouplingServer::HandshakeProgress CouplingServer::handshake_step(Pending& p, std::string& why) {
   constexpr int64_t kPartialFramePauseMs = 20;
-  peek_.resize(PCS_HEADER_SIZE + buf_.size());
   const int n = sl_peek(&p.conn, peek_.data(), peek_.size());
   if (n == SL_ECLOSED) {
     why = p.challenged ? "closed the connection during the handshake" : "closed the connection without a HELLO";

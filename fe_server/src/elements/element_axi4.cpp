@@ -16,6 +16,15 @@ constexpr double kEta[4] = {-1, -1, 1, 1};
 constexpr double kH[4] = {1, -1, 1, -1};  // the hourglass base vector ξη at the nodes
 }  // namespace
 
+Mat42 axi4_gather(const std::vector<Vec3>& a, const AxiElement& e) {
+  Mat42 out;
+  for (int k = 0; k < 4; ++k) {
+    const Vec3& p = a[static_cast<size_t>(e.n[k])];
+    out(k, 0) = p.x(), out(k, 1) = p.y();
+  }
+  return out;
+}
+
 bool axi4_geometry(const Mat42& x, Axi4Geometry& g) {
   Mat42 dN;  // ∂N_a/∂(ξ, η) at the centre
   for (int a = 0; a < 4; ++a) dN(a, 0) = kXi[a] / 4.0, dN(a, 1) = kEta[a] / 4.0;
@@ -102,13 +111,8 @@ Axi4State::Axi4State(const Model& m)
     const AxiElement& el = m.axis[e];
     const Material& mat = m.materials.at(m.parts.at(el.part).material);
     active[e] = !mat.rigid;
-    Mat42 x;
-    for (int k = 0; k < 4; ++k) {
-      const Vec3& p = m.x0[static_cast<size_t>(el.n[k])];
-      x(k, 0) = p.x(), x(k, 1) = p.y();
-    }
     Axi4Geometry g;
-    axi4_geometry(x, g);
+    axi4_geometry(axi4_gather(m.x0, el), g);
     constants[e] = {mat.lambda(), mat.mu(), mat.rho, mat.wave_speed(),
                     axi4_hourglass_coefficient(g, m.hourglass_q, mat.rho, mat.wave_speed())};
   }

@@ -53,6 +53,9 @@ struct Axi4Geometry {
   double volume = 0; // 2π·r_c·A, m³
 };
 
+// The element's (x, y) = (r, axial) rows of a nodal array, 4×2.
+Mat42 axi4_gather(const std::vector<Vec3>& a, const AxiElement& e);
+
 // Centre gradients, area, radius and ring volume of the element with node
 // coordinates x (4×2: r, y). False for a degenerate or clockwise element
 // (det J ≤ 0) or one whose centre lies on the axis.

@@ -81,13 +81,11 @@ double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, do
   return 2.0 / omega * (std::sqrt(1.0 + q2 * q2) - q2);
 }
 
-namespace {
-Mat83 gather(const std::vector<Vec3>& a, const SolidElement& e) {
+Mat83 hex8_gather(const std::vector<Vec3>& a, const SolidElement& e) {
   Mat83 out;
   for (int k = 0; k < 8; ++k) out.row(k) = a[static_cast<size_t>(e.n[k])].transpose();
   return out;
 }
-}  // namespace
 
 Hex8State::Hex8State(const Model& m)
     : sigma(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()),
@@ -101,7 +99,7 @@ Hex8State::Hex8State(const Model& m)
     material[e] = &mat;
     Mat83 b;
     double volume = 0.0;
-    hex8_gradients(gather(m.x0, el), b, volume);
+    hex8_gradients(hex8_gather(m.x0, el), b, volume);
     hourglass[e] = m.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0;
   }
 }
@@ -114,7 +112,7 @@ void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x_all, 
     if (!st.active[e]) continue;
     const SolidElement& el = m.solids[e];
     const Material& mat = *st.material[e];
-    const Mat83 x = gather(x_all, el), v = gather(v_all, el);
+    const Mat83 x = hex8_gather(x_all, el), v = hex8_gather(v_all, el);
     Mat83 b;
     double volume = 0.0;
     if (!hex8_gradients(x, b, volume))

@@ -25,6 +25,9 @@ namespace fe {
 
 using Mat83 = Eigen::Matrix<double, 8, 3>;
 
+// The element's rows of a nodal array (coordinates or velocities), 8×3.
+Mat83 hex8_gather(const std::vector<Vec3>& a, const SolidElement& e);
+
 // Gradients b (8×3) and volume of the element with node coordinates x (8×3).
 // Returns false for a degenerate or inverted element (det J ≤ 0).
 bool hex8_gradients(const Mat83& x, Mat83& b, double& volume);

@@ -356,22 +356,19 @@ struct Reader {
     auto it = m.part_sets.find(sid);
     if (it == m.part_sets.end()) throw InputError(where, "part set " + std::to_string(sid) + " is not defined");
     const std::set<int> pids(it->second.begin(), it->second.end());
-    std::map<std::pair<int, int>, std::pair<int, int>> edges;  // undirected edge → (count, directed start)
-    std::vector<std::pair<int, int>> order;
+    std::map<std::pair<int, int>, int> edges;  // undirected edge → elements that have it
+    std::vector<std::pair<int, int>> order;    // each edge once, directed as its first element has it
     for (const auto& e : m.axis) {
       if (!pids.count(e.part)) continue;
       for (int k = 0; k < 4; ++k) {
         const int a = e.n[k], b = e.n[(k + 1) % 4];
         if (a == b) continue;  // the collapsed edge of a triangle
-        auto key = std::minmax(a, b);
-        auto& entry = edges[{key.first, key.second}];
-        if (entry.first++ == 0) order.push_back({a, b});
+        if (edges[std::minmax(a, b)]++ == 0) order.push_back({a, b});
       }
     }
     std::vector<Segment> out;
     for (const auto& [a, b] : order) {
-      auto key = std::minmax(a, b);
-      if (edges[{key.first, key.second}].first != 1) continue;
+      if (edges[std::minmax(a, b)] != 1) continue;
       Segment s;
       s.n[0] = a, s.n[1] = b, s.n[2] = s.n[3] = -1;
       out.push_back(s);
@@ -513,11 +510,9 @@ struct Reader {
       for (int k = 0; k < 8; ++k) e.n[k] = m.index_of(ids[static_cast<size_t>(k)], c.where);
       // Lumped mass: an eighth of ρ·V to each corner (repeated
       // corners of a degenerate element receive their shares too).
-      Mat83 x;
-      for (int k = 0; k < 8; ++k) x.row(k) = m.x0[static_cast<size_t>(e.n[k])].transpose();
       Mat83 b;
       double volume = 0.0;
-      if (!hex8_gradients(x, b, volume))
+      if (!hex8_gradients(hex8_gather(m.x0, e), b, volume))
         c.fail("solid element " + std::to_string(e.id) + " is inverted or degenerate (volume " + std::to_string(volume) +
                "): check its node order (1-2-3-4 counter-clockwise seen from 5-6-7-8)");
       const double rho = material_of(e.part, c).rho;

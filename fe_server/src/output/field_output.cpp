@@ -21,12 +21,12 @@ void put_unit(hid_t d, const std::string& unit) {
   H5Sclose(space);
   H5Tclose(type);
 }
+}  // namespace
 
 double von_mises(const Eigen::Matrix<double, 6, 1>& t) {
   return std::sqrt(0.5 * ((t(0) - t(1)) * (t(0) - t(1)) + (t(1) - t(2)) * (t(1) - t(2)) + (t(2) - t(0)) * (t(2) - t(0))) +
                    3.0 * (t(3) * t(3) + t(4) * t(4) + t(5) * t(5)));
 }
-}  // namespace
 
 FieldWriter::FieldWriter(const std::string& path, const Model& model) : m_(model), path_(path) {
   xdmf_ = path.substr(0, path.rfind('.')) + ".xdmf";

@@ -24,6 +24,10 @@
 
 namespace fe {
 
+// Von Mises stress of a Voigt stress (xx, yy, zz, xy, yz, zx; for an
+// axisymmetric element rr, yy, θθ, ry, 0, 0).
+double von_mises(const Eigen::Matrix<double, 6, 1>& s);
+
 class FieldWriter {
  public:
   // `path` is the HDF5 file; the XDMF index goes to the same name with .xdmf.

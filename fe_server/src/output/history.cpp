@@ -86,8 +86,7 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
   for (int e : model_.history_axis) {
     const auto& sg = s.axi_stress(static_cast<size_t>(e));
     for (int c = 0; c < 4; ++c) row_[k++] = sg(c);
-    const double a = sg(0) - sg(1), b = sg(1) - sg(2), c = sg(2) - sg(0);
-    row_[k++] = std::sqrt(0.5 * (a * a + b * b + c * c) + 3.0 * sg(3) * sg(3));
+    row_[k++] = von_mises(sg);
   }
   for (int e : model_.history_bars) row_[k++] = s.bar_stress(static_cast<size_t>(e));
   if (!model_.contacts.empty()) {

@@ -23,8 +23,8 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
   MassScalingReport r;
   for (auto& e : m.solids) {
     const Material& mat = m.materials.at(m.parts.at(e.part).material);
-    Mat83 x, b;
-    for (int k = 0; k < 8; ++k) x.row(k) = m.x0[static_cast<size_t>(e.n[k])].transpose();
+    const Mat83 x = hex8_gather(m.x0, e);
+    Mat83 b;
     double volume = 0.0;
     hex8_gradients(x, b, volume);
     auto& part = r.per_part[e.part];
@@ -57,13 +57,9 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
   }
   for (auto& e : m.axis) {
     const Material& mat = m.materials.at(m.parts.at(e.part).material);
-    Mat42 x;
+    const Mat42 x = axi4_gather(m.x0, e);
     bool fixed_r[4];
-    for (int k = 0; k < 4; ++k) {
-      const size_t i = static_cast<size_t>(e.n[k]);
-      x(k, 0) = m.x0[i].x(), x(k, 1) = m.x0[i].y();
-      fixed_r[k] = m.fixed[i][0];
-    }
+    for (int k = 0; k < 4; ++k) fixed_r[k] = m.fixed[static_cast<size_t>(e.n[k])][0];
     const Eigen::Vector4d mass = axi4_lumped_masses(x, mat.rho);
     auto& part = r.per_part[e.part];
     part.first += mass.sum();

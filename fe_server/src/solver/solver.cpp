@@ -10,22 +10,6 @@ namespace fe {
 
 namespace {
 
-
-Mat83 gather(const std::vector<Vec3>& a, const SolidElement& e) {
-  Mat83 out;
-  for (int k = 0; k < 8; ++k) out.row(k) = a[static_cast<size_t>(e.n[k])].transpose();
-  return out;
-}
-
-Mat42 gather_axi(const std::vector<Vec3>& a, const AxiElement& e) {
-  Mat42 out;
-  for (int k = 0; k < 4; ++k) {
-    const Vec3& p = a[static_cast<size_t>(e.n[k])];
-    out(k, 0) = p.x(), out(k, 1) = p.y();
-  }
-  return out;
-}
-
 bool in_rigid_part(const Model& m, int part) {
   auto p = m.parts.find(part);
   if (p == m.parts.end()) return false;
@@ -80,7 +64,7 @@ StableStep Solver::stable_dt(const Model& m) {
   for (const auto& e : m.solids) {
     if (in_rigid_part(m, e.part)) continue;
     const Material& mat = m.materials.at(m.parts.at(e.part).material);
-    const double dt_e = hex8_stable_step(gather(m.x0, e), mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2);
+    const double dt_e = hex8_stable_step(hex8_gather(m.x0, e), mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2);
     if (dt_e > 0.0)  // 0: inverted, which the reader refuses
       consider(dt_e, "solid element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
   }
@@ -90,7 +74,7 @@ StableStep Solver::stable_dt(const Model& m) {
     bool fixed_r[4];
     for (int k = 0; k < 4; ++k) fixed_r[k] = m.fixed[static_cast<size_t>(e.n[k])][0];
     const double dt_e =
-        axi4_stable_step(gather_axi(m.x0, e), mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2, fixed_r);
+        axi4_stable_step(axi4_gather(m.x0, e), mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2, fixed_r);
     if (dt_e > 0.0)
       consider(dt_e, "axisymmetric element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
   }
@@ -149,10 +133,9 @@ Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt), hex8_(model)
   }
   group_force_.assign(group_free_.size(), Vec3::Zero());
   // Contact sees the mass that moves with each node (a rigid body's whole mass).
-  std::vector<double> contact_mass = mass_;
+  contact_mass_ = mass_;
   for (size_t i = 0; i < n; ++i)
-    if (body_of_[i] >= 0) contact_mass[i] = model.rigid_bodies[static_cast<size_t>(body_of_[i])].mass;
-  contact_mass_ = contact_mass;
+    if (body_of_[i] >= 0) contact_mass_[i] = model.rigid_bodies[static_cast<size_t>(body_of_[i])].mass;
   for (const auto& c : model.contacts) {
     contacts_.push_back(std::make_unique<PenaltyContact>(model, c, dt, contact_mass_));
     contacts_.back()->refuse_initial_penetration(model, c, x_);

@@ -3,10 +3,13 @@
 //   fe_server --model DECK.k --ports ports.cfg [--listen HOST:PORT] [--token-file F]
 //             [--port-file F] [--out results.h5] [--accept-timeout S] [--step-timeout S]
 //   fe_server --model DECK.k --out results.h5           (standalone, no host)
+#include <arpa/inet.h>
+
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -43,7 +46,8 @@ int usage(std::ostream& os, int rc) {
         "  --out FILE            HDF5 time histories (default fe_results.h5)\n"
         "  --accept-timeout S    give up if no host connects within S seconds (default 300); until then\n"
         "                        strangers are refused and logged and the server keeps listening\n"
-        "  --handshake-timeout S a connection must deliver its HELLO within S seconds (default 5)\n"
+        "  --handshake-timeout S a connection must complete the handshake (HELLO, then AUTH) within\n"
+        "                        S seconds (default 5)\n"
         "  --step-timeout S      per-step receive deadline (default: the port table's timeout)\n"
         "  --quiet               no progress output\n"
         "Exit codes: 0 ok, 2 usage, 3 input rejected, 4 no host (every connection refused or none came),\n"
@@ -52,8 +56,14 @@ int usage(std::ostream& os, int rc) {
   return rc;
 }
 
+// Loopback only for "localhost" and literal addresses in 127.0.0.0/8 or ::1;
+// any other name (even one that starts with "127.") may resolve elsewhere.
 bool is_loopback(const std::string& host) {
-  return host == "localhost" || host.rfind("127.", 0) == 0 || host == "::1";
+  if (host == "localhost") return true;
+  unsigned char a[16];
+  if (inet_pton(AF_INET, host.c_str(), a) == 1) return a[0] == 127;
+  static const unsigned char v6_loopback[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
+  return inet_pton(AF_INET6, host.c_str(), a) == 1 && std::memcmp(a, v6_loopback, 16) == 0;
 }
 
 // The FE step for a requested step: as is if stable, else with selective

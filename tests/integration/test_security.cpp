@@ -128,6 +128,12 @@ TEST(Token, OffLoopbackAShortOrEmptyTokenIsRefused) {
   ChildProcess shortish(with);
   EXPECT_EQ(shortish.wait(kHardTimeout), 2) << shortish.output();
   EXPECT_NE(shortish.output().find("got 8"), std::string::npos) << shortish.output();
+  // A name is not an address: one that merely starts with "127." may resolve anywhere.
+  auto named = base;
+  named[6] = "127.0.0.1.example:0";
+  ChildProcess by_name(named);
+  EXPECT_EQ(by_name.wait(kHardTimeout), 2) << by_name.output();
+  EXPECT_NE(by_name.output().find("off loopback"), std::string::npos) << by_name.output();
   auto good = base;
   good.insert(good.end(), {"--token-file", dir.private_file("good", "0123456789abcdef0123")});
   ChildProcess fine(good);

@@ -158,3 +158,18 @@ TEST(Signals, ARunningJobsFileCanBeWatchedLive) {
   EXPECT_EQ(host->wait(kHardTimeout), 128 + SIGTERM) << host->output();
   EXPECT_EQ(server.child->wait(kHardTimeout), 7) << server.child->output();
 }
+
+// A server waiting for its host (here for up to 10 s) is in a blocking wait:
+// each stop signal still ends it at once (socketlib's waits look at the stop
+// flag every 200 ms) with 128 + N and the reason. 2 s: ten of those slices.
+TEST(Signals, EachStopSignalEndsAServerWaitingForItsHost) {
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    SCOPED_TRACE(sig);
+    TempDir dir;
+    Server server(dir);
+    ASSERT_GT(server.port, 0) << server.child->output();
+    kill(server.child->pid(), sig);
+    EXPECT_EQ(server.child->wait(2.0), 128 + sig) << server.child->output();
+    EXPECT_NE(server.child->output().find("while waiting for the host"), std::string::npos) << server.child->output();
+  }
+}

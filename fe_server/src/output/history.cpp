@@ -97,7 +97,8 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
   for (double v : {e.kinetic, e.internal, e.hourglass, e.contact, e.damping, e.external_work, e.balance_error})
     row_[k++] = v;
   writer_.append(row_);
-  energy_scale_ = std::max({energy_scale_, e.kinetic + e.internal, std::fabs(e.external_work)});
+  // The scale of the balance: the most energy the model held (springs included) or was given.
+  energy_scale_ = std::max({energy_scale_, e.kinetic + e.internal + e.spring, std::fabs(e.external_work)});
   if (fields_ && s.time() >= next_snapshot_ - 1e-12 * model_.snapshot_interval) {
     fields_->write(s);
     next_snapshot_ += model_.snapshot_interval;

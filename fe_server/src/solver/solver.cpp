@@ -170,7 +170,7 @@ void Solver::internal_forces() {
   energies_.internal += w.internal;
   energies_.hourglass += w.hourglass;
   damping_power_ = w.damping_power;
-  spring_energy_ = w.spring_energy;
+  energies_.spring = w.spring_energy;
 }
 
 double Solver::step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f) const {
@@ -292,7 +292,7 @@ void Solver::energy_account() {
   energies_.kinetic = ke;
   if (n_ > 0) energies_.damping += damping_power_ * dt_;
   const Energies& e = energies_;
-  const double total = ke + e.internal + spring_energy_ + e.hourglass + e.contact + e.damping - e.external_work;
+  const double total = ke + e.internal + e.spring + e.hourglass + e.contact + e.damping - e.external_work;
   if (n_ == 0) energy0_ = total;
   energies_.balance_error = total - energy0_;
   // A blow-up ends here with its step named, before a NaN reaches a position,

@@ -11,7 +11,7 @@
 //   6 velocities           v_{n+1/2} = v_{n-1/2} + Δt·a_n (Δt/2 on the first step)
 //   7 implicit_loads       forces that depend on v_{n+1/2} (TLM ports), solved with the
 //                          corrected velocity and added to f_ext and v_{n+1/2}
-//   8 energy_account       kinetic + internal + hourglass + contact + damping − external work
+//   8 energy_account       kinetic + internal + spring + hourglass + contact + damping − external work
 //   9 positions            x_{n+1} = x_n + Δt·v_{n+1/2}
 // The stable step is checked once at construction (fixed Δt).
 #pragma once
@@ -32,12 +32,13 @@ namespace fe {
 
 struct Energies {
   double kinetic = 0.0;
-  double internal = 0.0;       // elastic energy of elements and springs
+  double internal = 0.0;       // elastic energy of the elements (work of their stresses)
+  double spring = 0.0;         // energy stored in the discrete springs now
   double hourglass = 0.0;      // dissipated by hourglass control
   double contact = 0.0;        // stored in and dissipated by contact
   double damping = 0.0;        // dissipated by dampers and bulk viscosity
   double external_work = 0.0;  // done by user loads
-  // kinetic + internal + hourglass + contact + damping − external work − its value at t = 0
+  // kinetic + internal + spring + hourglass + contact + damping − external work − its value at t = 0
   double balance_error = 0.0;
 };
 
@@ -115,7 +116,7 @@ class Solver {
   Axi4State axi4_;
   BarState bars_;
   std::vector<std::unique_ptr<PenaltyContact>> contacts_;
-  double spring_energy_ = 0.0, damping_power_ = 0.0, contact_force_ = 0.0;
+  double damping_power_ = 0.0, contact_force_ = 0.0;
   Energies energies_;
   double energy0_ = 0.0;
 };

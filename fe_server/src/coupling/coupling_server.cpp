@@ -97,7 +97,7 @@ void PortMap::apply_inputs(const std::vector<double>& in) {
 
 void PortMap::accumulate(const Solver& s) {
   for (size_t slot = 0; slot < flow_sum_.size(); ++slot) {
-    flow_sum_[slot] += load_.step_flow(static_cast<int>(slot), s.v());
+    flow_sum_[slot] += load_.step_flow(static_cast<int>(slot), s.v_live());
     pressure_sum_[slot] += load_.pressure(static_cast<int>(slot));
   }
   ++substeps_;
@@ -110,8 +110,8 @@ void PortMap::measure_outputs(const Solver& s, std::vector<double>& out) {
     const int slot = out_slot_[i];
     if (out_mech_[i]) {
       switch (table_.to_host[i].quantity) {
-        case Quantity::Displacement: out[i] = mech_.displacement(slot, s.x()); break;
-        case Quantity::Velocity: out[i] = mech_.velocity(slot, s.v()); break;
+        case Quantity::Displacement: out[i] = mech_.displacement(slot, s.x_live()); break;
+        case Quantity::Velocity: out[i] = mech_.velocity(slot, s.v_live()); break;
         case Quantity::Force: out[i] = mech_.force(slot); break;
         default: out[i] = 0.0;
       }
@@ -120,10 +120,10 @@ void PortMap::measure_outputs(const Solver& s, std::vector<double>& out) {
     switch (table_.to_host[i].quantity) {
       case Quantity::Flow: out[i] = flow_sum_[static_cast<size_t>(slot)] / n; break;
       case Quantity::Pressure: out[i] = pressure_sum_[static_cast<size_t>(slot)] / n; break;
-      case Quantity::Displacement: out[i] = load_.displacement(slot, s.x()); break;
+      case Quantity::Displacement: out[i] = load_.displacement(slot, s.x_live()); break;
       case Quantity::Velocity: {
         const double a = load_.area(slot);
-        out[i] = a > 0.0 ? load_.flow(slot, s.v()) / a : 0.0;
+        out[i] = a > 0.0 ? load_.flow(slot, s.v_live()) / a : 0.0;
         break;
       }
       default: out[i] = 0.0;

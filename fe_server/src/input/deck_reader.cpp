@@ -3,6 +3,7 @@
 #include "elements/element_axi4.hpp"
 #include "elements/element_hex8.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <set>
 
@@ -57,9 +58,16 @@ struct Reader {
   DeckWarnings* warnings;
   std::map<int, std::pair<double, double>> spring_mats;  // mid → (k, c)
   std::map<int, std::pair<int, double>> sections;         // secid → (elform, bar area)
-  std::vector<Card> discrete_cards, mass_cards, spc_cards, spc_set_cards, vel_cards, rigid_cards, solid_cards,
+  struct NodalRigidBodyCards {
+    Card card;
+    Eigen::Matrix<bool, 3, 1> fixed_translation{false, false, false}, fixed_rotation{false, false, false};
+  };
+  std::vector<NodalRigidBodyCards> rigid_cards;
+  std::vector<Card> discrete_cards, mass_cards, spc_cards, spc_set_cards, vel_cards, solid_cards,
       beam_cards, shell_cards, line_set_cards;
   std::vector<std::pair<Card, Card>> vel_set_cards, vel_gen_cards;
+  std::map<int, RigidBody> inertias;  // *PART_INERTIA by part id
+  std::map<int, std::pair<int, config::SourceLocation>> inertia_com_node;  // part id → NODEID
 
   void warn(const config::SourceLocation& w, const std::string& msg) {
     if (warnings) warnings->messages.push_back(w.str() + ": warning: " + msg);
@@ -137,23 +145,34 @@ struct Reader {
         if (c.fields.size() >= 2 && c.integer_or(1, "DRO", 0) != 0)
           c.fail("only translational discrete elements (DRO = 0) are supported");
       }
-    } else if (kw == "*MAT_ELASTIC" || kw == "*MAT_001" || kw == "*MAT_RIGID" || kw == "*MAT_020") {
+    } else if (kw == "*MAT_RIGID" || kw == "*MAT_020") {
+      // Card 1: MID RO E PR ...; card 2 (optional): CMO CON1 CON2; card 3
+      // (optional): local axes for output, which change nothing here.
+      if (b.cards.empty()) b.fail(kw + " needs its material card");
+      Card c = fields_of(b.cards[0], kW10);
+      Material mat = elastic_constants(c);
+      mat.rigid = true;
+      if (b.cards.size() >= 2) {
+        Card c2 = fields_of(b.cards[1], kW10);
+        const long cmo = static_cast<long>(c2.real_or(0, "CMO", 0.0));
+        if (cmo == 1) {
+          mat.rigid_fixed_translation = constraint_code(c2, 1, "CON1");
+          mat.rigid_fixed_rotation = constraint_code(c2, 2, "CON2");
+        } else if (cmo != 0) {
+          c2.fail("CMO " + std::to_string(cmo) + ": only CMO = 0 (free) and 1 (global constraints CON1, CON2) are supported");
+        }
+      }
+      if (b.cards.size() > 3) b.fail(kw + " has at most three cards; define each material under its own keyword");
+      if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
+      m.materials[mat.id] = mat;
+    } else if (kw == "*PART_INERTIA") {
+      part_inertia(b);
+    } else if (kw == "*MAT_ELASTIC" || kw == "*MAT_001") {
       for (const Card& raw : b.cards) {
         Card c = fields_of(raw, kW10);
-        if (c.fields.empty() || c.fields[0].empty()) continue;  // a MAT_RIGID constraint card
-        if (kw == "*MAT_RIGID" || kw == "*MAT_020") {
-          // Card 2 (CMO, CON1, CON2) starts with a real; only card 1 has an integer MID with RO next.
-          if (c.fields.size() < 4) continue;
-        }
-        Material mat;
-        mat.id = static_cast<int>(c.integer(0, "MID"));
-        mat.rho = c.real(1, "RO");
-        mat.E = c.real(2, "E");
-        mat.nu = c.real_or(3, "PR", 0.0);
-        mat.rigid = kw == "*MAT_RIGID" || kw == "*MAT_020";
-        mat.where = c.where;
-        if (!(mat.rho > 0.0) || !(mat.E > 0.0)) c.fail("RO and E must be positive");
-        if (mat.nu < 0.0 || mat.nu >= 0.5) c.fail("PR must be in [0, 0.5)");
+        if (c.fields.empty() || c.fields[0].empty()) continue;
+        Material mat = elastic_constants(c);
+        if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
         m.materials[mat.id] = mat;
       }
     } else if (kw == "*MAT_SPRING_ELASTIC" || kw == "*MAT_S01") {
@@ -208,8 +227,23 @@ struct Reader {
         }
         list.push_back(s);
       }
-    } else if (kw == "*CONSTRAINED_NODAL_RIGID_BODY") {
-      for (const Card& raw : b.cards) rigid_cards.push_back(fields_of(raw, kW10));
+    } else if (kw == "*CONSTRAINED_NODAL_RIGID_BODY" || kw == "*CONSTRAINED_NODAL_RIGID_BODY_SPC") {
+      // _SPC: each body's card is followed by CMO CON1 CON2 (as *MAT_RIGID's).
+      const bool spc = kw == "*CONSTRAINED_NODAL_RIGID_BODY_SPC";
+      if (spc && b.cards.size() % 2) b.fail(kw + " needs two cards per body (PID CID NSID; CMO CON1 CON2)");
+      for (size_t i = 0; i < b.cards.size(); i += spc ? 2 : 1) {
+        NodalRigidBodyCards r{fields_of(b.cards[i], kW10), {}, {}};
+        if (spc) {
+          Card c2 = fields_of(b.cards[i + 1], kW10);
+          const long cmo = static_cast<long>(c2.real_or(0, "CMO", 0.0));
+          if (cmo != 0 && cmo != 1) c2.fail("CMO " + std::to_string(cmo) + ": only 0 (free) and 1 (global CON1, CON2) are supported");
+          if (cmo == 1) {
+            r.fixed_translation = constraint_code(c2, 1, "CON1");
+            r.fixed_rotation = constraint_code(c2, 2, "CON2");
+          }
+        }
+        rigid_cards.push_back(r);
+      }
     } else if (kw == "*BOUNDARY_SPC_NODE") {
       for (const Card& raw : b.cards) spc_cards.push_back(fields_of(raw, kW10));
     } else if (kw == "*BOUNDARY_SPC_SET") {
@@ -637,6 +671,64 @@ struct Reader {
         if (c.integer_or(static_cast<size_t>(2 + k), "DOF", 0) != 0) m.fixed[static_cast<size_t>(i)][k] = true;
   }
 
+  // MID RO E PR of *MAT_ELASTIC and *MAT_RIGID's first card.
+  static Material elastic_constants(const Card& c) {
+    Material mat;
+    mat.id = static_cast<int>(c.integer(0, "MID"));
+    mat.rho = c.real(1, "RO");
+    mat.E = c.real(2, "E");
+    mat.nu = c.real_or(3, "PR", 0.0);
+    mat.where = c.where;
+    if (!(mat.rho > 0.0) || !(mat.E > 0.0)) c.fail("RO and E must be positive");
+    if (mat.nu < 0.0 || mat.nu >= 0.5) c.fail("PR must be in [0, 0.5)");
+    return mat;
+  }
+
+  // *MAT_RIGID's CON1/CON2 codes: 0 none, 1 x, 2 y, 3 z, 4 x+y, 5 y+z, 6 z+x, 7 all.
+  static Eigen::Matrix<bool, 3, 1> constraint_code(const Card& c, size_t i, const char* name) {
+    const long code = static_cast<long>(c.real_or(i, name, 0.0));
+    if (code < 0 || code > 7) c.fail(std::string(name) + " must be 0..7, got " + std::to_string(code));
+    return {code == 1 || code == 4 || code == 6 || code == 7, code == 2 || code == 4 || code == 5 || code == 7,
+            code == 3 || code == 5 || code == 6 || code == 7};
+  }
+
+  // *PART_INERTIA: a *PART (title, PID SECID MID) followed by XC YC ZC TM
+  // IRCS NODEID, IXX IXY IXZ IYY IYZ IZZ (the tensor's components in global
+  // axes, about the centre of mass) and VTX VTY VTZ VRX VRY VRZ.
+  void part_inertia(const Block& b) {
+    if (b.cards.size() != 5)
+      b.fail("*PART_INERTIA needs five cards: title; PID SECID MID; XC YC ZC TM IRCS NODEID; IXX IXY IXZ IYY IYZ IZZ; "
+             "VTX VTY VTZ VRX VRY VRZ");
+    Card c = fields_of(b.cards[1], kW10), c3 = fields_of(b.cards[2], kW10), c4 = fields_of(b.cards[3], kW10),
+         c5 = fields_of(b.cards[4], kW10);
+    Part p;
+    p.title = config::trim(b.cards[0].text);
+    p.id = static_cast<int>(c.integer(0, "PID"));
+    p.section = static_cast<int>(c.integer_or(1, "SECID", 0));
+    p.material = static_cast<int>(c.integer_or(2, "MID", 0));
+    p.where = c.where;
+    if (m.parts.count(p.id)) c.fail("part " + std::to_string(p.id) + " defined twice");
+    m.parts[p.id] = p;
+    RigidBody rb;
+    rb.inertia_given = true;
+    rb.com = Vec3(c3.real_or(0, "XC", 0.0), c3.real_or(1, "YC", 0.0), c3.real_or(2, "ZC", 0.0));
+    rb.mass = c3.real(3, "TM");
+    if (!(rb.mass > 0.0)) c3.fail("TM must be positive");
+    if (c3.integer_or(4, "IRCS", 0) != 0) c3.fail("only IRCS = 0 (inertia tensor in global axes) is supported");
+    const long com_node = c3.integer_or(5, "NODEID", 0);
+    if (com_node != 0) inertia_com_node[p.id] = {static_cast<int>(com_node), c3.where};
+    const double ixx = c4.real(0, "IXX"), ixy = c4.real_or(1, "IXY", 0.0), ixz = c4.real_or(2, "IXZ", 0.0),
+                 iyy = c4.real(3, "IYY"), iyz = c4.real_or(4, "IYZ", 0.0), izz = c4.real(5, "IZZ");
+    rb.inertia << ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(rb.inertia);
+    if (eig.eigenvalues().minCoeff() < -1e-12 * eig.eigenvalues().maxCoeff())
+      c4.fail("the inertia tensor is not positive semi-definite");
+    rb.v0 = Vec3(c5.real_or(0, "VTX", 0.0), c5.real_or(1, "VTY", 0.0), c5.real_or(2, "VTZ", 0.0));
+    rb.omega0 = Vec3(c5.real_or(3, "VRX", 0.0), c5.real_or(4, "VRY", 0.0), c5.real_or(5, "VRZ", 0.0));
+    rb.where = c.where;
+    inertias[p.id] = rb;
+  }
+
   void rigid_bodies() {
     std::set<int> in_body;
     auto add_body = [&](RigidBody rb, const std::vector<int>& nodes, const Card* c) {
@@ -649,23 +741,39 @@ struct Reader {
         rb.nodes.push_back(idx);
         rb.mass += m.mass[static_cast<size_t>(idx)];
       }
-      if (!(rb.mass > 0.0)) throw InputError(rb.where, "rigid body " + std::to_string(rb.id) + " has no mass");
+      if (!(rb.mass > 0.0) && !rb.inertia_given)
+        throw InputError(rb.where, "rigid body " + std::to_string(rb.id) + " has no mass");
       m.rigid_bodies.push_back(rb);
     };
-    for (const Card& c : rigid_cards) {
+    for (const NodalRigidBodyCards& r : rigid_cards) {
+      const Card& c = r.card;
       RigidBody rb;
       rb.where = c.where;
       rb.id = static_cast<int>(c.integer(0, "PID"));
+      rb.fixed_translation = r.fixed_translation;
+      rb.fixed_rotation = r.fixed_rotation;
       add_body(rb, nodes_of_set(static_cast<int>(c.integer(2, "NSID")), c), &c);
     }
     // *MAT_RIGID parts: their element nodes move as one body.
     for (const auto& [pid, part] : m.parts) {
       auto mat = m.materials.find(part.material);
-      if (mat == m.materials.end() || !mat->second.rigid) continue;
-      RigidBody rb;
+      auto given = inertias.find(pid);
+      if (mat == m.materials.end() || !mat->second.rigid) {
+        if (given != inertias.end())
+          throw InputError(given->second.where, "*PART_INERTIA part " + std::to_string(pid) + " is not of a *MAT_RIGID material");
+        continue;
+      }
+      RigidBody rb = given != inertias.end() ? given->second : RigidBody();
       rb.id = pid;
       rb.where = part.where;
+      rb.fixed_translation = mat->second.rigid_fixed_translation;
+      rb.fixed_rotation = mat->second.rigid_fixed_rotation;
+      if (auto cn = inertia_com_node.find(pid); cn != inertia_com_node.end())
+        rb.com = m.x0[static_cast<size_t>(m.index_of(cn->second.first, cn->second.second))];
+      const double given_mass = rb.mass;
+      rb.mass = 0.0;
       add_body(rb, nodes_of_parts({pid}), nullptr);
+      if (rb.inertia_given) m.rigid_bodies.back().mass = given_mass;
     }
   }
 };

@@ -26,12 +26,23 @@ struct DiscreteElement {
   config::SourceLocation where;
 };
 
-// Nodes that move together. Translation only in this version: the one-DOF
-// scenes load bodies through their axis; rotational inertia comes with *MAT_RIGID.
+// Nodes that move together as one body with six DOFs (solver/rigid_body.hpp):
+// a *MAT_RIGID part's nodes, or a *CONSTRAINED_NODAL_RIGID_BODY's node set.
 struct RigidBody {
   int id = 0;
   std::vector<int> nodes;  // node indices
   double mass = 0.0;
+  // *PART_INERTIA: mass, centre of mass, inertia tensor about it (global
+  // axes) and initial velocities given in the deck instead of summed from the
+  // nodes.
+  bool inertia_given = false;
+  Vec3 com = Vec3::Zero();
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+  Vec3 v0 = Vec3::Zero(), omega0 = Vec3::Zero();
+  // Constrained global DOFs (*MAT_RIGID CMO = 1, CON1 and CON2); a
+  // translational SPC on any of the body's nodes also fixes that translation.
+  Eigen::Matrix<bool, 3, 1> fixed_translation{false, false, false};
+  Eigen::Matrix<bool, 3, 1> fixed_rotation{false, false, false};
   config::SourceLocation where;
 };
 
@@ -49,6 +60,9 @@ struct Material {
   int id = 0;
   double rho = 0.0, E = 0.0, nu = 0.0;
   bool rigid = false;
+  // *MAT_RIGID CMO = 1: CON1 and CON2 as fixed global translations and rotations.
+  Eigen::Matrix<bool, 3, 1> rigid_fixed_translation{false, false, false};
+  Eigen::Matrix<bool, 3, 1> rigid_fixed_rotation{false, false, false};
   // Derived: Lamé constants and the dilatational wave speed.
   double lambda() const { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
   double mu() const { return E / (2.0 * (1.0 + nu)); }

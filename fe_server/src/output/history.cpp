@@ -78,8 +78,8 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
   for (double v : outputs) row_[k++] = v;
   for (int i : model_.history_nodes) {
     const size_t n = static_cast<size_t>(i);
-    for (int c = 0; c < 3; ++c) row_[k++] = s.x()[n][c] - model_.x0[n][c];
-    for (int c = 0; c < 3; ++c) row_[k++] = s.v()[n][c];
+    for (int c = 0; c < 3; ++c) row_[k++] = s.x_live()[n][c] - model_.x0[n][c];
+    for (int c = 0; c < 3; ++c) row_[k++] = s.v_live()[n][c];
   }
   for (int e : model_.history_solids)
     for (int c = 0; c < 6; ++c) row_[k++] = s.stress(static_cast<size_t>(e))(c);

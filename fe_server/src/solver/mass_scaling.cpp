@@ -72,7 +72,8 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
     part.second += (f * f - 1.0) * mass.sum();
     ++r.elements_scaled;
   }
-  for (auto& rb : m.rigid_bodies) {  // bodies carry their nodes' masses
+  for (auto& rb : m.rigid_bodies) {  // bodies carry their nodes' masses (or *PART_INERTIA's)
+    if (rb.inertia_given) continue;
     rb.mass = 0.0;
     for (int i : rb.nodes) rb.mass += m.mass[static_cast<size_t>(i)];
   }

@@ -26,6 +26,58 @@ double moving_mass(const Model& m, int i) {
                                                : m.mass[static_cast<size_t>(i)];
 }
 
+// Nodes something loads or reads besides the inertia: springs and dampers,
+// contacts, loading sets and their reference nodes, history nodes, and the
+// nodes of deformable elements. Of a rigid body only these are kept current.
+std::vector<char> live_nodes(const Model& m) {
+  std::vector<char> live(m.x0.size(), 0);
+  auto mark = [&](int i) {
+    if (i >= 0) live[static_cast<size_t>(i)] = 1;
+  };
+  auto mark_segments = [&](int set) {
+    auto it = m.segment_sets.find(set);
+    if (it == m.segment_sets.end()) return;
+    for (const Segment& seg : it->second)
+      for (int k = 0; k < seg.corners(); ++k) mark(seg.n[k]);
+  };
+  auto mark_node_set = [&](int set, const config::SourceLocation& where) {
+    auto it = m.node_sets.find(set);
+    if (it == m.node_sets.end()) return;
+    for (int id : it->second) mark(m.index_of(id, where));
+  };
+  for (const auto& d : m.discretes) {
+    mark(d.n1);
+    mark(d.n2);
+  }
+  for (const auto& c : m.contacts) {
+    if (c.slave_nodes)
+      mark_node_set(c.slave_set, c.where);
+    else
+      mark_segments(c.slave_set);
+    mark_segments(c.master_set);
+  }
+  for (const auto& ls : m.loading_sets) {
+    if (ls.force)
+      mark_node_set(ls.segment_set, ls.where);
+    else
+      mark_segments(ls.segment_set);
+    mark(ls.reference_node);
+  }
+  for (int i : m.history_nodes) mark(i);
+  for (const auto& e : m.bars)
+    if (!in_rigid_part(m, e.part)) {
+      mark(e.n1);
+      mark(e.n2);
+    }
+  for (const auto& e : m.solids)
+    if (!in_rigid_part(m, e.part))
+      for (int n : e.n) mark(n);
+  for (const auto& e : m.axis)
+    if (!in_rigid_part(m, e.part))
+      for (int n : e.n) mark(n);
+  return live;
+}
+
 }  // namespace
 
 std::string hourglass_warning(const Energies& e) {
@@ -81,7 +133,8 @@ StableStep Solver::stable_dt(const Model& m) {
   return best;
 }
 
-Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt), hex8_(model), axi4_(model), bars_(model) {
+Solver::Solver(const Model& model, double dt)
+    : m_(model), dt_(dt), bodies_(model, live_nodes(model)), hex8_(model), axi4_(model), bars_(model) {
   if (!(dt > 0.0) || !std::isfinite(dt)) throw std::runtime_error("FE time step must be positive");
   const StableStep crit = stable_dt(model);
   // 1e-12 relative: mass scaling sets the density for exactly dt = TSSFAC·Δt_e,
@@ -101,20 +154,24 @@ Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt), hex8_(model)
   for (auto* a : {&a_, &f_int_, &f_ext_, &f_ext_prev_, &f_con_, &f_con_prev_}) a->assign(n, Vec3::Zero());
   x_prev_ = x_;
   body_of_.assign(n, -1);
-  body_fixed_.assign(model.rigid_bodies.size(), Eigen::Matrix<bool, 3, 1>(false, false, false));
-  for (size_t b = 0; b < model.rigid_bodies.size(); ++b) {
-    // A body moves as one: mass-weighted initial velocity, and a DOF fixed on
-    // any of its nodes is fixed for the whole body.
-    Vec3 p = Vec3::Zero();
-    for (int i : model.rigid_bodies[b].nodes) {
-      body_of_[static_cast<size_t>(i)] = static_cast<int>(b);
-      p += model.mass[static_cast<size_t>(i)] * model.v0[static_cast<size_t>(i)];
-      for (int k = 0; k < 3; ++k) body_fixed_[b][k] = body_fixed_[b][k] || model.fixed[static_cast<size_t>(i)][k];
-    }
-    const Vec3 vb = p / model.rigid_bodies[b].mass;
-    for (int i : model.rigid_bodies[b].nodes) v_[static_cast<size_t>(i)] = vb;
-  }
+  for (size_t b = 0; b < model.rigid_bodies.size(); ++b)
+    for (int i : model.rigid_bodies[b].nodes) body_of_[static_cast<size_t>(i)] = static_cast<int>(b);
+  // A body moves as one: its nodes start with v_c + ω × r.
+  bodies_.initial_velocities(v_);
   v_prev_ = v_;
+  // The node lists of the per-node passes.
+  std::vector<char> is_active(n, 0);
+  for (size_t i = 0; i < n; ++i)
+    if (body_of_[i] < 0) {
+      is_active[i] = 1;
+      free_.push_back(static_cast<int>(i));
+      if (model.fixed[i].any()) fixed_dofs_.emplace_back(static_cast<int>(i), model.fixed[i]);
+    }
+  for (size_t b = 0; b < bodies_.size(); ++b)
+    for (int i : bodies_[b].live) is_active[static_cast<size_t>(i)] = 1;
+  for (size_t i = 0; i < n; ++i)
+    if (is_active[i]) active_.push_back(static_cast<int>(i));
+  // Mobility of stage 7: a node alone, or its body's translation.
   group_.resize(n);
   group_inv_mass_.assign(n + model.rigid_bodies.size(), 0.0);
   group_free_.assign(n + model.rigid_bodies.size(), Vec3::Ones());
@@ -126,12 +183,12 @@ Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt), hex8_(model)
       for (int k = 0; k < 3; ++k) group_free_[i][k] = model.fixed[i][k] ? 0.0 : 1.0;
     }
   }
-  for (size_t b = 0; b < model.rigid_bodies.size(); ++b) {
-    const double mb = model.rigid_bodies[b].mass;
-    group_inv_mass_[n + b] = mb > 0.0 ? 1.0 / mb : 0.0;
-    for (int k = 0; k < 3; ++k) group_free_[n + b][k] = body_fixed_[b][k] ? 0.0 : 1.0;
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    group_inv_mass_[n + b] = 1.0 / bodies_[b].mass;
+    group_free_[n + b] = bodies_[b].free_translation;
   }
   group_force_.assign(group_free_.size(), Vec3::Zero());
+  group_moment_.assign(bodies_.size(), Vec3::Zero());
   // Contact sees the mass that moves with each node (a rigid body's whole mass).
   contact_mass_ = mass_;
   for (size_t i = 0; i < n; ++i)
@@ -140,6 +197,19 @@ Solver::Solver(const Model& model, double dt) : m_(model), dt_(dt), hex8_(model)
     contacts_.push_back(std::make_unique<PenaltyContact>(model, c, dt, contact_mass_));
     contacts_.back()->refuse_initial_penetration(model, c, x_);
   }
+}
+
+const std::vector<Vec3>& Solver::x() const {
+  if (!interior_placed_) {
+    bodies_.place_interior(x_, v_);
+    interior_placed_ = true;
+  }
+  return x_;
+}
+
+const std::vector<Vec3>& Solver::v() const {
+  x();
+  return v_;
 }
 
 double Solver::max_penetration() const {
@@ -154,7 +224,7 @@ double Solver::bar_stress(size_t e) const {
 }
 
 void Solver::internal_forces() {
-  for (auto& f : f_int_) f.setZero();
+  for (int i : active_) f_int_[static_cast<size_t>(i)].setZero();
   ElementWork w;
   try {
     discrete_forces(m_, x_, v_, f_int_, w);
@@ -176,13 +246,16 @@ void Solver::internal_forces() {
 double Solver::step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f) const {
   if (n_ == 0) return 0.0;
   double w = 0.0;
-  for (size_t i = 0; i < x_.size(); ++i) w += 0.5 * (f_prev[i] + f[i]).dot(x_[i] - x_prev_[i]);
+  for (int k : active_) {
+    const size_t i = static_cast<size_t>(k);
+    w += 0.5 * (f_prev[i] + f[i]).dot(x_[i] - x_prev_[i]);
+  }
   return w;
 }
 
 void Solver::user_loads() {
   f_ext_prev_.swap(f_ext_);
-  for (auto& f : f_ext_) f.setZero();
+  for (int i : active_) f_ext_[static_cast<size_t>(i)].setZero();
   if (user_load_) user_load_->apply(t_, x_, v_, f_ext_);
   // Their work is accounted in energy_account, once stage 7 has added the
   // forces that depend on v_{n+1/2}.
@@ -191,46 +264,43 @@ void Solver::user_loads() {
 void Solver::contact() {
   if (contacts_.empty()) return;  // f_con_ stays zero: no per-node work in models without contact
   f_con_prev_.swap(f_con_);
-  for (auto& f : f_con_) f.setZero();
+  for (int i : active_) f_con_[static_cast<size_t>(i)].setZero();
   for (auto& c : contacts_) c->apply(x_, v_, f_con_, n_);
   // Energy taken by the contact: minus the work its forces did on the nodes.
   energies_.contact -= step_work(f_con_prev_, f_con_);
   double total = 0.0;
-  for (const auto& f : f_con_) total += f.norm();
+  for (int i : active_) total += f_con_[static_cast<size_t>(i)].norm();
   contact_force_ = 0.5 * total;  // each pair appears twice (node and segment side)
 }
 
 void Solver::accelerations() {
-  for (size_t i = 0; i < x_.size(); ++i) {
-    if (body_of_[i] >= 0) continue;
+  for (int k : free_) {
+    const size_t i = static_cast<size_t>(k);
     a_[i] = mass_[i] > 0.0 ? Vec3((f_ext_[i] + f_int_[i] + f_con_[i]) / mass_[i]) : Vec3::Zero();
   }
-  for (const auto& b : m_.rigid_bodies) {
-    Vec3 f = Vec3::Zero();
-    for (int i : b.nodes) {
-      const size_t k = static_cast<size_t>(i);
-      f += f_ext_[k] + f_int_[k] + f_con_[k];
-    }
-    const Vec3 ab = f / b.mass;
-    for (int i : b.nodes) a_[static_cast<size_t>(i)] = ab;
-  }
+  bodies_.sum_loads(f_int_, f_ext_, f_con_, x_);
 }
 
 void Solver::boundary_conditions() {
-  for (size_t i = 0; i < x_.size(); ++i) {
-    const auto& fixed = body_of_[i] >= 0 ? body_fixed_[static_cast<size_t>(body_of_[i])] : m_.fixed[i];
-    for (int k = 0; k < 3; ++k)
-      if (fixed[k]) {
-        a_[i][k] = 0.0;
-        v_[i][k] = 0.0;
+  // Free nodes here; a body's constrained DOFs are held in its own update.
+  for (const auto& [k, fixed] : fixed_dofs_) {
+    const size_t i = static_cast<size_t>(k);
+    for (int d = 0; d < 3; ++d)
+      if (fixed[d]) {
+        a_[i][d] = 0.0;
+        v_[i][d] = 0.0;
       }
   }
 }
 
 void Solver::velocities() {
-  v_prev_ = v_;
+  for (int i : active_) v_prev_[static_cast<size_t>(i)] = v_[static_cast<size_t>(i)];
   const double h = n_ == 0 ? 0.5 * dt_ : dt_;  // v_{1/2} = v_0 + Δt/2·a_0
-  for (size_t i = 0; i < v_.size(); ++i) v_[i] += h * a_[i];
+  for (int k : free_) {
+    const size_t i = static_cast<size_t>(k);
+    v_[i] += h * a_[i];
+  }
+  bodies_.advance_velocities(h, dt_, x_, v_);
 }
 
 void Solver::implicit_loads() {
@@ -252,16 +322,20 @@ void Solver::implicit_loads() {
     const size_t i = static_cast<size_t>(nf.node);
     f_ext_[i] += nf.f;
     const size_t g = static_cast<size_t>(group_[i]);
-    if (group_force_[g].isZero()) touched_groups_.push_back(static_cast<int>(g));
+    if (group_force_[g].isZero() && (g < n || group_moment_[g - n].isZero())) touched_groups_.push_back(static_cast<int>(g));
     group_force_[g] += nf.f;
+    if (g >= n) group_moment_[g - n] += (x_[i] - bodies_[g - n].com).cross(nf.f);
   }
+  // The mobility above is a body's translation: exact for loads without a
+  // moment about its centre (a cavity on a body of revolution); a moment
+  // still turns the body here, one step explicit.
   for (int gi : touched_groups_) {
     const size_t g = static_cast<size_t>(gi);
-    const Vec3 dv = mob.h * group_inv_mass_[g] * group_free_[g].cwiseProduct(group_force_[g]);
     if (g < n) {
-      v_[g] += dv;
+      v_[g] += mob.h * group_inv_mass_[g] * group_free_[g].cwiseProduct(group_force_[g]);
     } else {
-      for (int i : m_.rigid_bodies[g - n].nodes) v_[static_cast<size_t>(i)] += dv;
+      bodies_.add_impulse(g - n, group_force_[g], group_moment_[g - n], mob.h, dt_, x_, v_);
+      group_moment_[g - n].setZero();
     }
     group_force_[g].setZero();
   }
@@ -269,8 +343,13 @@ void Solver::implicit_loads() {
 }
 
 void Solver::positions() {
-  x_prev_ = x_;
-  for (size_t i = 0; i < x_.size(); ++i) x_[i] += dt_ * v_[i];
+  for (int i : active_) x_prev_[static_cast<size_t>(i)] = x_[static_cast<size_t>(i)];
+  for (int k : free_) {
+    const size_t i = static_cast<size_t>(k);
+    x_[i] += dt_ * v_[i];
+  }
+  bodies_.advance_positions(dt_, x_, v_);
+  interior_placed_ = bodies_.size() == 0;
 }
 
 void Solver::energy_account() {
@@ -278,16 +357,11 @@ void Solver::energy_account() {
   energies_.external_work += step_work(f_ext_prev_, f_ext_);
   // Kinetic energy at t_n from the mean of v_{n-1/2} and v_{n+1/2}
   // (v_0 on the first step), rigid bodies once with their whole mass.
-  double ke = 0.0;
-  for (size_t i = 0; i < v_.size(); ++i) {
-    if (body_of_[i] >= 0) continue;
+  double ke = bodies_.kinetic_energy(n_ == 0);
+  for (int k : free_) {
+    const size_t i = static_cast<size_t>(k);
     const Vec3 vn = n_ == 0 ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
     ke += 0.5 * mass_[i] * vn.squaredNorm();
-  }
-  for (const auto& b : m_.rigid_bodies) {
-    const size_t i = static_cast<size_t>(b.nodes.front());
-    const Vec3 vn = n_ == 0 ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
-    ke += 0.5 * b.mass * vn.squaredNorm();
   }
   energies_.kinetic = ke;
   if (n_ > 0) energies_.damping += damping_power_ * dt_;

@@ -6,14 +6,19 @@
 //                          axisymmetric quads)
 //   2 user_loads           f_ext(x_n, v_{n-1/2})  ← the UserLoad hook
 //   3 contact              penalty contact forces
-//   4 accelerations        a_n = (f_ext + f_int + f_contact) / m, rigid bodies as one mass
+//   4 accelerations        a_n = (f_ext + f_int + f_contact) / m; a rigid body's force
+//                          and moment from its live nodes (rigid_body.hpp)
 //   5 boundary_conditions  a = 0, v = 0 on fixed DOFs
 //   6 velocities           v_{n+1/2} = v_{n-1/2} + Δt·a_n (Δt/2 on the first step)
 //   7 implicit_loads       forces that depend on v_{n+1/2} (TLM ports), solved with the
 //                          corrected velocity and added to f_ext and v_{n+1/2}
 //   8 energy_account       kinetic + internal + spring + hourglass + contact + damping − external work
-//   9 positions            x_{n+1} = x_n + Δt·v_{n+1/2}
+//   9 positions            x_{n+1} = x_n + Δt·v_{n+1/2}; rigid bodies rotate and move
 // The stable step is checked once at construction (fixed Δt).
+//
+// Per-node passes run over the active nodes only: every node outside rigid
+// bodies, and the live nodes of the bodies (those something loads or
+// reads: rigid_body.hpp). A body's other nodes cost nothing per step.
 #pragma once
 
 #include <memory>
@@ -27,6 +32,7 @@
 #include "elements/element_hex8.hpp"
 #include "model/model.hpp"
 #include "loads/user_load.hpp"
+#include "solver/rigid_body.hpp"
 
 namespace fe {
 
@@ -66,8 +72,19 @@ class Solver {
   double time() const { return t_; }
   long step_count() const { return n_; }
   double dt() const { return dt_; }
-  const std::vector<Vec3>& x() const { return x_; }
-  const std::vector<Vec3>& v() const { return v_; }  // v_{n-1/2} of the next step
+  // Positions x_n and velocities v_{n-1/2} (of the next step) of every node:
+  // places the rigid bodies' interior nodes first (O(mesh); for field
+  // snapshots and tests).
+  const std::vector<Vec3>& x() const;
+  const std::vector<Vec3>& v() const;
+  // The same arrays without placing: current on every node that is not an
+  // interior node of a rigid body, i.e. every node a load, contact, spring,
+  // element or history reads. For per-step readers.
+  const std::vector<Vec3>& x_live() const { return x_; }
+  const std::vector<Vec3>& v_live() const { return v_; }
+  const RigidBodies& bodies() const { return bodies_; }
+  // Nodes the per-node passes visit (see above); for the benchmarks' counts.
+  size_t active_nodes() const { return active_.size(); }
   const Energies& energies() const { return energies_; }
   // Stress (Voigt: xx, yy, zz, xy, yz, zx) of solid element e.
   const Eigen::Matrix<double, 6, 1>& stress(size_t e) const { return hex8_.sigma[e]; }
@@ -99,17 +116,23 @@ class Solver {
   double t_ = 0.0;
   long n_ = 0;
   UserLoad* user_load_ = nullptr;
-  // Nodal state, one array per quantity.
-  std::vector<Vec3> x_, v_, a_, f_int_, f_ext_, f_ext_prev_, f_con_, f_con_prev_, x_prev_, v_prev_;
+  // Nodal state, one array per quantity. x_ and v_ are mutable because
+  // x() and v() place the bodies' interior nodes, which no pass reads.
+  mutable std::vector<Vec3> x_, v_;
+  mutable bool interior_placed_ = true;
+  std::vector<Vec3> a_, f_int_, f_ext_, f_ext_prev_, f_con_, f_con_prev_, x_prev_, v_prev_;
   std::vector<double> mass_, contact_mass_;
   std::vector<int> body_of_;  // rigid body index per node, -1 if none
-  std::vector<Eigen::Matrix<bool, 3, 1>> body_fixed_;
+  std::vector<int> active_;   // nodes of the per-node passes, ascending
+  std::vector<int> free_;     // nodes not in a rigid body, ascending
+  std::vector<std::pair<int, Eigen::Matrix<bool, 3, 1>>> fixed_dofs_;  // free nodes with an SPC
+  RigidBodies bodies_;
   // Mobility for stage 7: group per node (the node, or N + its body), and per group.
   std::vector<int> group_;
   std::vector<double> group_inv_mass_;
   std::vector<Vec3> group_free_;
   std::vector<NodalForce> implicit_forces_;
-  std::vector<Vec3> group_force_;   // scratch, zero outside implicit_loads()
+  std::vector<Vec3> group_force_, group_moment_;   // scratch, zero outside implicit_loads()
   std::vector<int> touched_groups_;
   // Element state, one struct per element type (elements/).
   Hex8State hex8_;

@@ -222,3 +222,26 @@ TEST(RigidBody, OnlyTheLiveNodesOfABodyArePassedOverEachStep) {
   // x() places the interior nodes: the bottom corner moved with the body.
   EXPECT_NEAR(s.x()[0].z(), s.bodies()[0].com.z() - s.bodies()[0].com0.z(), 1e-12);
 }
+
+// A user load that does not say which nodes it loads may load any node, an
+// interior node of a rigid body included: the solver then keeps every node
+// live, and the body feels the force.
+TEST(RigidBody, AnUndeclaredUserLoadOnAnInteriorNodeMovesTheBody) {
+  struct Push : fe::UserLoad {
+    void apply(double, const std::vector<Vec3>&, const std::vector<Vec3>&, std::vector<Vec3>& f) override {
+      f[0] += Vec3(0, 0, 10.0);
+    }
+  } push;
+  const std::string deck =
+      "*KEYWORD\n*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n5,0,0,1\n6,1,0,1\n7,1,1,1\n8,0,1,1\n"
+      "*PART\nblock\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_RIGID\n1,1000,2.1e11,0.3\n1.0,0,7\n"
+      "*ELEMENT_SOLID\n1,1,1,2,3,4,5,6,7,8\n";
+  fe::Model m = fe::parse_deck(deck, "push.k");
+  fe::Solver s(m, 1e-4);
+  EXPECT_EQ(s.active_nodes(), 0u) << "nothing reads or loads the block";
+  s.set_user_load(&push);
+  EXPECT_EQ(s.active_nodes(), 8u);
+  for (int k = 0; k < 100; ++k) s.step();
+  // 10 N on 1000 kg: v_{n+1/2} after 100 steps is a·(Δt/2 + 99·Δt).
+  EXPECT_NEAR(s.bodies()[0].v.z(), 10.0 / 1000.0 * 99.5e-4, 1e-15);
+}

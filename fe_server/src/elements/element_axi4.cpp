@@ -106,11 +106,11 @@ double axi4_stable_step(const Mat42& x, double lambda, double mu, double rho, do
 }
 
 Axi4State::Axi4State(const Model& m)
-    : sigma(m.axis.size(), Eigen::Matrix<double, 6, 1>::Zero()), active(m.axis.size()), constants(m.axis.size()) {
+    : sigma(m.axis.size(), Eigen::Matrix<double, 6, 1>::Zero()), constants(m.axis.size()) {
   for (size_t e = 0; e < m.axis.size(); ++e) {
     const AxiElement& el = m.axis[e];
     const Material& mat = m.materials.at(m.parts.at(el.part).material);
-    active[e] = !mat.rigid;
+    if (!mat.rigid) elements.push_back(static_cast<int>(e));
     Axi4Geometry g;
     axi4_geometry(axi4_gather(m.x0, el), g);
     constants[e] = {mat.lambda(), mat.mu(), mat.rho, mat.wave_speed(),
@@ -124,8 +124,8 @@ void axi4_forces(const Model& m, Axi4State& st, const std::vector<Vec3>& x_, con
   constexpr double kXi[4] = {-1, 1, 1, -1}, kEta[4] = {-1, -1, 1, 1}, kH[4] = {1, -1, 1, -1};
   constexpr double kTwoPi = 6.283185307179586;
   const double q1 = m.bulk_q1, q2 = m.bulk_q2;
-  for (size_t e = 0; e < m.axis.size(); ++e) {
-    if (!st.active[e]) continue;
+  for (int ei : st.elements) {
+    const size_t e = static_cast<size_t>(ei);
     const AxiElement& el = m.axis[e];
     const Axi4State::Constants& k = st.constants[e];
     double r[4], y[4], vr[4], vy[4];

@@ -89,7 +89,7 @@ struct Axi4State {
     double hourglass;  // axi4_hourglass_coefficient of the initial shape
   };
   std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // rr, yy (axial), θθ (hoop), ry, 0, 0
-  std::vector<char> active;                        // 0 for elements of rigid parts
+  std::vector<int> elements;                       // the elements of deformable parts
   std::vector<Constants> constants;
   explicit Axi4State(const Model& m);
 };

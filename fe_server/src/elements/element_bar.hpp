@@ -9,10 +9,13 @@
 
 namespace fe {
 
-// The bars' state: axial force per element, N (tension positive).
+// The bars' state: axial force per element, N (tension positive), and what
+// is resolved once: the bars of deformable parts and their axial stiffness E·A.
 struct BarState {
   std::vector<double> force;
-  explicit BarState(const Model& m) : force(m.bars.size(), 0.0) {}
+  std::vector<int> elements;
+  std::vector<double> EA;
+  explicit BarState(const Model& m);
 };
 
 // Updates the axial forces over a step dt and adds them to f; internal work to w.

@@ -89,13 +89,12 @@ Mat83 hex8_gather(const std::vector<Vec3>& a, const SolidElement& e) {
 
 Hex8State::Hex8State(const Model& m)
     : sigma(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()),
-      active(m.solids.size()),
       material(m.solids.size()),
       hourglass(m.solids.size()) {
   for (size_t e = 0; e < m.solids.size(); ++e) {
     const SolidElement& el = m.solids[e];
     const Material& mat = m.materials.at(m.parts.at(el.part).material);
-    active[e] = !mat.rigid;
+    if (!mat.rigid) elements.push_back(static_cast<int>(e));
     material[e] = &mat;
     Mat83 b;
     double volume = 0.0;
@@ -108,8 +107,8 @@ void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x_all, 
                  double dt, std::vector<Vec3>& f_all, ElementWork& w) {
   using Voigt = Eigen::Matrix<double, 6, 1>;
   const double q1 = m.bulk_q1, q2 = m.bulk_q2;
-  for (size_t e = 0; e < m.solids.size(); ++e) {
-    if (!st.active[e]) continue;
+  for (int ei : st.elements) {
+    const size_t e = static_cast<size_t>(ei);
     const SolidElement& el = m.solids[e];
     const Material& mat = *st.material[e];
     const Mat83 x = hex8_gather(x_all, el), v = hex8_gather(v_all, el);

@@ -53,7 +53,7 @@ double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, do
 // resolved once (rigid or not, material, hourglass viscosity).
 struct Hex8State {
   std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // Voigt: xx, yy, zz, xy, yz, zx
-  std::vector<char> active;                        // 0 for elements of rigid parts
+  std::vector<int> elements;                       // the elements of deformable parts
   std::vector<const Material*> material;
   std::vector<double> hourglass;  // Q_h·ρ·c·V0^(2/3)/4, fixed per element (V changes little)
   explicit Hex8State(const Model& m);

@@ -75,6 +75,13 @@ class CavityPressureLoad : public UserLoad {
 
   void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
              std::vector<Vec3>& f_ext) override;
+  bool loaded_nodes(std::vector<int>& nodes) const override {
+    for (const PortSurface& ps : surfaces_) {
+      nodes.insert(nodes.end(), ps.nodes.begin(), ps.nodes.end());
+      if (ps.bounds.reference_node >= 0) nodes.push_back(ps.bounds.reference_node);
+    }
+    return true;
+  }
   // The TLM ports' pressures and forces at the velocity of t_n (see above).
   void apply_implicit(const Mobility& mob, const std::vector<Vec3>& v_old, const std::vector<Vec3>& v_pred,
                       std::vector<NodalForce>& out) override;

@@ -18,6 +18,10 @@ class MechanicalLoad : public UserLoad {
   void set_force(int slot, double F) { force_[static_cast<size_t>(slot)] = F; }
   double force(int slot) const { return force_[static_cast<size_t>(slot)]; }
   void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_ext) override;
+  bool loaded_nodes(std::vector<int>& nodes) const override {
+    for (const auto& set : nodes_) nodes.insert(nodes.end(), set.begin(), set.end());
+    return true;
+  }
   double displacement(int slot, const std::vector<Vec3>& x) const;
   double velocity(int slot, const std::vector<Vec3>& v) const;
 
@@ -34,6 +38,11 @@ class UserLoads : public UserLoad {
   void add(UserLoad* l) { loads_.push_back(l); }
   void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_ext) override {
     for (UserLoad* l : loads_) l->apply(t, x, v, f_ext);
+  }
+  bool loaded_nodes(std::vector<int>& nodes) const override {
+    bool all_declared = true;
+    for (UserLoad* l : loads_) all_declared = l->loaded_nodes(nodes) && all_declared;
+    return all_declared;
   }
   // Each load solves against the same prediction: exact while at most one of
   // them has implicit ports on a given body (the cavity load holds them all).

@@ -42,6 +42,11 @@ class UserLoad {
   virtual ~UserLoad() = default;
   virtual void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                      std::vector<Vec3>& f_ext) = 0;
+  // The nodes this load adds forces to or reads x and v of (appended to
+  // `nodes`), so that the solver's per-node passes and the rigid bodies'
+  // live nodes cover them and nothing more. false: any node may be loaded
+  // (the solver then keeps every node current, at O(mesh) per step).
+  virtual bool loaded_nodes(std::vector<int>& /*nodes*/) const { return false; }
   // Stage 7 (see above). `v_old` is v_{n-1/2} (v_0 on the first step),
   // `v_pred` is v_{n+1/2} without this load's forces.
   virtual void apply_implicit(const Mobility&, const std::vector<Vec3>& /*v_old*/, const std::vector<Vec3>& /*v_pred*/,

@@ -86,8 +86,17 @@ RigidBodies::RigidBodies(const Model& model, const std::vector<char>& live) : m_
     s.v_prev = s.v;
     s.omega_prev = s.omega;
     s.rotation_rate << 0.0, -s.omega.z(), s.omega.y(), s.omega.z(), 0.0, -s.omega.x(), -s.omega.y(), s.omega.x(), 0.0;
-    for (int i : rb.nodes) (live[static_cast<size_t>(i)] ? s.live : s.interior).push_back(i);
     bodies_.push_back(std::move(s));
+  }
+  set_live(live);
+}
+
+void RigidBodies::set_live(const std::vector<char>& live) {
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    RigidBodyState& s = bodies_[b];
+    s.live.clear();
+    s.interior.clear();
+    for (int i : m_.rigid_bodies[b].nodes) (live[static_cast<size_t>(i)] ? s.live : s.interior).push_back(i);
   }
 }
 

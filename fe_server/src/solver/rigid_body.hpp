@@ -64,6 +64,8 @@ class RigidBodies {
  public:
   // live[i]: node i is read or loaded by something (see above).
   RigidBodies(const Model& model, const std::vector<char>& live);
+  // New live nodes (a user load set after construction).
+  void set_live(const std::vector<char>& live);
 
   size_t size() const { return bodies_.size(); }
   const RigidBodyState& operator[](size_t b) const { return bodies_[b]; }

@@ -26,56 +26,57 @@ double moving_mass(const Model& m, int i) {
                                                : m.mass[static_cast<size_t>(i)];
 }
 
-// Nodes something loads or reads besides the inertia: springs and dampers,
-// contacts, loading sets and their reference nodes, history nodes, and the
-// nodes of deformable elements. Of a rigid body only these are kept current.
-std::vector<char> live_nodes(const Model& m) {
-  std::vector<char> live(m.x0.size(), 0);
-  auto mark = [&](int i) {
-    if (i >= 0) live[static_cast<size_t>(i)] = 1;
-  };
-  auto mark_segments = [&](int set) {
+// Node lists of the per-node passes, by what reaches the nodes.
+struct NodeReach {
+  std::vector<char> internal, contact, loading, history;
+};
+
+NodeReach node_reach(const Model& m) {
+  const size_t n = m.x0.size();
+  NodeReach r{std::vector<char>(n, 0), std::vector<char>(n, 0), std::vector<char>(n, 0), std::vector<char>(n, 0)};
+  auto mark_segments = [&](std::vector<char>& to, int set) {
     auto it = m.segment_sets.find(set);
     if (it == m.segment_sets.end()) return;
     for (const Segment& seg : it->second)
-      for (int k = 0; k < seg.corners(); ++k) mark(seg.n[k]);
+      for (int k = 0; k < seg.corners(); ++k) to[static_cast<size_t>(seg.n[k])] = 1;
   };
-  auto mark_node_set = [&](int set, const config::SourceLocation& where) {
+  auto mark_node_set = [&](std::vector<char>& to, int set, const config::SourceLocation& where) {
     auto it = m.node_sets.find(set);
     if (it == m.node_sets.end()) return;
-    for (int id : it->second) mark(m.index_of(id, where));
+    for (int id : it->second) to[static_cast<size_t>(m.index_of(id, where))] = 1;
   };
-  for (const auto& d : m.discretes) {
-    mark(d.n1);
-    mark(d.n2);
-  }
+  for (const auto& d : m.discretes) r.internal[static_cast<size_t>(d.n1)] = r.internal[static_cast<size_t>(d.n2)] = 1;
+  for (const auto& e : m.bars)
+    if (!in_rigid_part(m, e.part)) r.internal[static_cast<size_t>(e.n1)] = r.internal[static_cast<size_t>(e.n2)] = 1;
+  for (const auto& e : m.solids)
+    if (!in_rigid_part(m, e.part))
+      for (int k : e.n) r.internal[static_cast<size_t>(k)] = 1;
+  for (const auto& e : m.axis)
+    if (!in_rigid_part(m, e.part))
+      for (int k : e.n) r.internal[static_cast<size_t>(k)] = 1;
   for (const auto& c : m.contacts) {
     if (c.slave_nodes)
-      mark_node_set(c.slave_set, c.where);
+      mark_node_set(r.contact, c.slave_set, c.where);
     else
-      mark_segments(c.slave_set);
-    mark_segments(c.master_set);
+      mark_segments(r.contact, c.slave_set);
+    mark_segments(r.contact, c.master_set);
   }
   for (const auto& ls : m.loading_sets) {
     if (ls.force)
-      mark_node_set(ls.segment_set, ls.where);
+      mark_node_set(r.loading, ls.segment_set, ls.where);
     else
-      mark_segments(ls.segment_set);
-    mark(ls.reference_node);
+      mark_segments(r.loading, ls.segment_set);
+    if (ls.reference_node >= 0) r.loading[static_cast<size_t>(ls.reference_node)] = 1;
   }
-  for (int i : m.history_nodes) mark(i);
-  for (const auto& e : m.bars)
-    if (!in_rigid_part(m, e.part)) {
-      mark(e.n1);
-      mark(e.n2);
-    }
-  for (const auto& e : m.solids)
-    if (!in_rigid_part(m, e.part))
-      for (int n : e.n) mark(n);
-  for (const auto& e : m.axis)
-    if (!in_rigid_part(m, e.part))
-      for (int n : e.n) mark(n);
-  return live;
+  for (int i : m.history_nodes) r.history[static_cast<size_t>(i)] = 1;
+  return r;
+}
+
+std::vector<int> listed(const std::vector<char>& flags) {
+  std::vector<int> out;
+  for (size_t i = 0; i < flags.size(); ++i)
+    if (flags[i]) out.push_back(static_cast<int>(i));
+  return out;
 }
 
 }  // namespace
@@ -134,7 +135,7 @@ StableStep Solver::stable_dt(const Model& m) {
 }
 
 Solver::Solver(const Model& model, double dt)
-    : m_(model), dt_(dt), bodies_(model, live_nodes(model)), hex8_(model), axi4_(model), bars_(model) {
+    : m_(model), dt_(dt), bodies_(model, std::vector<char>(model.x0.size(), 0)), hex8_(model), axi4_(model), bars_(model) {
   if (!(dt > 0.0) || !std::isfinite(dt)) throw std::runtime_error("FE time step must be positive");
   const StableStep crit = stable_dt(model);
   // 1e-12 relative: mass scaling sets the density for exactly dt = TSSFAC·Δt_e,
@@ -159,18 +160,12 @@ Solver::Solver(const Model& model, double dt)
   // A body moves as one: its nodes start with v_c + ω × r.
   bodies_.initial_velocities(v_);
   v_prev_ = v_;
-  // The node lists of the per-node passes.
-  std::vector<char> is_active(n, 0);
   for (size_t i = 0; i < n; ++i)
     if (body_of_[i] < 0) {
-      is_active[i] = 1;
       free_.push_back(static_cast<int>(i));
       if (model.fixed[i].any()) fixed_dofs_.emplace_back(static_cast<int>(i), model.fixed[i]);
     }
-  for (size_t b = 0; b < bodies_.size(); ++b)
-    for (int i : bodies_[b].live) is_active[static_cast<size_t>(i)] = 1;
-  for (size_t i = 0; i < n; ++i)
-    if (is_active[i]) active_.push_back(static_cast<int>(i));
+  build_node_lists();
   // Mobility of stage 7: a node alone, or its body's translation.
   group_.resize(n);
   group_inv_mass_.assign(n + model.rigid_bodies.size(), 0.0);
@@ -199,6 +194,36 @@ Solver::Solver(const Model& model, double dt)
   }
 }
 
+void Solver::build_node_lists() {
+  const size_t n = m_.x0.size();
+  NodeReach r = node_reach(m_);
+  // A user load declares its nodes; one that does not may load any node.
+  std::vector<int> declared;
+  const bool load_declared = !user_load_ || user_load_->loaded_nodes(declared);
+  if (user_load_) {
+    if (load_declared)
+      for (int i : declared) r.loading[static_cast<size_t>(i)] = 1;
+    else
+      r.loading.assign(n, 1);
+  }
+  int_nodes_ = listed(r.internal);
+  con_nodes_ = listed(r.contact);
+  ext_nodes_ = user_load_ ? listed(r.loading) : std::vector<int>();
+  std::vector<char> live(n, 0), active(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    live[i] = r.internal[i] || r.contact[i] || r.loading[i] || r.history[i];
+    active[i] = body_of_[i] < 0 || live[i];
+  }
+  bodies_.set_live(live);
+  active_ = listed(active);
+  interior_placed_ = false;
+}
+
+void Solver::set_user_load(UserLoad* load) {
+  user_load_ = load;
+  build_node_lists();
+}
+
 const std::vector<Vec3>& Solver::x() const {
   if (!interior_placed_) {
     bodies_.place_interior(x_, v_);
@@ -224,7 +249,7 @@ double Solver::bar_stress(size_t e) const {
 }
 
 void Solver::internal_forces() {
-  for (int i : active_) f_int_[static_cast<size_t>(i)].setZero();
+  for (int i : int_nodes_) f_int_[static_cast<size_t>(i)].setZero();
   ElementWork w;
   try {
     discrete_forces(m_, x_, v_, f_int_, w);
@@ -243,10 +268,11 @@ void Solver::internal_forces() {
   energies_.spring = w.spring_energy;
 }
 
-double Solver::step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f) const {
+double Solver::step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f,
+                         const std::vector<int>& nodes) const {
   if (n_ == 0) return 0.0;
   double w = 0.0;
-  for (int k : active_) {
+  for (int k : nodes) {
     const size_t i = static_cast<size_t>(k);
     w += 0.5 * (f_prev[i] + f[i]).dot(x_[i] - x_prev_[i]);
   }
@@ -255,7 +281,7 @@ double Solver::step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3
 
 void Solver::user_loads() {
   f_ext_prev_.swap(f_ext_);
-  for (int i : active_) f_ext_[static_cast<size_t>(i)].setZero();
+  for (int i : ext_nodes_) f_ext_[static_cast<size_t>(i)].setZero();
   if (user_load_) user_load_->apply(t_, x_, v_, f_ext_);
   // Their work is accounted in energy_account, once stage 7 has added the
   // forces that depend on v_{n+1/2}.
@@ -264,12 +290,12 @@ void Solver::user_loads() {
 void Solver::contact() {
   if (contacts_.empty()) return;  // f_con_ stays zero: no per-node work in models without contact
   f_con_prev_.swap(f_con_);
-  for (int i : active_) f_con_[static_cast<size_t>(i)].setZero();
+  for (int i : con_nodes_) f_con_[static_cast<size_t>(i)].setZero();
   for (auto& c : contacts_) c->apply(x_, v_, f_con_, n_);
   // Energy taken by the contact: minus the work its forces did on the nodes.
-  energies_.contact -= step_work(f_con_prev_, f_con_);
+  energies_.contact -= step_work(f_con_prev_, f_con_, con_nodes_);
   double total = 0.0;
-  for (int i : active_) total += f_con_[static_cast<size_t>(i)].norm();
+  for (int i : con_nodes_) total += f_con_[static_cast<size_t>(i)].norm();
   contact_force_ = 0.5 * total;  // each pair appears twice (node and segment side)
 }
 
@@ -354,7 +380,7 @@ void Solver::positions() {
 
 void Solver::energy_account() {
   // Work of the user loads over the last step, f_n complete (stages 2 and 7).
-  energies_.external_work += step_work(f_ext_prev_, f_ext_);
+  energies_.external_work += step_work(f_ext_prev_, f_ext_, ext_nodes_);
   // Kinetic energy at t_n from the mean of v_{n-1/2} and v_{n+1/2}
   // (v_0 on the first step), rigid bodies once with their whole mass.
   double ke = bodies_.kinetic_energy(n_ == 0);

@@ -66,7 +66,8 @@ class Solver {
   // model's stable step times its safety factor (TSSFAC).
   Solver(const Model& model, double dt);
 
-  void set_user_load(UserLoad* load) { user_load_ = load; }
+  // The hook of stage 2 (and 7); its loaded_nodes() join the live nodes.
+  void set_user_load(UserLoad* load);
   void step();
 
   double time() const { return t_; }
@@ -109,7 +110,9 @@ class Solver {
   void energy_account();
   void positions();
   // Work of force field f over the last step, trapezoidal: ½(f_prev + f)·(x_n − x_{n−1}).
-  double step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f) const;
+  double step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f, const std::vector<int>& nodes) const;
+  // Live nodes, bodies' live lists, and the node lists above.
+  void build_node_lists();
 
   const Model& m_;
   double dt_;
@@ -125,6 +128,9 @@ class Solver {
   std::vector<int> body_of_;  // rigid body index per node, -1 if none
   std::vector<int> active_;   // nodes of the per-node passes, ascending
   std::vector<int> free_;     // nodes not in a rigid body, ascending
+  // The nodes each kind of force can reach (zeroed and its work summed there
+  // only): element and discrete nodes, the user load's, the contacts'.
+  std::vector<int> int_nodes_, ext_nodes_, con_nodes_;
   std::vector<std::pair<int, Eigen::Matrix<bool, 3, 1>>> fixed_dofs_;  // free nodes with an SPC
   RigidBodies bodies_;
   // Mobility for stage 7: group per node (the node, or N + its body), and per group.

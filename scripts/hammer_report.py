@@ -33,14 +33,23 @@ MODE_TEXT = {"pressure": "pressure, 1 us", "tlm": "TLM, 1 us", "tlm10": "TLM, 10
              "pressure10": "pressure, 10 us, k = 10"}
 
 
+def gauge(fe):
+    """Time, stress and axial particle velocity (+z) at the tool's gauge,
+    from the element history stream (files of fe_server before the
+    decimated histories: the every-step rows and the gauge nodes)."""
+    if "time_elements" in fe:
+        return (fe["time_elements"][:], fe[f"bars/{GAUGE}/axial_stress"][:],
+                fe[f"bars/{GAUGE}/axial_velocity"][:])
+    return (fe["time"][:], fe[f"bars/{GAUGE}/axial_stress"][:],
+            0.5 * (fe[f"nodes/{GAUGE_NODES[0]}/vz"][:] + fe[f"nodes/{GAUGE_NODES[1]}/vz"][:]))
+
+
 def primary_pulses(fe, impact_times):
     """W from the down-going stress of each blow's primary pulse, and the
     peak compressive stress. σ_d = (σ + ρ·c0·v)/2 separates the down-going
     wave from the one reflected at the rock (1D wave relations: σ = ρc·v
     for a wave moving towards −z, σ = −ρc·v towards +z)."""
-    t = fe["time"][:]
-    sigma = fe[f"bars/{GAUGE}/axial_stress"][:]
-    v = 0.5 * (fe[f"nodes/{GAUGE_NODES[0]}/vz"][:] + fe[f"nodes/{GAUGE_NODES[1]}/vz"][:])
+    t, sigma, v = gauge(fe)
     sigma_d = 0.5 * (sigma + RHO * C0 * v)
     W, peaks = [], []
     for ti in impact_times:
@@ -158,9 +167,9 @@ def plot(cond, cols):
         with h5py.File(cond / m / "fe.h5") as fe:
             js = json.loads((cond / m / "host.json").read_text())
             ti = js["impact_times_s"][-1]
-            t = fe["time"][:]
+            t, sigma, _ = gauge(fe)
             s = (t > ti - 50e-6) & (t < ti + 800e-6)
-            ax[2].plot(1e6 * (t[s] - ti), 1e-6 * fe[f"bars/{GAUGE}/axial_stress"][s], label=MODE_TEXT[m])
+            ax[2].plot(1e6 * (t[s] - ti), 1e-6 * sigma[s], label=MODE_TEXT[m])
     ax[0].set(xlabel="time [ms]", ylabel="piston lift [mm]", title=f"{cond.name}: last 0.1 s")
     ax[1].set(xlabel="time [ms]", ylabel="spool position [mm]")
     ax[2].set(xlabel="time after the last evaluated impact [µs]", ylabel="tool stress at the gauge [MPa]",

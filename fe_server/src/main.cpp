@@ -105,7 +105,8 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
   }
   prepare_step(model, dt, quiet);
   fe::Solver solver(model, dt);
-  fe::History history(out, model, nullptr);
+  // Without *DATABASE_ DT cards: 10000 rows over the run.
+  fe::History history(out, model, nullptr, dt, model.end_time / 1e4);
   const long steps = static_cast<long>(std::ceil(model.end_time / dt));
   const auto t0 = std::chrono::steady_clock::now();
   auto last = t0;
@@ -219,7 +220,8 @@ int main(int argc, char** argv) {
     prepare_step(model, table.dt / table.subcycles, opt.quiet);
     fe::Solver solver(model, table.dt / table.subcycles);
     solver.set_user_load(&loads);
-    history = std::make_unique<fe::History>(out, model, &table);
+    // Without *DATABASE_ DT cards: a row per coupling step.
+    history = std::make_unique<fe::History>(out, model, &table, table.dt / table.subcycles, table.dt);
     fe::CouplingServer server(opt, tables);
     server.bind();
     if (!opt.quiet)

@@ -55,12 +55,20 @@ TimeSeriesWriter::~TimeSeriesWriter() {
   } catch (...) {
     // A destructor must not throw; flush() already reported nothing else can be done.
   }
-  for (hid_t d : series_) H5Dclose(d);
+  for (const Stream& st : streams_)
+    for (hid_t d : st.series) H5Dclose(d);
   if (file_ >= 0) H5Fclose(file_);
 }
 
-size_t TimeSeriesWriter::add_series(const std::string& name, const std::string& unit) {
-  if (rows() > 0) fail("series '" + name + "' declared after the first row", path_);
+size_t TimeSeriesWriter::add_stream() {
+  if (live_) fail("stream declared after the first row", path_);
+  streams_.emplace_back();
+  return streams_.size() - 1;
+}
+
+size_t TimeSeriesWriter::add_series(const std::string& name, const std::string& unit, size_t stream) {
+  if (live_) fail("series '" + name + "' declared after the first row", path_);
+  if (stream >= streams_.size()) fail("series '" + name + "' names an undeclared stream", path_);
   hsize_t dims[1] = {0}, maxdims[1] = {H5S_UNLIMITED}, chunk[1] = {chunk_};
   hid_t space = H5Screate_simple(1, dims, maxdims);
   hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
@@ -73,8 +81,8 @@ size_t TimeSeriesWriter::add_series(const std::string& name, const std::string& 
   H5Sclose(space);
   if (d < 0) fail("cannot create dataset '" + name + "'", path_);
   put_string_attribute(d, "unit", unit, path_);
-  series_.push_back(d);
-  return series_.size() - 1;
+  streams_[stream].series.push_back(d);
+  return streams_[stream].series.size() - 1;
 }
 
 void TimeSeriesWriter::set_attribute(const std::string& name, const std::string& value) {
@@ -88,42 +96,43 @@ void TimeSeriesWriter::set_attribute(const std::string& name, double value) {
   put_string_attribute(file_, name, buf, path_);
 }
 
-void TimeSeriesWriter::append(const double* row) {
+void TimeSeriesWriter::append(const double* row, size_t stream) {
   if (!live_) {  // the first row: everything is declared
-    buffer_.assign(series_.size() * chunk_, 0.0);
+    for (Stream& st : streams_) st.buffer.assign(st.series.size() * chunk_, 0.0);
     start_live();
   }
-  for (size_t c = 0; c < series_.size(); ++c) buffer_[c * chunk_ + buffered_] = row[c];
-  if (++buffered_ == chunk_) write_buffer();
+  Stream& st = streams_[stream];
+  for (size_t c = 0; c < st.series.size(); ++c) st.buffer[c * chunk_ + st.buffered] = row[c];
+  if (++st.buffered == chunk_) write_buffer(st);
   if (++rows_since_check_ >= 64) {  // the clock is read every 64 rows only
     rows_since_check_ = 0;
     if (static_cast<double>(now_ns() - last_flush_ns_) >= flush_interval_ * 1e9) flush();
   }
 }
 
-void TimeSeriesWriter::write_buffer() {
-  if (buffered_ == 0) return;
-  hsize_t start[1] = {rows_written_}, count[1] = {buffered_};
-  hsize_t new_size[1] = {rows_written_ + buffered_};
-  for (size_t c = 0; c < series_.size(); ++c) {
-    hid_t d = series_[c];
+void TimeSeriesWriter::write_buffer(Stream& st) {
+  if (st.buffered == 0) return;
+  hsize_t start[1] = {st.rows_written}, count[1] = {st.buffered};
+  hsize_t new_size[1] = {st.rows_written + st.buffered};
+  for (size_t c = 0; c < st.series.size(); ++c) {
+    hid_t d = st.series[c];
     if (H5Dset_extent(d, new_size) < 0) fail("cannot extend a dataset", path_);
     hid_t file_space = H5Dget_space(d);
     H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr);
     hid_t mem_space = H5Screate_simple(1, count, nullptr);
     herr_t rc = H5Dwrite(d, H5T_NATIVE_DOUBLE, mem_space, file_space, H5P_DEFAULT,
-                         buffer_.data() + c * chunk_);
+                         st.buffer.data() + c * chunk_);
     H5Sclose(mem_space);
     H5Sclose(file_space);
     if (rc < 0) fail("cannot write rows", path_);
   }
-  rows_written_ += buffered_;
-  buffered_ = 0;
+  st.rows_written += st.buffered;
+  st.buffered = 0;
 }
 
 void TimeSeriesWriter::flush() {
   if (file_ < 0) return;
-  write_buffer();
+  for (Stream& st : streams_) write_buffer(st);
   if (H5Fflush(file_, H5F_SCOPE_GLOBAL) < 0) fail("cannot flush", path_);
   last_flush_ns_ = now_ns();
 }

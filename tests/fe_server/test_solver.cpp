@@ -4,10 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 #include "loads/cavity_load.hpp"
 #include "config/port_table.hpp"
 #include "input/deck_reader.hpp"
+#include "h5io/timeseries.hpp"
+#include "impact_decks.hpp"
 #include "output/history.hpp"
 #include "solver/solver.hpp"
 
@@ -94,10 +97,10 @@ TEST(DeckReader, ErrorsAndWarningsNameTheLine) {
   EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n").find("has no mass"), std::string::npos);
   fe::DeckWarnings w;
   std::string unknown = std::string(kOscillator);
-  unknown.insert(unknown.find("*END"), "*DATABASE_GLSTAT\n1e-4\n");
+  unknown.insert(unknown.find("*END"), "*DATABASE_MATSUM\n1e-4\n");
   fe::parse_deck(unknown, "deck.k", &w);
   ASSERT_EQ(w.messages.size(), 1u);
-  EXPECT_NE(w.messages[0].find("deck.k:22: warning: keyword *DATABASE_GLSTAT"), std::string::npos)
+  EXPECT_NE(w.messages[0].find("deck.k:22: warning: keyword *DATABASE_MATSUM"), std::string::npos)
       << w.messages[0];
 }
 
@@ -264,7 +267,7 @@ TEST(EnergyBalance, TheScaleCountsTheEnergyStoredInSprings) {
   bool exceeded = false, failed = false;
   std::string summary;
   {
-    fe::History h(out, m, nullptr);
+    fe::History h(out, m, nullptr, s.dt(), s.dt());
     for (int k = 0; k < 2000; ++k) {
       s.step();
       h.record(s, {}, {});
@@ -274,4 +277,50 @@ TEST(EnergyBalance, TheScaleCountsTheEnergyStoredInSprings) {
   std::remove(out.c_str());
   EXPECT_NE(summary.find("of 50."), std::string::npos) << summary;
   EXPECT_FALSE(failed) << summary;
+}
+
+// Histories at the rates the deck asks for (*DATABASE_GLSTAT, NODOUT, ELOUT
+// DT): each stream's rows are exactly the every-step rows at its times, and
+// a DT at or below the FE step writes every step.
+TEST(History, DecimatedHistoriesHoldTheEveryStepValuesAtTheirTimes) {
+  std::string deck = fe_test::bar_impact_deck(0.05, 0.1, 0.01, 0.005, 8.0, fe_test::kE);
+  deck += "*DATABASE_HISTORY_SOLID\n1,2\n*DATABASE_HISTORY_NODE\n1,100001\n";
+  fe::Model every = fe::parse_deck(deck + "*DATABASE_ELOUT\n1e-12\n*DATABASE_NODOUT\n1e-12\n*DATABASE_GLSTAT\n1e-12\n",
+                                   "every.k");
+  const double dt = 0.9 * fe::Solver::stable_dt(every).dt;
+  std::ostringstream rates;
+  // Comma cards: the values are longer than a 10-column field.
+  rates << "*DATABASE_GLSTAT\n" << 5 * dt << ",\n*DATABASE_NODOUT\n" << 3 * dt << ",\n*DATABASE_ELOUT\n" << 7 * dt << ",\n";
+  fe::Model sparse = fe::parse_deck(deck + rates.str(), "sparse.k");
+  const std::string dir = ::testing::TempDir();
+  const int steps = 400;
+  for (auto [model, file] : {std::pair<fe::Model*, std::string>{&every, dir + "/every.h5"}, {&sparse, dir + "/sparse.h5"}}) {
+    fe::Solver s(*model, dt);
+    fe::History h(file, *model, nullptr, dt, 1.0);
+    for (int k = 0; k < steps; ++k) {
+      s.step();
+      h.record(s, {}, {});
+    }
+  }
+  struct Check {
+    const char *time, *series;
+    int every;
+  };
+  for (const Check& c : {Check{"time", "energy/kinetic", 5}, Check{"time_nodes", "nodes/100001/vz", 3},
+                         Check{"time_elements", "solids/2/szz", 7}}) {
+    const auto t_all = h5io::read_series(dir + "/every.h5", c.time), v_all = h5io::read_series(dir + "/every.h5", c.series);
+    const auto t = h5io::read_series(dir + "/sparse.h5", c.time), v = h5io::read_series(dir + "/sparse.h5", c.series);
+    ASSERT_EQ(t_all.size(), static_cast<size_t>(steps)) << c.time;
+    ASSERT_EQ(t.size(), static_cast<size_t>(steps / c.every)) << c.time;
+    for (size_t r = 0; r < t.size(); ++r) {
+      const size_t i = (r + 1) * static_cast<size_t>(c.every) - 1;  // row r is FE step (r+1)·every
+      ASSERT_EQ(t[r], t_all[i]) << c.series << " row " << r;
+      ASSERT_EQ(v[r], v_all[i]) << c.series << " row " << r;
+    }
+    double largest = 0.0;
+    for (double x : v) largest = std::max(largest, std::fabs(x));
+    EXPECT_GT(largest, 0.0) << c.series << ": the compared values are not all zero";
+  }
+  std::remove((dir + "/every.h5").c_str());
+  std::remove((dir + "/sparse.h5").c_str());
 }

@@ -505,8 +505,9 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
     for (int s = 0; s < subcycles; ++s) {
       solver.step();
       ports.accumulate(solver);
-      // The history keeps every FE step (a stress pulse is resolved however
-      // long the coupling step); port outputs are the last coupling step's.
+      // The history sees every FE step and writes the rows the deck asks
+      // for (a stress gauge can be resolved however long the coupling step);
+      // port outputs are the last coupling step's.
       if (s + 1 < subcycles) history.record(solver, in, out);
       if (std::chrono::duration<double>(std::chrono::steady_clock::now() - last_beat).count() > beat) {
         for (Client& c : clients_) {

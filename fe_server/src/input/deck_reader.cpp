@@ -326,6 +326,19 @@ struct Reader {
     } else if (kw == "*DATABASE_BINARY_D3PLOT") {
       // Field snapshots every DT, written as HDF5 + XDMF (not d3plot).
       if (!b.cards.empty()) m.snapshot_interval = fields_of(b.cards[0], kW10).real(0, "DT");
+    } else if (kw == "*DATABASE_GLSTAT" || kw == "*DATABASE_RCFORC" || kw == "*DATABASE_NODOUT" ||
+               kw == "*DATABASE_ELOUT") {
+      // Card 1: DT (BINARY, LCUR, IOOPT: the file formats of LS-DYNA's ASCII
+      // output, not used). The history file's rows at DT (output/history.hpp);
+      // DT at or below the FE step: every step.
+      if (b.cards.empty()) b.fail(kw + " needs its card with DT");
+      Card c = fields_of(b.cards[0], kW10);
+      const double dt = c.real(0, "DT");
+      if (!(dt > 0.0)) c.fail("DT must be positive");
+      double& to = kw == "*DATABASE_NODOUT" ? m.history_dt_nodes
+                   : kw == "*DATABASE_ELOUT" ? m.history_dt_elements
+                                             : m.history_dt_global;
+      to = to > 0.0 ? std::min(to, dt) : dt;
     } else if (kw == "*DATABASE_HISTORY_NODE") {
       for (int id : id_list(b, 0, "ID")) m.history_nodes.push_back(m.index_of(id, b.where));
     } else if (kw == "*DATABASE_HISTORY_SOLID") {

@@ -156,6 +156,10 @@ struct Model {
   std::vector<int> history_bars;    // element indices into bars (*DATABASE_HISTORY_BEAM)
   std::vector<int> history_axis;    // element indices into axis (*DATABASE_HISTORY_SHELL)
   double snapshot_interval = 0.0;  // *DATABASE_BINARY_D3PLOT DT (0: no field output)
+  // History intervals, s (0: not given, the default of output/history.hpp):
+  // energies, contact and ports (*DATABASE_GLSTAT, *DATABASE_RCFORC), history
+  // nodes (*DATABASE_NODOUT), history elements (*DATABASE_ELOUT).
+  double history_dt_global = 0.0, history_dt_nodes = 0.0, history_dt_elements = 0.0;
   double dt2ms = 0.0;              // *CONTROL_TIMESTEP DT2MS (< 0: mass scaling to |DT2MS|)
   double hourglass_q = 0.1;        // *CONTROL_HOURGLASS QH
   double bulk_q1 = 1.5, bulk_q2 = 0.06;  // *CONTROL_BULK_VISCOSITY (quadratic, linear)

@@ -7,40 +7,71 @@
 
 namespace fe {
 
-History::History(const std::string& path, const Model& model, const config::PortTable* table)
+namespace {
+
+// FE steps between rows for an interval (at least one).
+long steps_per_row(double interval, double fe_dt) {
+  const double k = std::round(interval / fe_dt);
+  return k >= 1.0 ? static_cast<long>(std::min(k, 1e15)) : 1;
+}
+
+}  // namespace
+
+History::History(const std::string& path, const Model& model, const config::PortTable* table, double fe_dt,
+                 double default_interval)
     : writer_(path), model_(model) {
   writer_.set_attribute("producer", "fe_server");
   writer_.set_attribute("deck", model.source);
   writer_.set_attribute("title", model.title);
+  const double global = model.history_dt_global > 0.0 ? model.history_dt_global : default_interval;
+  every_[0] = steps_per_row(global, fe_dt);
+  every_[1] = steps_per_row(model.history_dt_nodes > 0.0 ? model.history_dt_nodes : global, fe_dt);
+  every_[2] = steps_per_row(model.history_dt_elements > 0.0 ? model.history_dt_elements : global, fe_dt);
   writer_.add_series("time", "s");
   if (table) {
     writer_.set_attribute("port_table", table->source);
     for (const auto& v : table->to_fe) writer_.add_series("ports/" + v.name(), config::unit(v.quantity));
     for (const auto& v : table->to_host) writer_.add_series("ports/" + v.name(), config::unit(v.quantity));
   }
-  for (int i : model.history_nodes) {
-    std::string base = "nodes/" + std::to_string(model.node_ids[static_cast<size_t>(i)]) + "/";
-    for (const char* c : {"ux", "uy", "uz"}) writer_.add_series(base + c, "m");
-    for (const char* c : {"vx", "vy", "vz"}) writer_.add_series(base + c, "m/s");
-  }
-  for (int e : model.history_solids) {
-    std::string base = "solids/" + std::to_string(model.solids[static_cast<size_t>(e)].id) + "/";
-    for (const char* c : {"sxx", "syy", "szz", "sxy", "syz", "szx"}) writer_.add_series(base + c, "Pa");
-  }
-  for (int e : model.history_axis) {
-    // Axisymmetric: x is the radius, y the axis; von Mises for a quick look.
-    std::string base = "axisymmetric/" + std::to_string(model.axis[static_cast<size_t>(e)].id) + "/";
-    for (const char* c : {"radial", "axial", "hoop", "shear_ry", "von_mises"}) writer_.add_series(base + c, "Pa");
-  }
-  for (int e : model.history_bars)
-    writer_.add_series("bars/" + std::to_string(model.bars[static_cast<size_t>(e)].id) + "/axial_stress", "Pa");
   if (!model.contacts.empty()) {
     writer_.add_series("contact/force", "N");
     writer_.add_series("contact/max_penetration", "m");
   }
   for (const char* e : {"kinetic", "internal", "hourglass", "contact", "damping", "external_work", "balance_error"})
     writer_.add_series(std::string("energy/") + e, "J");
-  row_.resize(writer_.columns());
+  if (!model.history_nodes.empty()) {
+    stream_[1] = writer_.add_stream();
+    writer_.add_series("time_nodes", "s", stream_[1]);
+  }
+  for (int i : model.history_nodes) {
+    std::string base = "nodes/" + std::to_string(model.node_ids[static_cast<size_t>(i)]) + "/";
+    for (const char* c : {"ux", "uy", "uz"}) writer_.add_series(base + c, "m", stream_[1]);
+    for (const char* c : {"vx", "vy", "vz"}) writer_.add_series(base + c, "m/s", stream_[1]);
+  }
+  if (!model.history_solids.empty() || !model.history_axis.empty() || !model.history_bars.empty()) {
+    stream_[2] = writer_.add_stream();
+    writer_.add_series("time_elements", "s", stream_[2]);
+  }
+  for (int e : model.history_solids) {
+    std::string base = "solids/" + std::to_string(model.solids[static_cast<size_t>(e)].id) + "/";
+    for (const char* c : {"sxx", "syy", "szz", "sxy", "syz", "szx"}) writer_.add_series(base + c, "Pa", stream_[2]);
+  }
+  for (int e : model.history_axis) {
+    // Axisymmetric: x is the radius, y the axis; von Mises for a quick look.
+    std::string base = "axisymmetric/" + std::to_string(model.axis[static_cast<size_t>(e)].id) + "/";
+    for (const char* c : {"radial", "axial", "hoop", "shear_ry", "von_mises"})
+      writer_.add_series(base + c, "Pa", stream_[2]);
+  }
+  for (int e : model.history_bars) {
+    // The bar's stress and its particle velocity along the axis (n1 → n2):
+    // together they separate the waves running each way (σ = ∓ρc·v).
+    const std::string base = "bars/" + std::to_string(model.bars[static_cast<size_t>(e)].id) + "/";
+    writer_.add_series(base + "axial_stress", "Pa", stream_[2]);
+    writer_.add_series(base + "axial_velocity", "m/s", stream_[2]);
+  }
+  size_t widest = 0;
+  for (size_t k : {stream_[0], stream_[1], stream_[2]}) widest = std::max(widest, writer_.columns(k));
+  row_.resize(widest);
   if (model.snapshot_interval > 0.0) {
     std::string base = path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0 ? path.substr(0, path.size() - 3) : path;
     fields_ = std::make_unique<FieldWriter>(base + "_fields.h5", model);  // writes the snapshot at t = 0
@@ -72,33 +103,49 @@ void History::judge_energy(double error, double scale, bool* exceeded, bool* fai
 
 void History::record(const Solver& s, const std::vector<double>& inputs,
                      const std::vector<double>& outputs) {
-  size_t k = 0;
-  row_[k++] = s.time();
-  for (double v : inputs) row_[k++] = v;
-  for (double v : outputs) row_[k++] = v;
-  for (int i : model_.history_nodes) {
-    const size_t n = static_cast<size_t>(i);
-    for (int c = 0; c < 3; ++c) row_[k++] = s.x_live()[n][c] - model_.x0[n][c];
-    for (int c = 0; c < 3; ++c) row_[k++] = s.v_live()[n][c];
-  }
-  for (int e : model_.history_solids)
-    for (int c = 0; c < 6; ++c) row_[k++] = s.stress(static_cast<size_t>(e))(c);
-  for (int e : model_.history_axis) {
-    const auto& sg = s.axi_stress(static_cast<size_t>(e));
-    for (int c = 0; c < 4; ++c) row_[k++] = sg(c);
-    row_[k++] = von_mises(sg);
-  }
-  for (int e : model_.history_bars) row_[k++] = s.bar_stress(static_cast<size_t>(e));
-  if (!model_.contacts.empty()) {
-    row_[k++] = s.contact_force();
-    row_[k++] = s.max_penetration();
-  }
   const Energies& e = s.energies();
-  for (double v : {e.kinetic, e.internal, e.hourglass, e.contact, e.damping, e.external_work, e.balance_error})
-    row_[k++] = v;
-  writer_.append(row_);
-  // The scale of the balance: the most energy the model held (springs included) or was given.
+  // The scale of the balance: the most energy the model held (springs included) or was given, every step.
   energy_scale_ = std::max({energy_scale_, e.kinetic + e.internal + e.spring, std::fabs(e.external_work)});
+  const long n = s.step_count();
+  if (n % every_[0] == 0) {
+    size_t k = 0;
+    row_[k++] = s.time();
+    for (double v : inputs) row_[k++] = v;
+    for (double v : outputs) row_[k++] = v;
+    if (!model_.contacts.empty()) {
+      row_[k++] = s.contact_force();
+      row_[k++] = s.max_penetration();
+    }
+    for (double v : {e.kinetic, e.internal, e.hourglass, e.contact, e.damping, e.external_work, e.balance_error})
+      row_[k++] = v;
+    writer_.append(row_, stream_[0]);
+  }
+  if (!model_.history_nodes.empty() && n % every_[1] == 0) {
+    size_t k = 0;
+    row_[k++] = s.time();
+    for (int i : model_.history_nodes) {
+      const size_t node = static_cast<size_t>(i);
+      for (int c = 0; c < 3; ++c) row_[k++] = s.x_live()[node][c] - model_.x0[node][c];
+      for (int c = 0; c < 3; ++c) row_[k++] = s.v_live()[node][c];
+    }
+    writer_.append(row_, stream_[1]);
+  }
+  if (stream_[2] != 0 && n % every_[2] == 0) {
+    size_t k = 0;
+    row_[k++] = s.time();
+    for (int el : model_.history_solids)
+      for (int c = 0; c < 6; ++c) row_[k++] = s.stress(static_cast<size_t>(el))(c);
+    for (int el : model_.history_axis) {
+      const auto& sg = s.axi_stress(static_cast<size_t>(el));
+      for (int c = 0; c < 4; ++c) row_[k++] = sg(c);
+      row_[k++] = von_mises(sg);
+    }
+    for (int el : model_.history_bars) {
+      row_[k++] = s.bar_stress(static_cast<size_t>(el));
+      row_[k++] = s.bar_axial_velocity(static_cast<size_t>(el));
+    }
+    writer_.append(row_, stream_[2]);
+  }
   if (fields_ && s.time() >= next_snapshot_ - 1e-12 * model_.snapshot_interval) {
     fields_->write(s);
     next_snapshot_ += model_.snapshot_interval;

@@ -12,17 +12,34 @@
 
 namespace fe {
 
-// All of a run's output behind one interface: time histories every step,
-// field snapshots (HDF5 + XDMF) every *DATABASE_BINARY_D3PLOT interval, and
-// the energy balance check at the end.
+// All of a run's output behind one interface: time histories at the rates
+// the deck asks for, field snapshots (HDF5 + XDMF) every
+// *DATABASE_BINARY_D3PLOT interval, and the energy balance check at the end.
+//
+// Three streams of rows, each with its own time series and interval:
+//   time,  ports/*, contact/*, energy/*   *DATABASE_GLSTAT / RCFORC DT
+//   time_nodes,    nodes/*                *DATABASE_NODOUT DT
+//   time_elements, solids/*, bars/* (stress and axial velocity),
+//                  axisymmetric/*         *DATABASE_ELOUT DT
+// A row every round(DT/Δt) FE steps (at least every step): a decimated
+// history holds exactly the values an every-step history has at its times.
+// Without a DT the stream uses the default interval given to the
+// constructor (fe_server: the coupling step in a co-simulation, 1/10000 of
+// the run standalone); node and element streams default to the first's.
 class History {
  public:
-  History(const std::string& path, const Model& model, const config::PortTable* table);
+  History(const std::string& path, const Model& model, const config::PortTable* table, double fe_dt,
+          double default_interval);
   ~History();
+  // Called after every FE step; writes the rows that are due.
   // inputs/outputs: the values of the table's to_fe/to_host variables, wire units.
   void record(const Solver& s, const std::vector<double>& inputs, const std::vector<double>& outputs);
   void flush() { writer_.flush(); }
   size_t rows() const { return writer_.rows(); }
+  // FE steps between two rows of each stream (global, nodes, elements).
+  long every_global() const { return every_[0]; }
+  long every_nodes() const { return every_[1]; }
+  long every_elements() const { return every_[2]; }
   size_t snapshots() const;
   // The XDMF index of the field snapshots ("" when the deck asks for none).
   std::string fields_path() const;
@@ -40,6 +57,8 @@ class History {
   h5io::TimeSeriesWriter writer_;
   const Model& model_;
   std::vector<double> row_;
+  long every_[3] = {1, 1, 1};
+  size_t stream_[3] = {0, 0, 0};
   std::unique_ptr<class FieldWriter> fields_;
   double next_snapshot_ = 0.0;
   double energy_scale_ = 0.0;

@@ -248,6 +248,12 @@ double Solver::bar_stress(size_t e) const {
   return bars_.force[e] / part.bar_area;
 }
 
+double Solver::bar_axial_velocity(size_t e) const {
+  const size_t i = static_cast<size_t>(m_.bars[e].n1), j = static_cast<size_t>(m_.bars[e].n2);
+  const Vec3 axis = (x_[j] - x_[i]).normalized();
+  return 0.5 * (v_[i] + v_[j]).dot(axis);
+}
+
 void Solver::internal_forces() {
   for (int i : int_nodes_) f_int_[static_cast<size_t>(i)].setZero();
   ElementWork w;

@@ -94,6 +94,8 @@ class Solver {
   const Eigen::Matrix<double, 6, 1>& axi_stress(size_t e) const { return axi4_.sigma[e]; }
   // Axial stress of 1D bar element e (tension positive), Pa.
   double bar_stress(size_t e) const;
+  // Mean velocity of 1D bar element e's two nodes along its axis (n1 → n2), m/s.
+  double bar_axial_velocity(size_t e) const;
   double contact_force() const { return contact_force_; }  // total normal force of the last step, N
   double max_penetration() const;
   // Largest stable step of the model (without safety factor) and what limits it.

@@ -33,23 +33,32 @@ class TimeSeriesWriter {
   TimeSeriesWriter& operator=(const TimeSeriesWriter&) = delete;
 
   // Declare a series before the first append; `name` may contain '/' groups.
-  // Returns its column index.
-  size_t add_series(const std::string& name, const std::string& unit);
+  // Returns its column index within its stream.
+  size_t add_series(const std::string& name, const std::string& unit, size_t stream = 0);
+  // A further stream: series written at their own rate (their own rows and
+  // their own time series). Stream 0 exists from the start. Before the first row.
+  size_t add_stream();
   // A string attribute on the file's root group (scene, model, settings...);
   // before the first row.
   void set_attribute(const std::string& name, const std::string& value);
   void set_attribute(const std::string& name, double value);
-  // One value for every declared series, in declaration order.
-  void append(const double* row);
-  void append(const std::vector<double>& row) { append(row.data()); }
+  // One value for every series of the stream, in declaration order.
+  void append(const double* row, size_t stream = 0);
+  void append(const std::vector<double>& row, size_t stream = 0) { append(row.data(), stream); }
   // Write buffered rows and flush the file to disk.
   void flush();
-  size_t rows() const { return rows_written_ + buffered_; }
-  size_t columns() const { return series_.size(); }
+  size_t rows(size_t stream = 0) const { return streams_[stream].rows_written + streams_[stream].buffered; }
+  size_t columns(size_t stream = 0) const { return streams_[stream].series.size(); }
   const std::string& path() const { return path_; }
 
  private:
-  void write_buffer();
+  struct Stream {
+    std::vector<hid_t> series;
+    std::vector<double> buffer;  // chunk_ rows × columns, column-major
+    size_t buffered = 0;
+    size_t rows_written = 0;
+  };
+  void write_buffer(Stream& s);
   void start_live();  // SWMR from here on: no new datasets or attributes
   std::string path_;
   double flush_interval_;
@@ -58,10 +67,7 @@ class TimeSeriesWriter {
   bool live_ = false;
   hid_t file_ = -1;
   size_t chunk_;
-  std::vector<hid_t> series_;
-  std::vector<double> buffer_;  // chunk_ rows × columns, column-major
-  size_t buffered_ = 0;
-  size_t rows_written_ = 0;
+  std::vector<Stream> streams_{1};
 };
 
 // Read a whole 1-D dataset of doubles (post-processing and tests).

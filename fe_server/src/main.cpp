@@ -4,6 +4,7 @@
 //             [--port-file F] [--out results.h5] [--accept-timeout S] [--step-timeout S]
 //   fe_server --model DECK.k --out results.h5           (standalone, no host)
 #include <arpa/inet.h>
+#include <sched.h>
 
 #include <chrono>
 #include <cmath>
@@ -49,6 +50,9 @@ int usage(std::ostream& os, int rc) {
         "  --handshake-timeout S a connection must complete the handshake (HELLO, then AUTH) within\n"
         "                        S seconds (default 5)\n"
         "  --step-timeout S      per-step receive deadline (default: the port table's timeout)\n"
+        "  --threads N           threads for the element and node loops (default: every core, and one\n"
+        "                        less when listening on loopback, where tlm_host shares the machine);\n"
+        "                        results are bit-identical for any N\n"
         "  --quiet               no progress output\n"
         "Exit codes: 0 ok, 2 usage, 3 input rejected, 4 no host (every connection refused or none came),\n"
         "            6 link lost, 7 host aborted, 8 non-finite values or energy far off, 9 internal error,\n"
@@ -64,6 +68,17 @@ bool is_loopback(const std::string& host) {
   if (inet_pton(AF_INET, host.c_str(), a) == 1) return a[0] == 127;
   static const unsigned char v6_loopback[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
   return inet_pton(AF_INET6, host.c_str(), a) == 1 && std::memcmp(a, v6_loopback, 16) == 0;
+}
+
+// Threads when --threads is not given: every core the process may use, one
+// less when tlm_host runs on the same machine (a co-simulation on loopback),
+// whose process needs a core of its own: on 2 cores the FE then runs on one
+// (measured: bench/RESULTS.md, thread scaling).
+int default_threads(bool machine_to_ourselves) {
+  cpu_set_t set;
+  int cores = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : 1;
+  if (cores < 1) cores = 1;
+  return machine_to_ourselves ? cores : std::max(1, cores - 1);
 }
 
 // The FE step for a requested step: as is if stable, else with selective
@@ -91,7 +106,7 @@ fe::ExitCode energy_verdict(const std::string& energy, bool drift, bool failed) 
   return fe::kExitOk;
 }
 
-int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
+int run_standalone(fe::Model& model, const std::string& out, bool quiet, int threads) {
   if (!(model.end_time > 0.0)) {
     std::cerr << "fe_server: " << model.source
               << ": a standalone run needs *CONTROL_TERMINATION with ENDTIM > 0\n";
@@ -105,6 +120,7 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet) {
   }
   prepare_step(model, dt, quiet);
   fe::Solver solver(model, dt);
+  solver.set_threads(threads);
   // Without *DATABASE_ DT cards: 10000 rows over the run.
   fe::History history(out, model, nullptr, dt, model.end_time / 1e4);
   const long steps = static_cast<long>(std::ceil(model.end_time / dt));
@@ -157,6 +173,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> ports_paths;
   fe::ServerOptions opt;
   std::string token_file;
+  int threads = 0;  // 0: the default below
   try {
     config::Args args(argc, argv);
     while (args.next()) {
@@ -172,6 +189,10 @@ int main(int argc, char** argv) {
       else if (args.is("--step-timeout")) opt.step_timeout = args.real(1e-3, 1e6);
       else if (args.is("--handshake-timeout")) opt.handshake_timeout = args.real(1e-3, 3600);
       else if (args.is("--quiet")) opt.quiet = true;
+      else if (args.is("--threads")) {
+        threads = args.integer();
+        if (threads < 1 || threads > 1024) throw std::invalid_argument("--threads must be 1..1024, got " + std::to_string(threads));
+      }
       else if (args.is("-h") || args.is("--help")) return usage(std::cout, fe::kExitOk);
       else args.unknown();
     }
@@ -180,6 +201,7 @@ int main(int argc, char** argv) {
     if (sl_parse_endpoint(listen.c_str(), host, sizeof host, &opt.listen_port) != SL_OK)
       throw std::invalid_argument("--listen '" + listen + "' is not HOST:PORT");
     opt.listen_host = host;
+    if (threads == 0) threads = default_threads(ports_paths.empty() || !is_loopback(opt.listen_host));
     opt.token = token_file.empty() ? config::token_from_environment() : config::read_token_file(token_file);
     if (!is_loopback(opt.listen_host) && opt.token.size() < PCS_MIN_TOKEN_OFF_LOOPBACK)
       throw std::invalid_argument("--listen " + listen + " is off loopback: a token of at least " +
@@ -199,7 +221,7 @@ int main(int argc, char** argv) {
     fe::DeckWarnings warnings;
     model = fe::read_deck(deck, &warnings);
     for (const auto& w : warnings.messages) std::cerr << w << "\n";
-    if (ports_paths.empty()) return run_standalone(model, out, opt.quiet);
+    if (ports_paths.empty()) return run_standalone(model, out, opt.quiet, threads);
     for (const auto& p : ports_paths) tables.push_back(config::read_port_table(p));
     table = config::combine_port_tables(tables);
   } catch (const std::exception& e) {
@@ -220,6 +242,7 @@ int main(int argc, char** argv) {
     prepare_step(model, table.dt / table.subcycles, opt.quiet);
     fe::Solver solver(model, table.dt / table.subcycles);
     solver.set_user_load(&loads);
+    solver.set_threads(threads);
     // Without *DATABASE_ DT cards: a row per coupling step.
     history = std::make_unique<fe::History>(out, model, &table, table.dt / table.subcycles, table.dt);
     fe::CouplingServer server(opt, tables);
@@ -228,7 +251,8 @@ int main(int argc, char** argv) {
       std::cout << "fe_server: listening on " << opt.listen_host << ":" << server.port() << " (model "
                 << table.model_name << (tables.size() > 1 ? ", " + std::to_string(tables.size()) + " FMUs" : "") << ", "
                 << model.node_ids.size() << " nodes, dt " << table.dt / table.subcycles
-                << " s × " << table.subcycles << " per coupling step)" << std::endl;
+                << " s × " << table.subcycles << " per coupling step, " << solver.threads()
+                << (solver.threads() == 1 ? " thread" : " threads") << ")" << std::endl;
     std::string message;
     fe::ExitCode code = server.run(solver, ports, *history, message);
     history->flush();

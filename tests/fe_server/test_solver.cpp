@@ -9,6 +9,7 @@
 #include "loads/cavity_load.hpp"
 #include "config/port_table.hpp"
 #include "input/deck_reader.hpp"
+#include "input/mesher.hpp"
 #include "h5io/timeseries.hpp"
 #include "impact_decks.hpp"
 #include "output/history.hpp"
@@ -323,4 +324,58 @@ TEST(History, DecimatedHistoriesHoldTheEveryStepValuesAtTheirTimes) {
   }
   std::remove((dir + "/every.h5").c_str());
   std::remove((dir + "/sparse.h5").c_str());
+}
+
+// Threads change nothing: the bar impact (hex8 blocks, contact, node passes
+// in blocks) and an elastic cylinder under a time-varying cavity pressure
+// (the user-load hook as in a co-simulation) give bit-identical positions,
+// velocities, stresses and energies on 1, 2 and 3 threads. The decks are
+// large enough for several element blocks and node blocks, so the threads
+// really share the work.
+TEST(Threads, OneTwoAndThreeThreadsGiveBitIdenticalResults) {
+  struct State {
+    std::vector<fe::Vec3> x, v;
+    std::vector<double> szz;
+    double ke = 0, internal = 0, balance = 0;
+  };
+  auto run = [](const fe::Model& m, int threads, fe::CavityPressureLoad* load, int steps) {
+    fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
+    s.set_threads(threads);
+    EXPECT_EQ(s.threads(), threads);
+    if (load) s.set_user_load(load);
+    for (int k = 0; k < steps; ++k) {
+      if (load) load->set_pressure(0, 1e7 * std::sin(0.05 * k));
+      s.step();
+    }
+    State st{s.x(), s.v(), {}, s.energies().kinetic, s.energies().internal, s.energies().balance_error};
+    for (size_t e = 0; e < m.solids.size(); ++e) st.szz.push_back(s.stress(e)(2));
+    return st;
+  };
+  fe::Model impact = fe::parse_deck(fe_test::bar_impact_deck(0.05, 0.15, 0.01, 0.0025, 8.0, fe_test::kE), "impact.k");
+  ASSERT_GT(impact.solids.size(), 3 * fe::kHex8Block);
+  ASSERT_GT(impact.x0.size(), 2 * fe::Solver::kNodeBlock);
+  fe::RevolutionMeshOptions o;
+  o.element_size = 0.003;
+  const fe::RevolutionMesh mesh = fe::mesh_revolution({{0.1, 0.02, 0.0}}, o);
+  fe::Model plug = fe::parse_deck("*KEYWORD\n" + mesh.keyword_text +
+                                      "*PART\np\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n"
+                                      "*USER_LOADING_SET\n1,PRESSS,1\n",
+                                  "plug.k");
+  const auto table = config::parse_port_table(
+      "$FMU_SETTINGS\nmodel, p\ntimestep, 1e-5\n$FMU_HOPSAN_PORTS\n1, cav, Hydraulic\n"
+      "$FMU_HOPSAN_SEND\n1, p\n$FMU_HOPSAN_RECEIVE\n1, q\n",
+      "p.cfg");
+  for (int threads : {2, 3}) {
+    const State a = run(impact, 1, nullptr, 150), b = run(impact, threads, nullptr, 150);
+    EXPECT_TRUE(a.x == b.x && a.v == b.v && a.szz == b.szz) << threads << " threads, impact";
+    EXPECT_EQ(a.ke, b.ke);
+    EXPECT_EQ(a.internal, b.internal);
+    EXPECT_EQ(a.balance, b.balance);
+    EXPECT_GT(a.internal, 0.0) << "the bars were loaded";
+    fe::CavityPressureLoad la(plug, table), lb(plug, table);
+    const State c = run(plug, 1, &la, 150), d = run(plug, threads, &lb, 150);
+    EXPECT_TRUE(c.x == d.x && c.v == d.v && c.szz == d.szz) << threads << " threads, cavity";
+    EXPECT_EQ(c.balance, d.balance);
+    EXPECT_GT(c.internal, 0.0) << "the plug was loaded";
+  }
 }

@@ -6,6 +6,9 @@
 #include <Eigen/LU>
 #include <cmath>
 #include <algorithm>
+#include <functional>
+
+#include "parallel/thread_pool.hpp"
 
 namespace fe {
 
@@ -87,70 +90,266 @@ Mat83 hex8_gather(const std::vector<Vec3>& a, const SolidElement& e) {
   return out;
 }
 
-Hex8State::Hex8State(const Model& m)
-    : sigma(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()),
-      material(m.solids.size()),
-      hourglass(m.solids.size()) {
+Hex8State::Hex8State(const Model& m) : sigma(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()) {
   for (size_t e = 0; e < m.solids.size(); ++e) {
     const SolidElement& el = m.solids[e];
     const Material& mat = m.materials.at(m.parts.at(el.part).material);
-    if (!mat.rigid) elements.push_back(static_cast<int>(e));
-    material[e] = &mat;
+    if (mat.rigid) continue;
+    elements.push_back(static_cast<int>(e));
     Mat83 b;
     double volume = 0.0;
     hex8_gradients(hex8_gather(m.x0, el), b, volume);
-    hourglass[e] = m.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0;
+    lambda.push_back(mat.lambda());
+    two_mu.push_back(2.0 * mat.mu());
+    rho.push_back(mat.rho);
+    wave_speed.push_back(mat.wave_speed());
+    hourglass.push_back(m.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0);
+  }
+  force.assign(24 * elements.size(), 0.0);
+  blocks.resize((elements.size() + kHex8Block - 1) / kHex8Block);
+  // The gather, node by node, each node's slots in element order.
+  std::vector<std::vector<int>> slots(m.x0.size());
+  for (size_t k = 0; k < elements.size(); ++k)
+    for (int a = 0; a < 8; ++a)
+      slots[static_cast<size_t>(m.solids[static_cast<size_t>(elements[k])].n[a])].push_back(static_cast<int>(24 * k + 3 * a));
+  gather_start.push_back(0);
+  for (size_t i = 0; i < slots.size(); ++i) {
+    if (slots[i].empty()) continue;
+    gather_node.push_back(static_cast<int>(i));
+    gather_slot.insert(gather_slot.end(), slots[i].begin(), slots[i].end());
+    gather_start.push_back(static_cast<int>(gather_slot.size()));
   }
 }
 
-void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x_all, const std::vector<Vec3>& v_all,
-                 double dt, std::vector<Vec3>& f_all, ElementWork& w) {
-  using Voigt = Eigen::Matrix<double, 6, 1>;
-  const double q1 = m.bulk_q1, q2 = m.bulk_q2;
-  for (int ei : st.elements) {
-    const size_t e = static_cast<size_t>(ei);
-    const SolidElement& el = m.solids[e];
-    const Material& mat = *st.material[e];
-    const Mat83 x = hex8_gather(x_all, el), v = hex8_gather(v_all, el);
-    Mat83 b;
-    double volume = 0.0;
-    if (!hex8_gradients(x, b, volume))
-      throw InvertedElement("solid element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
-                            "volume " + std::to_string(volume) + " m³");
-    // Rate of deformation D = sym(L), L_ij = Σ_a v_ai b_aj.
-    const Eigen::Matrix3d L = v.transpose() * b;
-    const Eigen::Matrix3d D = 0.5 * (L + L.transpose());
-    const double trD = D.trace();
-    const double lambda = mat.lambda(), mu = mat.mu();
-    Voigt dsig;
-    dsig << lambda * trD + 2 * mu * D(0, 0), lambda * trD + 2 * mu * D(1, 1), lambda * trD + 2 * mu * D(2, 2),
-        2 * mu * D(0, 1), 2 * mu * D(1, 2), 2 * mu * D(2, 0);
-    Voigt& sig = st.sigma[e];
-    const Voigt old = sig;
-    sig += dt * dsig;
-    // Bulk viscosity in compression (von Neumann–Richtmyer with a linear term, LS-DYNA's Q1, Q2).
-    double q = 0.0;
-    if (trD < 0.0) {
-      const double len = hex8_characteristic_length(x, volume);
-      q = mat.rho * len * (q1 * len * trD * trD - q2 * mat.wave_speed() * trD);
-    }
-    Eigen::Matrix3d s;
-    s << sig(0) - q, sig(3), sig(5), sig(3), sig(1) - q, sig(4), sig(5), sig(4), sig(2) - q;
-    const Mat83 f = -volume * b * s;  // f_a = −V·σ·b_a
-    // Hourglass (viscous FB): f = −c_h Σ_α γ_α ⊗ q_α.
-    const Eigen::Matrix<double, 4, 8> gamma = hex8_hourglass_shapes(x, b);
-    const Eigen::Matrix<double, 4, 3> qa = gamma * v;
-    const double c_h = st.hourglass[e];
-    const Mat83 f_hg = -c_h * gamma.transpose() * qa;
-    for (int k = 0; k < 8; ++k) f_all[static_cast<size_t>(el.n[k])] += (f.row(k) + f_hg.row(k)).transpose();
-    // Energies of this step: elastic σ:D (trapezoidal in σ), hourglass and bulk viscosity dissipation.
-    const Voigt mid = 0.5 * (old + sig);
-    const double sd = mid(0) * D(0, 0) + mid(1) * D(1, 1) + mid(2) * D(2, 2) +
-                      2 * (mid(3) * D(0, 1) + mid(4) * D(1, 2) + mid(5) * D(2, 0));
-    w.internal += volume * sd * dt;
-    w.hourglass += c_h * qa.squaredNorm() * dt;
-    w.damping_power += -q * trD * volume;
+namespace {
+
+constexpr int W = static_cast<int>(kHex8Lanes);
+
+// One batch of W elements side by side: every array is [..][lane], and
+// every loop over lanes is a vector operation. Lanes past the end of the
+// element list carry a unit cube at rest and are ignored.
+struct Hex8Batch {
+  double x[8][3][W], v[8][3][W];
+  double lambda[W], two_mu[W], rho[W], c[W], ch[W], sig[6][W];
+  // Out:
+  double f[8][3][W], volume[W], internal[W], hourglass[W], damping_power[W];
+};
+
+// The kernel (see the header for the formulation). Cloned for AVX2 and a
+// baseline; the machine picks one at load time, the same for every thread.
+__attribute__((target_clones("avx2", "default"))) void hex8_kernel(Hex8Batch& B, double dt, double q1, double q2) {
+  constexpr double g[8][3] = {{-0.125, -0.125, -0.125}, {0.125, -0.125, -0.125}, {0.125, 0.125, -0.125},
+                              {-0.125, 0.125, -0.125},  {-0.125, -0.125, 0.125}, {0.125, -0.125, 0.125},
+                              {0.125, 0.125, 0.125},    {-0.125, 0.125, 0.125}};
+  constexpr double h[4][8] = {{1, -1, 1, -1, 1, -1, 1, -1},
+                              {1, 1, -1, -1, -1, -1, 1, 1},
+                              {1, -1, -1, 1, -1, 1, 1, -1},
+                              {-1, 1, -1, 1, 1, -1, 1, -1}};
+  constexpr int faces[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  // Jacobian J_ij = Σ_a x_ai g_aj, its determinant and inverse.
+  double J[3][3][W], inv[3][3][W], b[8][3][W];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int l = 0; l < W; ++l) {
+        double sum = 0.0;
+        for (int a = 0; a < 8; ++a) sum += B.x[a][i][l] * g[a][j];
+        J[i][j][l] = sum;
+      }
+  for (int l = 0; l < W; ++l) {
+    const double c00 = J[1][1][l] * J[2][2][l] - J[1][2][l] * J[2][1][l];
+    const double c01 = J[1][2][l] * J[2][0][l] - J[1][0][l] * J[2][2][l];
+    const double c02 = J[1][0][l] * J[2][1][l] - J[1][1][l] * J[2][0][l];
+    const double det = J[0][0][l] * c00 + J[0][1][l] * c01 + J[0][2][l] * c02;
+    B.volume[l] = 8.0 * det;
+    const double r = det > 0.0 ? 1.0 / det : 0.0;  // an inverted lane is reported by its volume
+    inv[0][0][l] = c00 * r;
+    inv[1][0][l] = c01 * r;
+    inv[2][0][l] = c02 * r;
+    inv[0][1][l] = (J[0][2][l] * J[2][1][l] - J[0][1][l] * J[2][2][l]) * r;
+    inv[1][1][l] = (J[0][0][l] * J[2][2][l] - J[0][2][l] * J[2][0][l]) * r;
+    inv[2][1][l] = (J[0][1][l] * J[2][0][l] - J[0][0][l] * J[2][1][l]) * r;
+    inv[0][2][l] = (J[0][1][l] * J[1][2][l] - J[0][2][l] * J[1][1][l]) * r;
+    inv[1][2][l] = (J[0][2][l] * J[1][0][l] - J[0][0][l] * J[1][2][l]) * r;
+    inv[2][2][l] = (J[0][0][l] * J[1][1][l] - J[0][1][l] * J[1][0][l]) * r;
   }
+  // Gradients b_ak = Σ_j g_aj (J⁻¹)_jk.
+  for (int a = 0; a < 8; ++a)
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < W; ++l) b[a][k][l] = g[a][0] * inv[0][k][l] + g[a][1] * inv[1][k][l] + g[a][2] * inv[2][k][l];
+  // Velocity gradient L_ij = Σ_a v_ai b_aj.
+  double L[3][3][W];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int l = 0; l < W; ++l) {
+        double sum = 0.0;
+        for (int a = 0; a < 8; ++a) sum += B.v[a][i][l] * b[a][j][l];
+        L[i][j][l] = sum;
+      }
+  // Largest face area (the bulk viscosity's length V/A): one square root.
+  double a2max[W];
+  for (int l = 0; l < W; ++l) a2max[l] = 0.0;
+  for (const auto& fc : faces)
+    for (int l = 0; l < W; ++l) {
+      double d1[3], d2[3];
+      for (int i = 0; i < 3; ++i) {
+        d1[i] = B.x[fc[2]][i][l] - B.x[fc[0]][i][l];
+        d2[i] = B.x[fc[3]][i][l] - B.x[fc[1]][i][l];
+      }
+      const double cx = d1[1] * d2[2] - d1[2] * d2[1], cy = d1[2] * d2[0] - d1[0] * d2[2],
+                   cz = d1[0] * d2[1] - d1[1] * d2[0];
+      const double a2 = cx * cx + cy * cy + cz * cz;
+      a2max[l] = a2 > a2max[l] ? a2 : a2max[l];
+    }
+  // Stress update, bulk viscosity, energies; s = σ − q·I into sig-like arrays.
+  double s[6][W];
+  for (int l = 0; l < W; ++l) {
+    const double d0 = L[0][0][l], d1 = L[1][1][l], d2 = L[2][2][l];
+    const double d01 = 0.5 * (L[0][1][l] + L[1][0][l]), d12 = 0.5 * (L[1][2][l] + L[2][1][l]),
+                 d20 = 0.5 * (L[2][0][l] + L[0][2][l]);
+    const double trD = d0 + d1 + d2;
+    const double la = B.lambda[l] * trD, tm = B.two_mu[l];
+    const double n0 = B.sig[0][l] + dt * (la + tm * d0), n1 = B.sig[1][l] + dt * (la + tm * d1),
+                 n2 = B.sig[2][l] + dt * (la + tm * d2), n3 = B.sig[3][l] + dt * tm * d01,
+                 n4 = B.sig[4][l] + dt * tm * d12, n5 = B.sig[5][l] + dt * tm * d20;
+    const double sd = 0.5 * ((B.sig[0][l] + n0) * d0 + (B.sig[1][l] + n1) * d1 + (B.sig[2][l] + n2) * d2) +
+                      (B.sig[3][l] + n3) * d01 + (B.sig[4][l] + n4) * d12 + (B.sig[5][l] + n5) * d20;
+    const double V = B.volume[l];
+    B.internal[l] = V * sd * dt;
+    const double a_max = 0.5 * std::sqrt(a2max[l]);
+    const double len = a_max > 0.0 ? V / a_max : 0.0;
+    const double q = trD < 0.0 ? B.rho[l] * len * (q1 * len * trD * trD - q2 * B.c[l] * trD) : 0.0;
+    B.damping_power[l] = -q * trD * V;
+    B.sig[0][l] = n0, B.sig[1][l] = n1, B.sig[2][l] = n2, B.sig[3][l] = n3, B.sig[4][l] = n4, B.sig[5][l] = n5;
+    s[0][l] = n0 - q, s[1][l] = n1 - q, s[2][l] = n2 - q, s[3][l] = n3, s[4][l] = n4, s[5][l] = n5;
+  }
+  // f_a = −V·σ·b_a.
+  for (int a = 0; a < 8; ++a)
+    for (int l = 0; l < W; ++l) {
+      const double V = B.volume[l], bx = b[a][0][l], by = b[a][1][l], bz = b[a][2][l];
+      B.f[a][0][l] = -V * (s[0][l] * bx + s[3][l] * by + s[5][l] * bz);
+      B.f[a][1][l] = -V * (s[3][l] * bx + s[1][l] * by + s[4][l] * bz);
+      B.f[a][2][l] = -V * (s[5][l] * bx + s[4][l] * by + s[2][l] * bz);
+    }
+  // Hourglass (viscous FB): γ_α = h_α − (h_α·x_i) b_i, q_αi = Σ_a v_ai γ_αa,
+  // f_ai −= c_h Σ_α γ_αa q_αi.
+  double hg_energy[W];
+  for (int l = 0; l < W; ++l) hg_energy[l] = 0.0;
+  for (int al = 0; al < 4; ++al) {
+    double hx[3][W], gam[8][W], qa[3][W];
+    for (int i = 0; i < 3; ++i)
+      for (int l = 0; l < W; ++l) {
+        double sum = 0.0;
+        for (int a = 0; a < 8; ++a) sum += h[al][a] * B.x[a][i][l];
+        hx[i][l] = sum;
+      }
+    for (int a = 0; a < 8; ++a)
+      for (int l = 0; l < W; ++l)
+        gam[a][l] = h[al][a] - (hx[0][l] * b[a][0][l] + hx[1][l] * b[a][1][l] + hx[2][l] * b[a][2][l]);
+    for (int i = 0; i < 3; ++i)
+      for (int l = 0; l < W; ++l) {
+        double sum = 0.0;
+        for (int a = 0; a < 8; ++a) sum += B.v[a][i][l] * gam[a][l];
+        qa[i][l] = sum;
+      }
+    for (int a = 0; a < 8; ++a)
+      for (int i = 0; i < 3; ++i)
+        for (int l = 0; l < W; ++l) B.f[a][i][l] -= B.ch[l] * gam[a][l] * qa[i][l];
+    for (int l = 0; l < W; ++l) hg_energy[l] += qa[0][l] * qa[0][l] + qa[1][l] * qa[1][l] + qa[2][l] * qa[2][l];
+  }
+  for (int l = 0; l < W; ++l) B.hourglass[l] = B.ch[l] * hg_energy[l] * dt;
+}
+
+// Elements [first, last) of the deformable list: gather, kernel, scatter
+// into each element's force slot; energy partials and the first inverted
+// element into r.
+void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
+                size_t first, size_t last, Hex8State::BlockResult& r) {
+  r = Hex8State::BlockResult();
+  Hex8Batch B;
+  for (size_t k0 = first; k0 < last; k0 += kHex8Lanes) {
+    const int n = static_cast<int>(std::min(kHex8Lanes, last - k0));
+    for (int l = 0; l < W; ++l) {
+      if (l < n) {
+        const size_t k = k0 + static_cast<size_t>(l);
+        const size_t e = static_cast<size_t>(st.elements[k]);
+        const SolidElement& el = m.solids[e];
+        for (int a = 0; a < 8; ++a) {
+          const Vec3& xa = x[static_cast<size_t>(el.n[a])];
+          const Vec3& va = v[static_cast<size_t>(el.n[a])];
+          for (int i = 0; i < 3; ++i) B.x[a][i][l] = xa[i], B.v[a][i][l] = va[i];
+        }
+        B.lambda[l] = st.lambda[k], B.two_mu[l] = st.two_mu[k], B.rho[l] = st.rho[k], B.c[l] = st.wave_speed[k];
+        B.ch[l] = st.hourglass[k];
+        for (int c = 0; c < 6; ++c) B.sig[c][l] = st.sigma[e](c);
+      } else {  // an idle lane: a unit cube at rest
+        for (int a = 0; a < 8; ++a)
+          for (int i = 0; i < 3; ++i) B.x[a][i][l] = 0.5 * kXi[a][i], B.v[a][i][l] = 0.0;
+        B.lambda[l] = B.two_mu[l] = B.rho[l] = B.c[l] = B.ch[l] = 0.0;
+        for (int c = 0; c < 6; ++c) B.sig[c][l] = 0.0;
+      }
+    }
+    hex8_kernel(B, dt, m.bulk_q1, m.bulk_q2);
+    for (int l = 0; l < n; ++l) {
+      const size_t k = k0 + static_cast<size_t>(l);
+      if (!(B.volume[l] > 0.0) && r.inverted < 0) {
+        r.inverted = static_cast<long>(k);
+        r.inverted_volume = B.volume[l];
+      }
+      auto& sig = st.sigma[static_cast<size_t>(st.elements[k])];
+      for (int c = 0; c < 6; ++c) sig(c) = B.sig[c][l];
+      double* out = &st.force[24 * k];
+      for (int a = 0; a < 8; ++a)
+        for (int i = 0; i < 3; ++i) out[3 * a + i] = B.f[a][i][l];
+      r.internal += B.internal[l];
+      r.hourglass += B.hourglass[l];
+      r.damping_power += B.damping_power[l];
+    }
+  }
+}
+
+}  // namespace
+
+void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
+                 std::vector<Vec3>& f, ElementWork& w, ThreadPool* pool) {
+  const size_t n = st.elements.size();
+  if (n == 0) return;
+  // Stage a: every block of elements, each into its own slots.
+  const std::function<void(size_t)> element_block = [&](size_t b) {
+    hex8_block(m, st, x, v, dt, b * kHex8Block, std::min(n, (b + 1) * kHex8Block), st.blocks[b]);
+  };
+  if (pool)
+    pool->run(st.blocks.size(), element_block);
+  else
+    for (size_t b = 0; b < st.blocks.size(); ++b) element_block(b);
+  // Energies and the first inverted element, in block order.
+  for (const auto& r : st.blocks) {
+    if (r.inverted >= 0) {
+      const SolidElement& el = m.solids[static_cast<size_t>(st.elements[static_cast<size_t>(r.inverted)])];
+      throw InvertedElement("solid element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
+                            "volume " + std::to_string(r.inverted_volume) + " m³");
+    }
+    w.internal += r.internal;
+    w.hourglass += r.hourglass;
+    w.damping_power += r.damping_power;
+  }
+  // Stage b: each node sums its elements' forces in element order.
+  const size_t nodes = st.gather_node.size();
+  constexpr size_t kNodeBlock = 1024;
+  const std::function<void(size_t)> node_block = [&](size_t b) {
+    for (size_t i = b * kNodeBlock; i < std::min(nodes, (b + 1) * kNodeBlock); ++i) {
+      Vec3 sum = Vec3::Zero();
+      for (int j = st.gather_start[i]; j < st.gather_start[i + 1]; ++j) {
+        const double* p = &st.force[static_cast<size_t>(st.gather_slot[static_cast<size_t>(j)])];
+        sum += Vec3(p[0], p[1], p[2]);
+      }
+      f[static_cast<size_t>(st.gather_node[i])] += sum;
+    }
+  };
+  const size_t node_blocks = (nodes + kNodeBlock - 1) / kNodeBlock;
+  if (pool)
+    pool->run(node_blocks, node_block);
+  else
+    for (size_t b = 0; b < node_blocks; ++b) node_block(b);
 }
 
 }  // namespace fe

@@ -50,19 +50,39 @@ double hex8_characteristic_length(const Mat83& x, double volume);
 double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2);
 
 // The hex8 elements' state in the solver: stress per element, and what is
-// resolved once (rigid or not, material, hourglass viscosity).
+// resolved once for the deformable elements, in their order (`elements`):
+// material constants as arrays, each element's slot for its nodal forces,
+// and per node the slots to sum (the gather).
 struct Hex8State {
-  std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // Voigt: xx, yy, zz, xy, yz, zx
+  std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // Voigt: xx, yy, zz, xy, yz, zx; per solid
   std::vector<int> elements;                       // the elements of deformable parts
-  std::vector<const Material*> material;
+  // Per deformable element k (index into `elements`):
+  std::vector<double> lambda, two_mu, rho, wave_speed;
   std::vector<double> hourglass;  // Q_h·ρ·c·V0^(2/3)/4, fixed per element (V changes little)
+  std::vector<double> force;      // 24 per element: the nodal forces of the last step
+  // The gather: node gather_node[i] sums force[gather_slot[j]..+2] for j in
+  // [gather_start[i], gather_start[i+1]), in element order.
+  std::vector<int> gather_node, gather_start, gather_slot;
+  // Per block of kHex8Block elements: energy partials, first inverted element.
+  struct BlockResult {
+    double internal = 0.0, hourglass = 0.0, damping_power = 0.0;
+    long inverted = -1;  // index into `elements`, -1 if none
+    double inverted_volume = 0.0;
+  };
+  std::vector<BlockResult> blocks;
   explicit Hex8State(const Model& m);
 };
 
+// Elements per task of the element loop; a block is processed as batches of
+// kHex8Lanes elements side by side (a vectorisable kernel).
+constexpr size_t kHex8Block = 256, kHex8Lanes = 8;
+
 // One step of every hex8: stress update over dt from the velocities v
 // (hypoelastic, bulk viscosity, FB hourglass), forces added to f, energy
-// increments to w. Throws InvertedElement.
+// increments to w. Blocks of elements run on the pool's threads (nullptr:
+// this thread); the result does not depend on the thread count. Throws
+// InvertedElement.
 void hex8_forces(const Model& m, Hex8State& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
-                 std::vector<Vec3>& f, ElementWork& w);
+                 std::vector<Vec3>& f, ElementWork& w, class ThreadPool* pool);
 
 }  // namespace fe

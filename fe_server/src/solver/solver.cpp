@@ -219,6 +219,44 @@ void Solver::build_node_lists() {
   interior_placed_ = false;
 }
 
+template <class F>
+void Solver::for_each_node(const std::vector<int>& nodes, F&& f) {
+  const size_t n = nodes.size(), blocks = (n + kNodeBlock - 1) / kNodeBlock;
+  auto block = [&](size_t b) {
+    const size_t end = std::min(n, (b + 1) * kNodeBlock);
+    for (size_t k = b * kNodeBlock; k < end; ++k) f(static_cast<size_t>(nodes[k]));
+  };
+  if (pool_ && blocks > 1)
+    pool_->run(blocks, block);
+  else
+    for (size_t b = 0; b < blocks; ++b) block(b);
+}
+
+template <class G>
+double Solver::sum_over(const std::vector<int>& nodes, G&& g) {
+  const size_t n = nodes.size(), blocks = (n + kNodeBlock - 1) / kNodeBlock;
+  if (partial_.size() < blocks) partial_.resize(blocks);  // grows once, to the longest list
+  auto block = [&](size_t b) {
+    const size_t end = std::min(n, (b + 1) * kNodeBlock);
+    double sum = 0.0;
+    for (size_t k = b * kNodeBlock; k < end; ++k) sum += g(static_cast<size_t>(nodes[k]));
+    partial_[b] = sum;
+  };
+  if (pool_ && blocks > 1)
+    pool_->run(blocks, block);
+  else
+    for (size_t b = 0; b < blocks; ++b) block(b);
+  double total = 0.0;
+  for (size_t b = 0; b < blocks; ++b) total += partial_[b];
+  return total;
+}
+
+void Solver::set_threads(int threads) {
+  pool_ = threads > 1 ? std::make_unique<ThreadPool>(threads) : nullptr;
+}
+
+int Solver::threads() const { return pool_ ? pool_->threads() : 1; }
+
 void Solver::set_user_load(UserLoad* load) {
   user_load_ = load;
   build_node_lists();
@@ -255,12 +293,12 @@ double Solver::bar_axial_velocity(size_t e) const {
 }
 
 void Solver::internal_forces() {
-  for (int i : int_nodes_) f_int_[static_cast<size_t>(i)].setZero();
+  for_each_node(int_nodes_, [&](size_t i) { f_int_[i].setZero(); });
   ElementWork w;
   try {
     discrete_forces(m_, x_, v_, f_int_, w);
     bar_forces(m_, bars_, x_, v_, dt_, f_int_, w);
-    hex8_forces(m_, hex8_, x_, v_, dt_, f_int_, w);
+    hex8_forces(m_, hex8_, x_, v_, dt_, f_int_, w, pool_.get());
     axi4_forces(m_, axi4_, x_, v_, dt_, f_int_, w);
   } catch (const InvertedElement& e) {
     std::ostringstream s;
@@ -275,19 +313,14 @@ void Solver::internal_forces() {
 }
 
 double Solver::step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f,
-                         const std::vector<int>& nodes) const {
+                         const std::vector<int>& nodes) {
   if (n_ == 0) return 0.0;
-  double w = 0.0;
-  for (int k : nodes) {
-    const size_t i = static_cast<size_t>(k);
-    w += 0.5 * (f_prev[i] + f[i]).dot(x_[i] - x_prev_[i]);
-  }
-  return w;
+  return sum_over(nodes, [&](size_t i) { return 0.5 * (f_prev[i] + f[i]).dot(x_[i] - x_prev_[i]); });
 }
 
 void Solver::user_loads() {
   f_ext_prev_.swap(f_ext_);
-  for (int i : ext_nodes_) f_ext_[static_cast<size_t>(i)].setZero();
+  for_each_node(ext_nodes_, [&](size_t i) { f_ext_[i].setZero(); });
   if (user_load_) user_load_->apply(t_, x_, v_, f_ext_);
   // Their work is accounted in energy_account, once stage 7 has added the
   // forces that depend on v_{n+1/2}.
@@ -296,20 +329,18 @@ void Solver::user_loads() {
 void Solver::contact() {
   if (contacts_.empty()) return;  // f_con_ stays zero: no per-node work in models without contact
   f_con_prev_.swap(f_con_);
-  for (int i : con_nodes_) f_con_[static_cast<size_t>(i)].setZero();
+  for_each_node(con_nodes_, [&](size_t i) { f_con_[i].setZero(); });
   for (auto& c : contacts_) c->apply(x_, v_, f_con_, n_);
   // Energy taken by the contact: minus the work its forces did on the nodes.
   energies_.contact -= step_work(f_con_prev_, f_con_, con_nodes_);
-  double total = 0.0;
-  for (int i : con_nodes_) total += f_con_[static_cast<size_t>(i)].norm();
+  const double total = sum_over(con_nodes_, [&](size_t i) { return f_con_[i].norm(); });
   contact_force_ = 0.5 * total;  // each pair appears twice (node and segment side)
 }
 
 void Solver::accelerations() {
-  for (int k : free_) {
-    const size_t i = static_cast<size_t>(k);
+  for_each_node(free_, [&](size_t i) {
     a_[i] = mass_[i] > 0.0 ? Vec3((f_ext_[i] + f_int_[i] + f_con_[i]) / mass_[i]) : Vec3::Zero();
-  }
+  });
   bodies_.sum_loads(f_int_, f_ext_, f_con_, x_);
 }
 
@@ -326,12 +357,9 @@ void Solver::boundary_conditions() {
 }
 
 void Solver::velocities() {
-  for (int i : active_) v_prev_[static_cast<size_t>(i)] = v_[static_cast<size_t>(i)];
+  for_each_node(active_, [&](size_t i) { v_prev_[i] = v_[i]; });
   const double h = n_ == 0 ? 0.5 * dt_ : dt_;  // v_{1/2} = v_0 + Δt/2·a_0
-  for (int k : free_) {
-    const size_t i = static_cast<size_t>(k);
-    v_[i] += h * a_[i];
-  }
+  for_each_node(free_, [&](size_t i) { v_[i] += h * a_[i]; });
   bodies_.advance_velocities(h, dt_, x_, v_);
 }
 
@@ -375,11 +403,8 @@ void Solver::implicit_loads() {
 }
 
 void Solver::positions() {
-  for (int i : active_) x_prev_[static_cast<size_t>(i)] = x_[static_cast<size_t>(i)];
-  for (int k : free_) {
-    const size_t i = static_cast<size_t>(k);
-    x_[i] += dt_ * v_[i];
-  }
+  for_each_node(active_, [&](size_t i) { x_prev_[i] = x_[i]; });
+  for_each_node(free_, [&](size_t i) { x_[i] += dt_ * v_[i]; });
   bodies_.advance_positions(dt_, x_, v_);
   interior_placed_ = bodies_.size() == 0;
 }
@@ -389,12 +414,11 @@ void Solver::energy_account() {
   energies_.external_work += step_work(f_ext_prev_, f_ext_, ext_nodes_);
   // Kinetic energy at t_n from the mean of v_{n-1/2} and v_{n+1/2}
   // (v_0 on the first step), rigid bodies once with their whole mass.
-  double ke = bodies_.kinetic_energy(n_ == 0);
-  for (int k : free_) {
-    const size_t i = static_cast<size_t>(k);
-    const Vec3 vn = n_ == 0 ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
-    ke += 0.5 * mass_[i] * vn.squaredNorm();
-  }
+  const bool first = n_ == 0;
+  const double ke = bodies_.kinetic_energy(first) + sum_over(free_, [&](size_t i) {
+                      const Vec3 vn = first ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
+                      return 0.5 * mass_[i] * vn.squaredNorm();
+                    });
   energies_.kinetic = ke;
   if (n_ > 0) energies_.damping += damping_power_ * dt_;
   const Energies& e = energies_;

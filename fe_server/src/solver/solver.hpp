@@ -32,6 +32,7 @@
 #include "elements/element_hex8.hpp"
 #include "model/model.hpp"
 #include "loads/user_load.hpp"
+#include "parallel/thread_pool.hpp"
 #include "solver/rigid_body.hpp"
 
 namespace fe {
@@ -66,6 +67,11 @@ class Solver {
   // model's stable step times its safety factor (TSSFAC).
   Solver(const Model& model, double dt);
 
+  // Threads for the element loops (1: this thread only). The results are
+  // bit-identical for any count.
+  void set_threads(int threads);
+  int threads() const;
+  static constexpr size_t kNodeBlock = 2048;  // nodes per task of the per-node passes
   // The hook of stage 2 (and 7); its loaded_nodes() join the live nodes.
   void set_user_load(UserLoad* load);
   void step();
@@ -112,9 +118,18 @@ class Solver {
   void energy_account();
   void positions();
   // Work of force field f over the last step, trapezoidal: ½(f_prev + f)·(x_n − x_{n−1}).
-  double step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f, const std::vector<int>& nodes) const;
+  double step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f, const std::vector<int>& nodes);
   // Live nodes, bodies' live lists, and the node lists above.
   void build_node_lists();
+  // Per-node passes in fixed blocks of kNodeBlock list entries, on the
+  // pool's threads when the list is long: f(i) for every node i of the list.
+  // sum_over adds g(i) per block, then the blocks in order: the same sum
+  // for any thread count.
+  template <class F>
+  void for_each_node(const std::vector<int>& nodes, F&& f);
+  template <class G>
+  double sum_over(const std::vector<int>& nodes, G&& g);
+  std::vector<double> partial_;
 
   const Model& m_;
   double dt_;
@@ -135,6 +150,7 @@ class Solver {
   std::vector<int> int_nodes_, ext_nodes_, con_nodes_;
   std::vector<std::pair<int, Eigen::Matrix<bool, 3, 1>>> fixed_dofs_;  // free nodes with an SPC
   RigidBodies bodies_;
+  std::unique_ptr<ThreadPool> pool_;  // null: one thread
   // Mobility for stage 7: group per node (the node, or N + its body), and per group.
   std::vector<int> group_;
   std::vector<double> group_inv_mass_;

@@ -116,74 +116,145 @@ Axi4State::Axi4State(const Model& m)
     constants[e] = {mat.lambda(), mat.mu(), mat.rho, mat.wave_speed(),
                     axi4_hourglass_coefficient(g, m.hourglass_q, mat.rho, mat.wave_speed())};
   }
+  force.assign(8 * elements.size(), 0.0);
+  blocks.resize((elements.size() + kAxi4Block - 1) / kAxi4Block);
+  gather.build(m.x0.size(), elements.size(), 4, 2,
+               [&](size_t k, int a) { return m.axis[static_cast<size_t>(elements[k])].n[a]; });
 }
 
-void axi4_forces(const Model& m, Axi4State& st, const std::vector<Vec3>& x_, const std::vector<Vec3>& v_, double dt_,
-                 std::vector<Vec3>& f_int_, ElementWork& w) {
-  using Voigt = Eigen::Matrix<double, 6, 1>;
+namespace {
+
+constexpr int W = static_cast<int>(kAxi4Lanes);
+
+// A batch of W elements side by side, every array [..][lane]. Idle lanes
+// (past the end of the list) carry a unit square at r = 1..2 at rest.
+struct Axi4Batch {
+  double r[4][W], y[4][W], vr[4][W], vy[4][W];
+  double lambda[W], two_mu[W], rho[W], c[W], ch[W], sig[4][W];
+  // Out:
+  double fr[4][W], fy[4][W], det[W], r_c[W], internal[W], hourglass[W], damping_power[W];
+};
+
+__attribute__((target_clones("avx2", "default"))) void axi4_kernel(Axi4Batch& B, double dt, double q1, double q2) {
   constexpr double kXi[4] = {-1, 1, 1, -1}, kEta[4] = {-1, -1, 1, 1}, kH[4] = {1, -1, 1, -1};
   constexpr double kTwoPi = 6.283185307179586;
-  const double q1 = m.bulk_q1, q2 = m.bulk_q2;
-  for (int ei : st.elements) {
-    const size_t e = static_cast<size_t>(ei);
-    const AxiElement& el = m.axis[e];
-    const Axi4State::Constants& k = st.constants[e];
-    double r[4], y[4], vr[4], vy[4];
-    for (int a = 0; a < 4; ++a) {
-      const size_t n = static_cast<size_t>(el.n[a]);
-      r[a] = x_[n].x(), y[a] = x_[n].y(), vr[a] = v_[n].x(), vy[a] = v_[n].y();
-    }
-    const double J00 = 0.25 * (-r[0] + r[1] + r[2] - r[3]), J01 = 0.25 * (-r[0] - r[1] + r[2] + r[3]);
-    const double J10 = 0.25 * (-y[0] + y[1] + y[2] - y[3]), J11 = 0.25 * (-y[0] - y[1] + y[2] + y[3]);
+  for (int l = 0; l < W; ++l) {
+    const double r0 = B.r[0][l], r1 = B.r[1][l], r2 = B.r[2][l], r3 = B.r[3][l];
+    const double y0 = B.y[0][l], y1 = B.y[1][l], y2 = B.y[2][l], y3 = B.y[3][l];
+    const double J00 = 0.25 * (-r0 + r1 + r2 - r3), J01 = 0.25 * (-r0 - r1 + r2 + r3);
+    const double J10 = 0.25 * (-y0 + y1 + y2 - y3), J11 = 0.25 * (-y0 - y1 + y2 + y3);
     const double det = J00 * J11 - J01 * J10;
-    const double r_c = 0.25 * (r[0] + r[1] + r[2] + r[3]);
-    if (!(det > 0.0) || !(r_c > 0.0))
-      throw InvertedElement("axisymmetric element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
-                            "area " + std::to_string(4.0 * det) + " m²");
-    const double inv = 0.25 / det, area = 4.0 * det, volume = kTwoPi * r_c * area;
+    const double r_c = 0.25 * (r0 + r1 + r2 + r3);
+    B.det[l] = det;
+    B.r_c[l] = r_c;
+    const bool ok = det > 0.0 && r_c > 0.0;  // a bad lane is reported, its numbers unused
+    const double inv = ok ? 0.25 / det : 0.0, area = 4.0 * det, volume = kTwoPi * r_c * area;
+    const double inv_rc = ok ? 1.0 / r_c : 0.0;
     double br[4], by[4];
-    double d_rr = 0.0, d_yy = 0.0, l_ry = 0.0, l_yr = 0.0, hr = 0.0, hy = 0.0;
+    double d_rr = 0.0, d_yy = 0.0, l_ry = 0.0, l_yr = 0.0, hr = 0.0, hy = 0.0, vr_sum = 0.0;
     for (int a = 0; a < 4; ++a) {
       br[a] = (kXi[a] * J11 - kEta[a] * J10) * inv;
       by[a] = (kEta[a] * J00 - kXi[a] * J01) * inv;
-      d_rr += vr[a] * br[a], d_yy += vy[a] * by[a];
-      l_ry += vr[a] * by[a], l_yr += vy[a] * br[a];
-      hr += kH[a] * r[a], hy += kH[a] * y[a];
+      d_rr += B.vr[a][l] * br[a], d_yy += B.vy[a][l] * by[a];
+      l_ry += B.vr[a][l] * by[a], l_yr += B.vy[a][l] * br[a];
+      hr += kH[a] * B.r[a][l], hy += kH[a] * B.y[a][l];
+      vr_sum += B.vr[a][l];
     }
     const double d_ry = 0.5 * (l_ry + l_yr);
-    const double d_tt = 0.25 * (vr[0] + vr[1] + vr[2] + vr[3]) / r_c;
+    const double d_tt = 0.25 * vr_sum * inv_rc;
     const double trD = d_rr + d_yy + d_tt;
-    Voigt& sig = st.sigma[e];
-    const double o0 = sig(0), o1 = sig(1), o2 = sig(2), o3 = sig(3);
-    const double lt = k.lambda * trD;
-    sig(0) += dt_ * (lt + 2 * k.mu * d_rr);
-    sig(1) += dt_ * (lt + 2 * k.mu * d_yy);
-    sig(2) += dt_ * (lt + 2 * k.mu * d_tt);
-    sig(3) += dt_ * 2 * k.mu * d_ry;
-    double q = 0.0;  // bulk viscosity in compression, as for the hex8
-    if (trD < 0.0) {
-      const double dx1 = r[2] - r[0], dy1 = y[2] - y[0], dx2 = r[3] - r[1], dy2 = y[3] - y[1];
-      const double len = area / std::sqrt(std::max(dx1 * dx1 + dy1 * dy1, dx2 * dx2 + dy2 * dy2));
-      q = k.rho * len * (q1 * len * trD * trD - q2 * k.wave_speed * trD);
-    }
-    const double s_rr = sig(0) - q, s_yy = sig(1) - q, s_tt = sig(2) - q, s_ry = sig(3);
+    const double o0 = B.sig[0][l], o1 = B.sig[1][l], o2 = B.sig[2][l], o3 = B.sig[3][l];
+    const double lt = B.lambda[l] * trD, tm = B.two_mu[l];
+    const double n0 = o0 + dt * (lt + tm * d_rr), n1 = o1 + dt * (lt + tm * d_yy), n2 = o2 + dt * (lt + tm * d_tt),
+                 n3 = o3 + dt * tm * d_ry;
+    // Bulk viscosity in compression, as for the hex8 (length: area over the longer diagonal).
+    const double dx1 = r2 - r0, dy1 = y2 - y0, dx2 = r3 - r1, dy2 = y3 - y1;
+    const double diag2 = std::max(dx1 * dx1 + dy1 * dy1, dx2 * dx2 + dy2 * dy2);
+    const double len = diag2 > 0.0 ? area / std::sqrt(diag2) : 0.0;
+    const double q = trD < 0.0 ? B.rho[l] * len * (q1 * len * trD * trD - q2 * B.c[l] * trD) : 0.0;
+    const double s_rr = n0 - q, s_yy = n1 - q, s_tt = n2 - q, s_ry = n3;
     // Hourglass (viscous FB), one mode: γ = h − (h·r)·b_r − (h·y)·b_y.
     double gamma[4], qr = 0.0, qy = 0.0;
     for (int a = 0; a < 4; ++a) {
       gamma[a] = kH[a] - hr * br[a] - hy * by[a];
-      qr += gamma[a] * vr[a], qy += gamma[a] * vy[a];
+      qr += gamma[a] * B.vr[a][l], qy += gamma[a] * B.vy[a][l];
     }
-    const double hoop = volume * s_tt * 0.25 / r_c;
+    const double hoop = volume * s_tt * 0.25 * inv_rc, ch = B.ch[l];
     for (int a = 0; a < 4; ++a) {
-      Vec3& f = f_int_[static_cast<size_t>(el.n[a])];
-      f.x() -= volume * (s_rr * br[a] + s_ry * by[a]) + hoop + k.hourglass * gamma[a] * qr;
-      f.y() -= volume * (s_ry * br[a] + s_yy * by[a]) + k.hourglass * gamma[a] * qy;
+      B.fr[a][l] = -(volume * (s_rr * br[a] + s_ry * by[a]) + hoop + ch * gamma[a] * qr);
+      B.fy[a][l] = -(volume * (s_ry * br[a] + s_yy * by[a]) + ch * gamma[a] * qy);
     }
-    const double sd = 0.5 * ((o0 + sig(0)) * d_rr + (o1 + sig(1)) * d_yy + (o2 + sig(2)) * d_tt) + (o3 + sig(3)) * d_ry;
-    w.internal += volume * sd * dt_;
-    w.hourglass += k.hourglass * (qr * qr + qy * qy) * dt_;
-    w.damping_power += -q * trD * volume;
+    const double sd = 0.5 * ((o0 + n0) * d_rr + (o1 + n1) * d_yy + (o2 + n2) * d_tt) + (o3 + n3) * d_ry;
+    B.sig[0][l] = n0, B.sig[1][l] = n1, B.sig[2][l] = n2, B.sig[3][l] = n3;
+    B.internal[l] = volume * sd * dt;
+    B.hourglass[l] = ch * (qr * qr + qy * qy) * dt;
+    B.damping_power[l] = -q * trD * volume;
   }
+}
+
+void axi4_block(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
+                size_t first, size_t last, BlockResult& res) {
+  res = BlockResult();
+  Axi4Batch B;
+  for (size_t k0 = first; k0 < last; k0 += kAxi4Lanes) {
+    const int n = static_cast<int>(std::min(kAxi4Lanes, last - k0));
+    for (int l = 0; l < W; ++l) {
+      if (l < n) {
+        const size_t e = static_cast<size_t>(st.elements[k0 + static_cast<size_t>(l)]);
+        const AxiElement& el = m.axis[e];
+        for (int a = 0; a < 4; ++a) {
+          const size_t node = static_cast<size_t>(el.n[a]);
+          B.r[a][l] = x[node].x(), B.y[a][l] = x[node].y(), B.vr[a][l] = v[node].x(), B.vy[a][l] = v[node].y();
+        }
+        const Axi4State::Constants& k = st.constants[e];
+        B.lambda[l] = k.lambda, B.two_mu[l] = 2.0 * k.mu, B.rho[l] = k.rho, B.c[l] = k.wave_speed, B.ch[l] = k.hourglass;
+        for (int c = 0; c < 4; ++c) B.sig[c][l] = st.sigma[e](c);
+      } else {
+        for (int a = 0; a < 4; ++a) {
+          B.r[a][l] = 1.5 + 0.5 * kXi[a], B.y[a][l] = 0.5 + 0.5 * kEta[a], B.vr[a][l] = B.vy[a][l] = 0.0;
+        }
+        B.lambda[l] = B.two_mu[l] = B.rho[l] = B.c[l] = B.ch[l] = 0.0;
+        for (int c = 0; c < 4; ++c) B.sig[c][l] = 0.0;
+      }
+    }
+    axi4_kernel(B, dt, m.bulk_q1, m.bulk_q2);
+    for (int l = 0; l < n; ++l) {
+      const size_t k = k0 + static_cast<size_t>(l);
+      if (!(B.det[l] > 0.0 && B.r_c[l] > 0.0) && res.inverted < 0) {
+        res.inverted = static_cast<long>(k);
+        res.measure = 4.0 * B.det[l];
+      }
+      auto& sig = st.sigma[static_cast<size_t>(st.elements[k])];
+      for (int c = 0; c < 4; ++c) sig(c) = B.sig[c][l];
+      double* out = &st.force[8 * k];
+      for (int a = 0; a < 4; ++a) out[2 * a] = B.fr[a][l], out[2 * a + 1] = B.fy[a][l];
+      res.internal += B.internal[l];
+      res.hourglass += B.hourglass[l];
+      res.damping_power += B.damping_power[l];
+    }
+  }
+}
+
+}  // namespace
+
+void axi4_forces(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
+                 std::vector<Vec3>& f, ElementWork& w, ThreadPool* pool) {
+  const size_t n = st.elements.size();
+  if (n == 0) return;
+  run_blocks(st.blocks.size(), pool, [&](size_t b) {
+    axi4_block(m, st, x, v, dt, b * kAxi4Block, std::min(n, (b + 1) * kAxi4Block), st.blocks[b]);
+  });
+  for (const auto& r : st.blocks) {
+    if (r.inverted >= 0) {
+      const AxiElement& el = m.axis[static_cast<size_t>(st.elements[static_cast<size_t>(r.inverted)])];
+      throw InvertedElement("axisymmetric element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
+                            "area " + std::to_string(r.measure) + " m²");
+    }
+    w.internal += r.internal;
+    w.hourglass += r.hourglass;
+    w.damping_power += r.damping_power;
+  }
+  st.gather.add_to(st.force, f, pool);
 }
 
 }  // namespace fe

@@ -39,6 +39,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "elements/element_blocks.hpp"
 #include "elements/element_work.hpp"
 #include "model/model.hpp"
 
@@ -82,7 +83,9 @@ double axi4_stable_step(const Mat42& x, double lambda, double mu, double rho, do
                         const bool fixed_r[4]);
 
 // The axisymmetric elements' state in the solver: stress per element and
-// what is resolved once, so the element loop does no lookups.
+// what is resolved once, so the element loop does no lookups; per
+// deformable element its force slot (8 doubles: r and y of each corner), the
+// gather and the block partials (element_blocks.hpp).
 struct Axi4State {
   struct Constants {
     double lambda, mu, rho, wave_speed;
@@ -90,15 +93,22 @@ struct Axi4State {
   };
   std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // rr, yy (axial), θθ (hoop), ry, 0, 0
   std::vector<int> elements;                       // the elements of deformable parts
-  std::vector<Constants> constants;
+  std::vector<Constants> constants;                // per element of the model
+  std::vector<double> force;
+  NodalGather gather;
+  std::vector<BlockResult> blocks;
   explicit Axi4State(const Model& m);
 };
 
-// One step of every axisymmetric element: the formulas above written out in
-// scalars (the 2×2 Jacobian's inverse and the centre gradients in closed
-// form, so the compiler keeps everything in registers; measured: bench_fe,
-// axi4). Forces added to f, energy increments to w. Throws InvertedElement.
+// Elements per task, and per batch of the kernel (side by side in vector lanes).
+constexpr size_t kAxi4Block = 512, kAxi4Lanes = 8;
+
+// One step of every axisymmetric element: the formulas above in batches of
+// kAxi4Lanes elements (the 2×2 Jacobian's inverse and the centre gradients
+// in closed form; an AVX2-cloned kernel; measured: bench_fe, axi4). Forces
+// added to f, energy increments to w; blocks on the pool's threads, the
+// result independent of the thread count. Throws InvertedElement.
 void axi4_forces(const Model& m, Axi4State& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
-                 std::vector<Vec3>& f, ElementWork& w);
+                 std::vector<Vec3>& f, ElementWork& w, class ThreadPool* pool);
 
 }  // namespace fe

@@ -107,18 +107,8 @@ Hex8State::Hex8State(const Model& m) : sigma(m.solids.size(), Eigen::Matrix<doub
   }
   force.assign(24 * elements.size(), 0.0);
   blocks.resize((elements.size() + kHex8Block - 1) / kHex8Block);
-  // The gather, node by node, each node's slots in element order.
-  std::vector<std::vector<int>> slots(m.x0.size());
-  for (size_t k = 0; k < elements.size(); ++k)
-    for (int a = 0; a < 8; ++a)
-      slots[static_cast<size_t>(m.solids[static_cast<size_t>(elements[k])].n[a])].push_back(static_cast<int>(24 * k + 3 * a));
-  gather_start.push_back(0);
-  for (size_t i = 0; i < slots.size(); ++i) {
-    if (slots[i].empty()) continue;
-    gather_node.push_back(static_cast<int>(i));
-    gather_slot.insert(gather_slot.end(), slots[i].begin(), slots[i].end());
-    gather_start.push_back(static_cast<int>(gather_slot.size()));
-  }
+  gather.build(m.x0.size(), elements.size(), 8, 3,
+               [&](size_t k, int a) { return m.solids[static_cast<size_t>(elements[k])].n[a]; });
 }
 
 namespace {
@@ -263,8 +253,8 @@ __attribute__((target_clones("avx2", "default"))) void hex8_kernel(Hex8Batch& B,
 // into each element's force slot; energy partials and the first inverted
 // element into r.
 void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
-                size_t first, size_t last, Hex8State::BlockResult& r) {
-  r = Hex8State::BlockResult();
+                size_t first, size_t last, BlockResult& r) {
+  r = BlockResult();
   Hex8Batch B;
   for (size_t k0 = first; k0 < last; k0 += kHex8Lanes) {
     const int n = static_cast<int>(std::min(kHex8Lanes, last - k0));
@@ -293,7 +283,7 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
       const size_t k = k0 + static_cast<size_t>(l);
       if (!(B.volume[l] > 0.0) && r.inverted < 0) {
         r.inverted = static_cast<long>(k);
-        r.inverted_volume = B.volume[l];
+        r.measure = B.volume[l];
       }
       auto& sig = st.sigma[static_cast<size_t>(st.elements[k])];
       for (int c = 0; c < 6; ++c) sig(c) = B.sig[c][l];
@@ -313,43 +303,23 @@ void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x, cons
                  std::vector<Vec3>& f, ElementWork& w, ThreadPool* pool) {
   const size_t n = st.elements.size();
   if (n == 0) return;
-  // Stage a: every block of elements, each into its own slots.
-  const std::function<void(size_t)> element_block = [&](size_t b) {
+  // Every block of elements, each into its own slots.
+  run_blocks(st.blocks.size(), pool, [&](size_t b) {
     hex8_block(m, st, x, v, dt, b * kHex8Block, std::min(n, (b + 1) * kHex8Block), st.blocks[b]);
-  };
-  if (pool)
-    pool->run(st.blocks.size(), element_block);
-  else
-    for (size_t b = 0; b < st.blocks.size(); ++b) element_block(b);
+  });
   // Energies and the first inverted element, in block order.
   for (const auto& r : st.blocks) {
     if (r.inverted >= 0) {
       const SolidElement& el = m.solids[static_cast<size_t>(st.elements[static_cast<size_t>(r.inverted)])];
       throw InvertedElement("solid element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
-                            "volume " + std::to_string(r.inverted_volume) + " m³");
+                            "volume " + std::to_string(r.measure) + " m³");
     }
     w.internal += r.internal;
     w.hourglass += r.hourglass;
     w.damping_power += r.damping_power;
   }
-  // Stage b: each node sums its elements' forces in element order.
-  const size_t nodes = st.gather_node.size();
-  constexpr size_t kNodeBlock = 1024;
-  const std::function<void(size_t)> node_block = [&](size_t b) {
-    for (size_t i = b * kNodeBlock; i < std::min(nodes, (b + 1) * kNodeBlock); ++i) {
-      Vec3 sum = Vec3::Zero();
-      for (int j = st.gather_start[i]; j < st.gather_start[i + 1]; ++j) {
-        const double* p = &st.force[static_cast<size_t>(st.gather_slot[static_cast<size_t>(j)])];
-        sum += Vec3(p[0], p[1], p[2]);
-      }
-      f[static_cast<size_t>(st.gather_node[i])] += sum;
-    }
-  };
-  const size_t node_blocks = (nodes + kNodeBlock - 1) / kNodeBlock;
-  if (pool)
-    pool->run(node_blocks, node_block);
-  else
-    for (size_t b = 0; b < node_blocks; ++b) node_block(b);
+  // Each node sums its elements' forces in element order.
+  st.gather.add_to(st.force, f, pool);
 }
 
 }  // namespace fe

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "elements/element_blocks.hpp"
 #include "elements/element_work.hpp"
 #include "model/model.hpp"
 
@@ -51,8 +52,8 @@ double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, do
 
 // The hex8 elements' state in the solver: stress per element, and what is
 // resolved once for the deformable elements, in their order (`elements`):
-// material constants as arrays, each element's slot for its nodal forces,
-// and per node the slots to sum (the gather).
+// material constants as arrays, each element's slot for its nodal forces
+// and the gather (element_blocks.hpp).
 struct Hex8State {
   std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // Voigt: xx, yy, zz, xy, yz, zx; per solid
   std::vector<int> elements;                       // the elements of deformable parts
@@ -60,15 +61,7 @@ struct Hex8State {
   std::vector<double> lambda, two_mu, rho, wave_speed;
   std::vector<double> hourglass;  // Q_h·ρ·c·V0^(2/3)/4, fixed per element (V changes little)
   std::vector<double> force;      // 24 per element: the nodal forces of the last step
-  // The gather: node gather_node[i] sums force[gather_slot[j]..+2] for j in
-  // [gather_start[i], gather_start[i+1]), in element order.
-  std::vector<int> gather_node, gather_start, gather_slot;
-  // Per block of kHex8Block elements: energy partials, first inverted element.
-  struct BlockResult {
-    double internal = 0.0, hourglass = 0.0, damping_power = 0.0;
-    long inverted = -1;  // index into `elements`, -1 if none
-    double inverted_volume = 0.0;
-  };
+  NodalGather gather;
   std::vector<BlockResult> blocks;
   explicit Hex8State(const Model& m);
 };

@@ -299,7 +299,7 @@ void Solver::internal_forces() {
     discrete_forces(m_, x_, v_, f_int_, w);
     bar_forces(m_, bars_, x_, v_, dt_, f_int_, w);
     hex8_forces(m_, hex8_, x_, v_, dt_, f_int_, w, pool_.get());
-    axi4_forces(m_, axi4_, x_, v_, dt_, f_int_, w);
+    axi4_forces(m_, axi4_, x_, v_, dt_, f_int_, w, pool_.get());
   } catch (const InvertedElement& e) {
     std::ostringstream s;
     s << e.element << " inverted at t = " << t_ << " s, step " << n_ << " (" << e.measure

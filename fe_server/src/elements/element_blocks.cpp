@@ -1,0 +1,41 @@
+#include "elements/element_blocks.hpp"
+
+#include <algorithm>
+
+namespace fe {
+
+void NodalGather::build(size_t nodes, size_t elements, int corners, int width,
+                        const std::function<int(size_t, int)>& node_of) {
+  width_ = width;
+  std::vector<std::vector<int>> slots(nodes);
+  for (size_t k = 0; k < elements; ++k)
+    for (int a = 0; a < corners; ++a)
+      slots[static_cast<size_t>(node_of(k, a))].push_back(static_cast<int>((k * static_cast<size_t>(corners) + static_cast<size_t>(a)) * static_cast<size_t>(width)));
+  node_.clear();
+  slot_.clear();
+  start_.assign(1, 0);
+  for (size_t i = 0; i < nodes; ++i) {
+    if (slots[i].empty()) continue;
+    node_.push_back(static_cast<int>(i));
+    slot_.insert(slot_.end(), slots[i].begin(), slots[i].end());
+    start_.push_back(static_cast<int>(slot_.size()));
+  }
+}
+
+void NodalGather::add_to(const std::vector<double>& force, std::vector<Vec3>& f, ThreadPool* pool) const {
+  constexpr size_t kNodes = 1024;  // per task
+  const size_t n = node_.size();
+  run_blocks((n + kNodes - 1) / kNodes, pool, [&](size_t b) {
+    for (size_t i = b * kNodes; i < std::min(n, (b + 1) * kNodes); ++i) {
+      double sum[3] = {0.0, 0.0, 0.0};
+      for (int j = start_[i]; j < start_[i + 1]; ++j) {
+        const double* p = &force[static_cast<size_t>(slot_[static_cast<size_t>(j)])];
+        for (int c = 0; c < width_; ++c) sum[c] += p[c];
+      }
+      Vec3& fi = f[static_cast<size_t>(node_[i])];
+      for (int c = 0; c < width_; ++c) fi[c] += sum[c];
+    }
+  });
+}
+
+}  // namespace fe

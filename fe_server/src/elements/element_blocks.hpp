@@ -1,0 +1,46 @@
+// What the batched element loops share: elements processed in fixed blocks
+// (a block is one task for the thread pool), each element writing its nodal
+// forces into its own slot, and a gather that sums each node's slots in
+// element order. The sums and the energy partials (reduced in block order)
+// therefore do not depend on which thread ran which block: results are
+// bit-identical for any thread count.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "model/model.hpp"
+#include "parallel/thread_pool.hpp"
+
+namespace fe {
+
+// Energy partials of one block and its first inverted element.
+struct BlockResult {
+  double internal = 0.0, hourglass = 0.0, damping_power = 0.0;
+  long inverted = -1;     // index into the loop's element list, -1 if none
+  double measure = 0.0;   // its volume or area
+};
+
+// Runs task(b) for b in [0, blocks), on the pool when there is one.
+inline void run_blocks(size_t blocks, ThreadPool* pool, const std::function<void(size_t)>& task) {
+  if (pool)
+    pool->run(blocks, task);
+  else
+    for (size_t b = 0; b < blocks; ++b) task(b);
+}
+
+// Per node, the force slots of its elements: element k's corner a writes
+// `width` doubles (x, y[, z]) at slot (k·corners + a)·width.
+class NodalGather {
+ public:
+  // node_of(k, a): node index of corner a of element k.
+  void build(size_t nodes, size_t elements, int corners, int width, const std::function<int(size_t, int)>& node_of);
+  // f[node] += Σ its slots, in element order.
+  void add_to(const std::vector<double>& force, std::vector<Vec3>& f, ThreadPool* pool) const;
+
+ private:
+  std::vector<int> node_, start_, slot_;
+  int width_ = 3;
+};
+
+}  // namespace fe

@@ -5,7 +5,7 @@
 //
 // A load whose force depends on the velocity it produces (a TLM port:
 // p = c + Zc·q with q from the velocity at t_n, v_n = ½(v_{n-1/2} + v_{n+1/2}))
-// also answers apply_implicit, called at stage 7, after the velocity
+// also answers apply_implicit, called at stage 6, after the velocity
 // predictor: it gets v_{n-1/2}, the predicted v_{n+1/2} (every other force
 // applied) and the mobility of the nodes, and returns nodal forces; the
 // solver adds them to f_ext and to the velocities. Solving for the force
@@ -19,7 +19,7 @@
 
 namespace fe {
 
-// How the end-of-step velocity answers a force added at stage 7: a force f
+// How the end-of-step velocity answers a force added at stage 6: a force f
 // on node i changes the velocity of everything that moves with i (its rigid
 // body, or the node alone) by h·free∘f/m. Groups 0..N-1 are the nodes that
 // are not in a rigid body; group N + b is rigid body b.
@@ -47,7 +47,7 @@ class UserLoad {
   // live nodes cover them and nothing more. false: any node may be loaded
   // (the solver then keeps every node current, at O(mesh) per step).
   virtual bool loaded_nodes(std::vector<int>& /*nodes*/) const { return false; }
-  // Stage 7 (see above). `v_old` is v_{n-1/2} (v_0 on the first step),
+  // Stage 6 (see above). `v_old` is v_{n-1/2} (v_0 on the first step),
   // `v_pred` is v_{n+1/2} without this load's forces.
   virtual void apply_implicit(const Mobility&, const std::vector<Vec3>& /*v_old*/, const std::vector<Vec3>& /*v_pred*/,
                               std::vector<NodalForce>& /*out*/) {}

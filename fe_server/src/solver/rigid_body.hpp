@@ -78,11 +78,11 @@ class RigidBodies {
   // Stage 6: v_c and L (h = Δt, Δt/2 on the first step), ω, and the live
   // nodes' predicted velocities v_c + ω × (x_i − x_c).
   void advance_velocities(double h, double dt, const std::vector<Vec3>& x, std::vector<Vec3>& v);
-  // Stage 7: force f and moment about x_c acting on body b for h more,
+  // Stage 6: force f and moment about x_c acting on body b for h more,
   // then its live nodes' velocities again.
   void add_impulse(size_t b, const Vec3& f, const Vec3& moment, double h, double dt, const std::vector<Vec3>& x,
                    std::vector<Vec3>& v);
-  // Stage 9: x_c, Q, and the live nodes' positions and chord velocities.
+  // Stage 8: x_c, Q, and the live nodes' positions and chord velocities.
   void advance_positions(double dt, std::vector<Vec3>& x, std::vector<Vec3>& v);
   // Kinetic energy at t_n from the mean of the half-step velocities (the
   // initial ones on the first step).

@@ -152,7 +152,7 @@ Solver::Solver(const Model& model, double dt)
   x_ = model.x0;
   v_ = model.v0;
   mass_ = model.mass;
-  for (auto* a : {&a_, &f_int_, &f_ext_, &f_ext_prev_, &f_con_, &f_con_prev_}) a->assign(n, Vec3::Zero());
+  for (auto* a : {&f_int_, &f_ext_, &f_ext_prev_, &f_con_, &f_con_prev_}) a->assign(n, Vec3::Zero());
   x_prev_ = x_;
   body_of_.assign(n, -1);
   for (size_t b = 0; b < model.rigid_bodies.size(); ++b)
@@ -160,13 +160,19 @@ Solver::Solver(const Model& model, double dt)
   // A body moves as one: its nodes start with v_c + ω × r.
   bodies_.initial_velocities(v_);
   v_prev_ = v_;
+  // Free nodes: 1/m on each DOF that can move, 0 on a fixed one (their
+  // velocity starts and stays zero): a, the boundary conditions and v in one multiply.
+  inv_mass_free_.assign(n, Vec3::Zero());
   for (size_t i = 0; i < n; ++i)
     if (body_of_[i] < 0) {
       free_.push_back(static_cast<int>(i));
-      if (model.fixed[i].any()) fixed_dofs_.emplace_back(static_cast<int>(i), model.fixed[i]);
+      for (int k = 0; k < 3; ++k) {
+        if (model.fixed[i][k]) v_[i][k] = 0.0;
+        inv_mass_free_[i][k] = model.fixed[i][k] || !(mass_[i] > 0.0) ? 0.0 : 1.0 / mass_[i];
+      }
     }
   build_node_lists();
-  // Mobility of stage 7: a node alone, or its body's translation.
+  // Mobility of stage 6: a node alone, or its body's translation.
   group_.resize(n);
   group_inv_mass_.assign(n + model.rigid_bodies.size(), 0.0);
   group_free_.assign(n + model.rigid_bodies.size(), Vec3::Ones());
@@ -322,7 +328,7 @@ void Solver::user_loads() {
   f_ext_prev_.swap(f_ext_);
   for_each_node(ext_nodes_, [&](size_t i) { f_ext_[i].setZero(); });
   if (user_load_) user_load_->apply(t_, x_, v_, f_ext_);
-  // Their work is accounted in energy_account, once stage 7 has added the
+  // Their work is accounted in external_work, once stage 6 has added the
   // forces that depend on v_{n+1/2}.
 }
 
@@ -338,28 +344,19 @@ void Solver::contact() {
 }
 
 void Solver::accelerations() {
-  for_each_node(free_, [&](size_t i) {
-    a_[i] = mass_[i] > 0.0 ? Vec3((f_ext_[i] + f_int_[i] + f_con_[i]) / mass_[i]) : Vec3::Zero();
-  });
+  // Free nodes: folded into velocities(). Rigid bodies: force and moment.
   bodies_.sum_loads(f_int_, f_ext_, f_con_, x_);
 }
 
-void Solver::boundary_conditions() {
-  // Free nodes here; a body's constrained DOFs are held in its own update.
-  for (const auto& [k, fixed] : fixed_dofs_) {
-    const size_t i = static_cast<size_t>(k);
-    for (int d = 0; d < 3; ++d)
-      if (fixed[d]) {
-        a_[i][d] = 0.0;
-        v_[i][d] = 0.0;
-      }
-  }
-}
-
 void Solver::velocities() {
-  for_each_node(active_, [&](size_t i) { v_prev_[i] = v_[i]; });
   const double h = n_ == 0 ? 0.5 * dt_ : dt_;  // v_{1/2} = v_0 + Δt/2·a_0
-  for_each_node(free_, [&](size_t i) { v_[i] += h * a_[i]; });
+  // a = (f_ext + f_int + f_con)/m, zero on fixed DOFs, and v += h·a in one pass.
+  for_each_node(free_, [&](size_t i) {
+    v_prev_[i] = v_[i];
+    v_[i] += h * inv_mass_free_[i].cwiseProduct(f_ext_[i] + f_int_[i] + f_con_[i]);
+  });
+  for (size_t b = 0; b < bodies_.size(); ++b)
+    for (int i : bodies_[b].live) v_prev_[static_cast<size_t>(i)] = v_[static_cast<size_t>(i)];
   bodies_.advance_velocities(h, dt_, x_, v_);
 }
 
@@ -402,34 +399,42 @@ void Solver::implicit_loads() {
   touched_groups_.clear();
 }
 
+void Solver::external_work() {
+  // Work of the user loads over the last step, f_n complete (stages 2 and 6),
+  // while x_prev_ and x_ are still x_{n-1} and x_n.
+  energies_.external_work += step_work(f_ext_prev_, f_ext_, ext_nodes_);
+}
+
 void Solver::positions() {
-  for_each_node(active_, [&](size_t i) { x_prev_[i] = x_[i]; });
-  for_each_node(free_, [&](size_t i) { x_[i] += dt_ * v_[i]; });
+  // Kinetic energy at t_n from the mean of v_{n-1/2} and v_{n+1/2} (v_0 on
+  // the first step): bodies with their rotation of t_n, so before they move;
+  // the free nodes' share in the same pass as their positions.
+  const bool first = n_ == 0;
+  double ke = bodies_.kinetic_energy(first);
+  ke += sum_over(free_, [&](size_t i) {
+    const Vec3 vn = first ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
+    x_prev_[i] = x_[i];
+    x_[i] += dt_ * v_[i];
+    return 0.5 * mass_[i] * vn.squaredNorm();
+  });
+  energies_.kinetic = ke;
+  for (size_t b = 0; b < bodies_.size(); ++b)
+    for (int i : bodies_[b].live) x_prev_[static_cast<size_t>(i)] = x_[static_cast<size_t>(i)];
   bodies_.advance_positions(dt_, x_, v_);
   interior_placed_ = bodies_.size() == 0;
 }
 
 void Solver::energy_account() {
-  // Work of the user loads over the last step, f_n complete (stages 2 and 7).
-  energies_.external_work += step_work(f_ext_prev_, f_ext_, ext_nodes_);
-  // Kinetic energy at t_n from the mean of v_{n-1/2} and v_{n+1/2}
-  // (v_0 on the first step), rigid bodies once with their whole mass.
-  const bool first = n_ == 0;
-  const double ke = bodies_.kinetic_energy(first) + sum_over(free_, [&](size_t i) {
-                      const Vec3 vn = first ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
-                      return 0.5 * mass_[i] * vn.squaredNorm();
-                    });
-  energies_.kinetic = ke;
-  if (n_ > 0) energies_.damping += damping_power_ * dt_;
   const Energies& e = energies_;
-  const double total = ke + e.internal + e.spring + e.hourglass + e.contact + e.damping - e.external_work;
+  if (n_ > 0) energies_.damping += damping_power_ * dt_;
+  const double total = e.kinetic + e.internal + e.spring + e.hourglass + e.contact + e.damping - e.external_work;
   if (n_ == 0) energy0_ = total;
   energies_.balance_error = total - energy0_;
-  // A blow-up ends here with its step named, before a NaN reaches a position,
-  // a history row or the coupling partner.
+  // A blow-up ends here with its step named, before a NaN reaches a history
+  // row or the coupling partner.
   if (!std::isfinite(total)) {
     std::ostringstream s;
-    s << "the FE state is no longer finite at t = " << t_ << " s, step " << n_ << " (kinetic energy " << ke
+    s << "the FE state is no longer finite at t = " << t_ << " s, step " << n_ << " (kinetic energy " << e.kinetic
       << " J): the step is unstable for this model; lower the time step or check the loads (in a co-simulation, "
          "compare the chamber volumes with the coupling estimate fe_server printed before the run)";
     throw std::runtime_error(s.str());
@@ -441,11 +446,11 @@ void Solver::step() {
   user_loads();
   contact();
   accelerations();
-  boundary_conditions();
   velocities();
   implicit_loads();
-  energy_account();
+  external_work();
   positions();
+  energy_account();
   t_ += dt_;
   ++n_;
 }

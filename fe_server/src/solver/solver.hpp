@@ -6,14 +6,17 @@
 //                          axisymmetric quads)
 //   2 user_loads           f_ext(x_n, v_{n-1/2})  ← the UserLoad hook
 //   3 contact              penalty contact forces
-//   4 accelerations        a_n = (f_ext + f_int + f_contact) / m; a rigid body's force
-//                          and moment from its live nodes (rigid_body.hpp)
-//   5 boundary_conditions  a = 0, v = 0 on fixed DOFs
-//   6 velocities           v_{n+1/2} = v_{n-1/2} + Δt·a_n (Δt/2 on the first step)
-//   7 implicit_loads       forces that depend on v_{n+1/2} (TLM ports), solved with the
+//   4 accelerations        a rigid body's force and moment from its live nodes
+//                          (rigid_body.hpp)
+//   5 velocities           v_{n+1/2} = v_{n-1/2} + Δt·(f_ext + f_int + f_contact)/m
+//                          (Δt/2 on the first step), zero on fixed DOFs, in one
+//                          pass; rigid bodies: v_c, L, ω
+//   6 implicit_loads       forces that depend on v_{n+1/2} (TLM ports), solved with the
 //                          corrected velocity and added to f_ext and v_{n+1/2}
-//   8 energy_account       kinetic + internal + spring + hourglass + contact + damping − external work
-//   9 positions            x_{n+1} = x_n + Δt·v_{n+1/2}; rigid bodies rotate and move
+//   7 external_work        the user loads' work over the last step
+//   8 positions            x_{n+1} = x_n + Δt·v_{n+1/2} and, in the same pass, the
+//                          kinetic energy at t_n; rigid bodies rotate and move
+//   9 energy_account       kinetic + internal + spring + hourglass + contact + damping − external work
 // The stable step is checked once at construction (fixed Δt).
 //
 // Per-node passes run over the active nodes only: every node outside rigid
@@ -112,11 +115,11 @@ class Solver {
   void user_loads();
   void contact();
   void accelerations();
-  void boundary_conditions();
   void velocities();
   void implicit_loads();
-  void energy_account();
+  void external_work();
   void positions();
+  void energy_account();
   // Work of force field f over the last step, trapezoidal: ½(f_prev + f)·(x_n − x_{n−1}).
   double step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f, const std::vector<int>& nodes);
   // Live nodes, bodies' live lists, and the node lists above.
@@ -140,7 +143,8 @@ class Solver {
   // x() and v() place the bodies' interior nodes, which no pass reads.
   mutable std::vector<Vec3> x_, v_;
   mutable bool interior_placed_ = true;
-  std::vector<Vec3> a_, f_int_, f_ext_, f_ext_prev_, f_con_, f_con_prev_, x_prev_, v_prev_;
+  std::vector<Vec3> inv_mass_free_;  // per free node: 1/m on free DOFs, 0 on fixed ones
+  std::vector<Vec3> f_int_, f_ext_, f_ext_prev_, f_con_, f_con_prev_, x_prev_, v_prev_;
   std::vector<double> mass_, contact_mass_;
   std::vector<int> body_of_;  // rigid body index per node, -1 if none
   std::vector<int> active_;   // nodes of the per-node passes, ascending
@@ -148,10 +152,9 @@ class Solver {
   // The nodes each kind of force can reach (zeroed and its work summed there
   // only): element and discrete nodes, the user load's, the contacts'.
   std::vector<int> int_nodes_, ext_nodes_, con_nodes_;
-  std::vector<std::pair<int, Eigen::Matrix<bool, 3, 1>>> fixed_dofs_;  // free nodes with an SPC
   RigidBodies bodies_;
   std::unique_ptr<ThreadPool> pool_;  // null: one thread
-  // Mobility for stage 7: group per node (the node, or N + its body), and per group.
+  // Mobility for stage 6: group per node (the node, or N + its body), and per group.
   std::vector<int> group_;
   std::vector<double> group_inv_mass_;
   std::vector<Vec3> group_free_;

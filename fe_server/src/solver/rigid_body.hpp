@@ -75,7 +75,7 @@ class RigidBodies {
   // Stage 4: sum each body's force and moment from its live nodes.
   void sum_loads(const std::vector<Vec3>& f_int, const std::vector<Vec3>& f_ext, const std::vector<Vec3>& f_con,
                  const std::vector<Vec3>& x);
-  // Stage 6: v_c and L (h = Δt, Δt/2 on the first step), ω, and the live
+  // Stage 5: v_c and L (h = Δt, Δt/2 on the first step), ω, and the live
   // nodes' predicted velocities v_c + ω × (x_i − x_c).
   void advance_velocities(double h, double dt, const std::vector<Vec3>& x, std::vector<Vec3>& v);
   // Stage 6: force f and moment about x_c acting on body b for h more,

@@ -50,10 +50,10 @@ PenaltyContact::PenaltyContact(const Model& model, const ContactDef& def, double
   if (def.slave_nodes) {
     std::vector<int> nodes;
     for (int id : model.node_sets.at(def.slave_set)) nodes.push_back(model.index_of(id, def.where));
-    sides_.push_back(Side{master, nodes, {}});  // one-sided: nodes against the master's segments
+    sides_.push_back(Side{master, nodes, {}, {}, {}, {}});  // one-sided: nodes against the master's segments
   } else {
-    sides_.push_back(Side{master, nodes_of(slave), {}});
-    sides_.push_back(Side{slave, nodes_of(master), {}});
+    sides_.push_back(Side{master, nodes_of(slave), {}, {}, {}, {}});
+    sides_.push_back(Side{slave, nodes_of(master), {}, {}, {}, {}});
   }
   double sum = 0.0;
   int count = 0;
@@ -68,18 +68,32 @@ PenaltyContact::PenaltyContact(const Model& model, const ContactDef& def, double
 void PenaltyContact::search(Side& s, const std::vector<Vec3>& x) {
   // Candidates: segments whose centre lies within a few element sizes.
   const double reach = 3.0 * size_;
-  s.candidates.assign(s.nodes.size(), {});
-  std::vector<Vec3> centre(s.segments.size());
+  s.centre.resize(s.segments.size());
+  s.reach2.resize(s.segments.size());
   for (size_t j = 0; j < s.segments.size(); ++j) {
     const Segment& seg = s.segments[j];
     Vec3 c = Vec3::Zero();
-    for (int k = 0; k < corners(seg); ++k) c += x[static_cast<size_t>(seg.n[k])];
-    centre[j] = c / corners(seg);
+    double diameter = 0.0;
+    const Vec3& x0 = x[static_cast<size_t>(seg.n[0])];
+    for (int k = 0; k < corners(seg); ++k) {
+      c += x[static_cast<size_t>(seg.n[k])];
+      diameter = std::max(diameter, (x[static_cast<size_t>(seg.n[k])] - x0).norm());
+    }
+    s.centre[j] = c / corners(seg);
+    // A touching node projects inside the segment (within its diameter of
+    // corner 0) and lies at most 0.5·size behind it; 1.25× the diameter
+    // leaves room for the segment's strain until the next search.
+    const double r = 1.25 * diameter + 0.5 * size_;
+    s.reach2[j] = r * r;
   }
-  for (size_t i = 0; i < s.nodes.size(); ++i)
+  s.start.assign(1, 0);
+  s.cand.clear();
+  for (size_t i = 0; i < s.nodes.size(); ++i) {
     for (size_t j = 0; j < s.segments.size(); ++j)
-      if ((x[static_cast<size_t>(s.nodes[i])] - centre[j]).squaredNorm() < reach * reach)
-        s.candidates[i].push_back(static_cast<int>(j));
+      if ((x[static_cast<size_t>(s.nodes[i])] - s.centre[j]).squaredNorm() < reach * reach)
+        s.cand.push_back(static_cast<int>(j));
+    s.start.push_back(static_cast<int>(s.cand.size()));
+  }
 }
 
 bool PenaltyContact::behind(const Segment& seg, size_t node, const std::vector<Vec3>& x, double depth_limit,
@@ -133,8 +147,10 @@ int PenaltyContact::side_forces(Side& s, const std::vector<Vec3>& x, const std::
   Contact c;
   for (size_t i = 0; i < s.nodes.size(); ++i) {
     const size_t node = static_cast<size_t>(s.nodes[i]);
-    for (int j : s.candidates[i]) {
-      const Segment& seg = s.segments[static_cast<size_t>(j)];
+    for (int ci = s.start[i]; ci < s.start[i + 1]; ++ci) {
+      const size_t j = static_cast<size_t>(s.cand[static_cast<size_t>(ci)]);
+      const Segment& seg = s.segments[j];
+      if ((x[node] - x[static_cast<size_t>(seg.n[0])]).squaredNorm() > s.reach2[j]) continue;  // too far to touch
       if (!behind(seg, node, x, 0.5 * size_, c)) continue;
       const int nc = corners(seg);
       double m_seg = 0.0;
@@ -174,8 +190,9 @@ void PenaltyContact::refuse_initial_penetration(const Model& model, const Contac
   for (auto& s : sides_) {
     search(s, x);
     for (size_t i = 0; i < s.nodes.size(); ++i)
-      for (int j : s.candidates[i])
-        if (behind(s.segments[static_cast<size_t>(j)], static_cast<size_t>(s.nodes[i]), x, 2.0 * size_, c) &&
+      for (int k = s.start[i]; k < s.start[i + 1]; ++k)
+        if (behind(s.segments[static_cast<size_t>(s.cand[static_cast<size_t>(k)])], static_cast<size_t>(s.nodes[i]), x,
+                   2.0 * size_, c) &&
             -c.g > worst) {
           worst = -c.g;
           worst_node = s.nodes[i];
@@ -193,7 +210,7 @@ int PenaltyContact::apply(const std::vector<Vec3>& x, const std::vector<Vec3>& v
   max_penetration_ = 0.0;
   int active = 0;
   for (auto& s : sides_) {
-    if (step % search_interval_ == 0 || s.candidates.empty()) search(s, x);
+    if (step % search_interval_ == 0 || s.start.empty()) search(s, x);
     active += side_forces(s, x, v, f);
   }
   return active;

@@ -39,7 +39,15 @@ class PenaltyContact {
   struct Side {
     std::vector<Segment> segments;
     std::vector<int> nodes;  // unique nodes of the other surface, checked against `segments`
-    std::vector<std::vector<int>> candidates;  // per node: nearby segment indices
+    // Per node i, nearby segments cand[start[i] .. start[i+1]) (flat, reused:
+    // no allocation once the lists have reached their size).
+    std::vector<int> start, cand;
+    // Per segment, at the last search: the squared distance from its corner
+    // 0 within which a node can touch it (its diameter, with room for the
+    // deformation until the next search, plus the depth limit). A node
+    // farther away is skipped without the segment's normal.
+    std::vector<double> reach2;
+    std::vector<Vec3> centre;  // scratch of the search
   };
   struct Contact {
     double g = 0.0;  // gap along n, negative behind the segment

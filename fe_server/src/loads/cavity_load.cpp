@@ -68,6 +68,14 @@ double wetted_fraction(const Segment& s, const std::vector<Vec3>& x, double lo, 
 
 CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTable& table)
     : model_(model) {
+  // Rigid bodies that only translate (every rotation held, or a 2D
+  // axisymmetric model: solver/rigid_body.hpp), and each node's body.
+  std::vector<int> body(model.x0.size(), -1);
+  std::vector<char> translating;
+  for (size_t b = 0; b < model.rigid_bodies.size(); ++b) {
+    for (int n : model.rigid_bodies[b].nodes) body[static_cast<size_t>(n)] = static_cast<int>(b);
+    translating.push_back(model.symmetry_axis == 1 || model.rigid_bodies[b].fixed_rotation.all());
+  }
   for (const auto& port : table.ports) {
     if (port.type != config::PortType::Hydraulic) continue;
     const LoadingSet* ls = nullptr;
@@ -103,6 +111,13 @@ CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTab
                                                                        ps.nodes.begin())
                                                    : -1);
     ps.node_weight.assign(ps.nodes.size(), Vec3::Zero());
+    for (const auto& seg : ps.segments) {
+      const int b = body[static_cast<size_t>(seg.n[0])];
+      bool fixed = b >= 0 && translating[static_cast<size_t>(b)];
+      for (int k = 1; k < seg.corners(); ++k) fixed = fixed && body[static_cast<size_t>(seg.n[k])] == b;
+      ps.fixed_shape.push_back(fixed);
+      ps.area0.push_back(segment_area_vector(seg, model.x0));
+    }
     surfaces_.push_back(std::move(ps));
   }
   pressure_.assign(surfaces_.size(), 0.0);
@@ -136,8 +151,13 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
     // Wetted area vectors first: the TLM pressure needs the flow they carry.
     Vec3 total = Vec3::Zero();
     for (size_t s = 0; s < ps.segments.size(); ++s) {
-      segment_corner_weights(ps.segments[s], x, &ps.corner_weight[4 * s]);
-      Vec3 a = segment_area_vector(ps.segments[s], x);
+      Vec3 a;
+      if (ps.fixed_shape[s]) {
+        a = ps.area0[s];  // its corner weights are those of the constructor
+      } else {
+        segment_corner_weights(ps.segments[s], x, &ps.corner_weight[4 * s]);
+        a = segment_area_vector(ps.segments[s], x);
+      }
       if (bounded) a *= wetted_fraction(ps.segments[s], x, b.z_min + shift, b.z_max + shift, b.ramp, axis);
       ps.segment_area[s] = a;
       total += a;

@@ -104,6 +104,11 @@ class CavityPressureLoad : public UserLoad {
     std::vector<Segment> segments;
     std::vector<int> nodes;  // unique nodes of the set
     std::vector<Vec3> segment_area;  // area vectors of the last apply()
+    // Segments on a rigid body that cannot rotate keep their shape, area
+    // vector and corner weights: those are computed once (area0) and only
+    // the wetted fraction is evaluated per step.
+    std::vector<char> fixed_shape;
+    std::vector<Vec3> area0;
     Vec3 normal0 = Vec3::UnitZ();    // unit normal of the whole set at t = 0
     LoadingSet bounds;
     // For the implicit TLM solve: per segment corner, the index into `nodes`;

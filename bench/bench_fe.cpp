@@ -9,7 +9,9 @@
 //  (5) the same bar impact with axisymmetric quads: the Pareto points to
 //      set beside (3), hex8 against axisymmetric at equal error;
 //  (6) the hammer scene's deck (rigid piston, spool and rock block, 1D-bar
-//      tool) on its own: µs per FE step at the co-simulation's 1 µs step.
+//      tool) on its own: µs per FE step at the co-simulation's 1 µs step;
+//  (7) thread scaling, 1 → 2 threads, hex8 and axisymmetric decks of
+//      30k+ elements, the two counts interleaved three times (median).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -178,10 +180,52 @@ void hammer_fe_step_cost() {
   }
 #endif
 }
+// µs per step of `steps` steps on `threads` threads.
+double step_time(const fe::Model& m, int threads, int steps) {
+  fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
+  s.set_threads(threads);
+  for (int k = 0; k < 5; ++k) s.step();
+  auto t0 = Clock::now();
+  for (int k = 0; k < steps; ++k) s.step();
+  return 1e6 * since(t0) / steps;
+}
+
+void thread_scaling() {
+  std::printf("thread scaling (median of 3 interleaved runs):\n");
+  fe::RevolutionMeshOptions o;
+  o.element_size = 0.004;
+  fe::Model hex = fe::parse_deck("*KEYWORD\n" + fe::mesh_revolution({{0.4, 0.03, 0.0}}, o).keyword_text + materials(0.3),
+                                 "cyl.k");
+  for (size_t i = 0; i < hex.x0.size(); ++i) hex.v0[i] = fe::Vec3(0, 0, 1.0 * hex.x0[i].z());
+  fe::Model axi = fe::parse_deck("*KEYWORD\n" + axi_test::block(1, 1, 0.0, 0.06, 48, 0.0, 0.8, 640) +
+                                     "*PART\np\n1,1,1\n*SECTION_SHELL\n1,15\n0\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n",
+                                 "cyl2d.k");
+  for (size_t i = 0; i < axi.x0.size(); ++i) axi.v0[i] = fe::Vec3(0, 1.0 * axi.x0[i].y(), 0);
+  for (auto [name, model] : {std::pair<const char*, const fe::Model*>{"hex8", &hex}, {"axi4", &axi}}) {
+    const size_t elements = model->solids.size() + model->axis.size();
+    const int steps = static_cast<int>(std::max<size_t>(20, 6000000 / elements));
+    std::vector<double> t1, t2, ratio;
+    for (int rep = 0; rep < 3; ++rep) {
+      t1.push_back(step_time(*model, 1, steps));
+      t2.push_back(step_time(*model, 2, steps));
+      ratio.push_back(t1.back() / t2.back());
+    }
+    std::vector<double> sorted = ratio;
+    std::sort(sorted.begin(), sorted.end());
+    std::sort(t1.begin(), t1.end());
+    std::sort(t2.begin(), t2.end());
+    std::printf("  %s, %zu elements: 1 thread %.1f us/step, 2 threads %.1f us/step (medians), speed-up %.2f "
+                "(runs: %.2f %.2f %.2f)\n",
+                name, elements, t1[1], t2[1], sorted[1], ratio[0], ratio[1], ratio[2]);
+    std::printf("csv:fe_threads,%s,%zu,%.3f,%.3f,%.3f,%.3f,%.3f\n", name, elements, t1[1], t2[1], sorted[1], sorted[0],
+                sorted[2]);
+  }
+}
 }  // namespace
 
 int main() {
   hammer_fe_step_cost();
+  thread_scaling();
   element_cycle_cost();
   bar_cycle_cost();
   axi_cycle_cost();

@@ -312,9 +312,9 @@ def main():
         tlm10 = [h for h in hammer if h["mode"] == "tlm" and abs(h["T"] - 10e-6) < 1e-9]
         if tlm10:
             fe_alone = float(by["loaded"][2])  # µs per FE step = s per simulated second at 1 µs
-            L.append(f" The TLM co-simulation at T = 10 µs, k = 10 takes {tlm10[0]['wall']:.1f} s per simulated "
+            L[-1] += (f" The TLM co-simulation at T = 10 µs, k = 10 takes {tlm10[0]['wall']:.1f} s per simulated "
                      f"second, {tlm10[0]['wall'] / fe_alone:.2f}× the FE alone ({fe_alone:.2f} s): the rest is the "
-                     "host, the exchanges and the output.\n")
+                      "host, the exchanges and the output.\n")
     L.append("## TLM host cost on the hammer\n")
     for r in tlm_cost:
         L.append(f"Monolithic hammer, {r[0]} components: **{float(r[1]):.1f} ns per component-step**, "

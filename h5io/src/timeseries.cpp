@@ -168,6 +168,30 @@ std::vector<double> read_series(const std::string& file, const std::string& data
   return out;
 }
 
+namespace {
+herr_t collect_dataset(hid_t obj, const char* name, const H5O_info_t* info, void* out) {
+  if (info->type != H5O_TYPE_DATASET) return 0;
+  hid_t d = H5Dopen2(obj, name, H5P_DEFAULT);
+  if (d < 0) return -1;
+  hid_t space = H5Dget_space(d);
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  H5Sclose(space);
+  H5Dclose(d);
+  static_cast<std::vector<std::pair<std::string, size_t>>*>(out)->emplace_back(name, static_cast<size_t>(n > 0 ? n : 0));
+  return 0;
+}
+}  // namespace
+
+std::vector<std::pair<std::string, size_t>> list_series(const std::string& file) {
+  hid_t f = open_for_reading(file);
+  if (f < 0) fail("cannot open file", file);
+  std::vector<std::pair<std::string, size_t>> out;
+  const herr_t rc = H5Ovisit2(f, H5_INDEX_NAME, H5_ITER_NATIVE, collect_dataset, &out, H5O_INFO_BASIC);
+  H5Fclose(f);
+  if (rc < 0) fail("cannot list the datasets", file);
+  return out;
+}
+
 std::string read_attribute(const std::string& file, const std::string& name) {
   hid_t f = open_for_reading(file);
   if (f < 0) fail("cannot open file", file);

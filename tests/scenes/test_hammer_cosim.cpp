@@ -52,6 +52,16 @@ Series cosim(const std::vector<std::string>& ports, const std::string& model, co
   const int rc = host.wait(200.0);
   EXPECT_TRUE(rc == 0 || rc == 4) << host.output();
   EXPECT_EQ(server.wait(30.0), 0) << server.output();
+  // The FE histories at the deck's rates (*DATABASE_GLSTAT / NODOUT 20 us,
+  // ELOUT 2 us): at most 50 MB of rows per simulated second (issue 13's
+  // bound; every FE step made it 500 MB), whatever the coupling step. Rows,
+  // not the file's size: HDF5 stores each series' last chunk (4096 rows)
+  // whole, a fixed 2 MB here that a run of seconds does not notice.
+  double bytes = 0.0;
+  for (const auto& [name, rows] : h5io::list_series(dir.file("fe.h5"))) bytes += 8.0 * static_cast<double>(rows);
+  EXPECT_GT(bytes, 0.0);
+  EXPECT_LT(bytes / kStop, 50e6) << bytes << " bytes of FE history rows for " << kStop << " s";
+  std::printf("FE history rows: %.1f MB per simulated second\n", bytes / kStop / 1e6);
   return read_host(dir.file("host.h5"), "components/mech/x", "components/smech/x", "nodes/cavA.P2/p");
 }
 

@@ -264,6 +264,9 @@ void Solver::set_threads(int threads) {
 int Solver::threads() const { return pool_ ? pool_->threads() : 1; }
 
 void Solver::set_user_load(UserLoad* load) {
+  // Its nodes become live from here on; a rigid body's interior nodes are
+  // only current at t = 0 (and x_prev_ with them), so the hook is set before the first step.
+  if (n_ > 0) throw std::logic_error("Solver::set_user_load after the first step");
   user_load_ = load;
   build_node_lists();
 }

@@ -75,7 +75,8 @@ class Solver {
   void set_threads(int threads);
   int threads() const;
   static constexpr size_t kNodeBlock = 2048;  // nodes per task of the per-node passes
-  // The hook of stage 2 (and 7); its loaded_nodes() join the live nodes.
+  // The hook of stages 2 and 6; its loaded_nodes() join the live nodes.
+  // Before the first step (std::logic_error after it).
   void set_user_load(UserLoad* load);
   void step();
 

@@ -20,6 +20,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace h5io {
@@ -72,6 +73,8 @@ class TimeSeriesWriter {
 
 // Read a whole 1-D dataset of doubles (post-processing and tests).
 std::vector<double> read_series(const std::string& file, const std::string& dataset);
+// Every 1-D dataset of the file with its length (rows), by path.
+std::vector<std::pair<std::string, size_t>> list_series(const std::string& file);
 // Read a string attribute of the root group; empty if absent.
 std::string read_attribute(const std::string& file, const std::string& name);
 

@@ -2,7 +2,9 @@
 // read and refused with its location (file:line, or the option), with the
 // documented exit code, before anything runs.
 #include <gtest/gtest.h>
+#include <sched.h>
 
+#include <algorithm>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -120,4 +122,31 @@ TEST(BadValues, AServerPortOfZeroAndAnUnwritablePortFileAreRefused) {
                         "--port-file", dir.path(), "--out", dir.file("f.h5"), "--accept-timeout", "1"});
   EXPECT_NE(server.code, 0) << server.output;  // it failed silently before
   EXPECT_NE(server.output.find("--port-file: cannot write"), std::string::npos) << server.output;
+}
+
+// --threads: 1..1024, else refused naming the option; the session line says
+// how many threads the FE uses; without the option a co-simulation on
+// loopback leaves one core to tlm_host (README, "Threads").
+TEST(BadValues, ThreadCountsAreCheckedAndTheDefaultLeavesACoreToTheHostOnLoopback) {
+  TempDir dir;
+  for (const char* n : {"0", "2000", "two"}) {
+    Outcome o = run({PCS_FE_SERVER_EXE, "--model", kScene + "/piston.k", "--ports", kScene + "/ports.cfg",
+                     "--threads", n, "--out", dir.file("f.h5")});
+    expect_refused(o, 2, {"--threads"});
+  }
+  auto session_line = [&](std::vector<std::string> extra) {
+    std::vector<std::string> argv = {PCS_FE_SERVER_EXE, "--model", kScene + "/piston.k", "--ports",
+                                     kScene + "/ports.cfg", "--accept-timeout", "0.5", "--out", dir.file("f.h5")};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return run(argv);  // no host comes: exit 4 after 0.5 s
+  };
+  Outcome three = session_line({"--threads", "3"});
+  EXPECT_EQ(three.code, 4) << three.output;
+  EXPECT_NE(three.output.find(", 3 threads)"), std::string::npos) << three.output;
+  cpu_set_t set;
+  ASSERT_EQ(sched_getaffinity(0, sizeof set, &set), 0);
+  const int expected = std::max(1, CPU_COUNT(&set) - 1);
+  Outcome dflt = session_line({});
+  const std::string want = ", " + std::to_string(expected) + (expected == 1 ? " thread)" : " threads)");
+  EXPECT_NE(dflt.output.find(want), std::string::npos) << "want '" << want << "' in\n" << dflt.output;
 }

@@ -244,15 +244,11 @@ void axi4_forces(const Model& m, Axi4State& st, const std::vector<Vec3>& x, cons
   run_blocks(st.blocks.size(), pool, [&](size_t b) {
     axi4_block(m, st, x, v, dt, b * kAxi4Block, std::min(n, (b + 1) * kAxi4Block), st.blocks[b]);
   });
-  for (const auto& r : st.blocks) {
-    if (r.inverted >= 0) {
-      const AxiElement& el = m.axis[static_cast<size_t>(st.elements[static_cast<size_t>(r.inverted)])];
-      throw InvertedElement("axisymmetric element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
-                            "area " + std::to_string(r.measure) + " m²");
-    }
-    w.internal += r.internal;
-    w.hourglass += r.hourglass;
-    w.damping_power += r.damping_power;
+  double area = 0.0;
+  if (const long bad = sum_blocks(st.blocks, w, &area); bad >= 0) {
+    const AxiElement& el = m.axis[static_cast<size_t>(st.elements[static_cast<size_t>(bad)])];
+    throw InvertedElement("axisymmetric element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
+                          "area " + std::to_string(area) + " m²");
   }
   st.gather.add_to(st.force, f, pool);
 }

@@ -4,6 +4,19 @@
 
 namespace fe {
 
+long sum_blocks(const std::vector<BlockResult>& blocks, ElementWork& w, double* measure) {
+  for (const BlockResult& r : blocks) {
+    if (r.inverted >= 0) {
+      *measure = r.measure;
+      return r.inverted;
+    }
+    w.internal += r.internal;
+    w.hourglass += r.hourglass;
+    w.damping_power += r.damping_power;
+  }
+  return -1;
+}
+
 void NodalGather::build(size_t nodes, size_t elements, int corners, int width,
                         const std::function<int(size_t, int)>& node_of) {
   width_ = width;

@@ -9,6 +9,7 @@
 #include <functional>
 #include <vector>
 
+#include "elements/element_work.hpp"
 #include "model/model.hpp"
 #include "parallel/thread_pool.hpp"
 
@@ -28,6 +29,11 @@ inline void run_blocks(size_t blocks, ThreadPool* pool, const std::function<void
   else
     for (size_t b = 0; b < blocks; ++b) task(b);
 }
+
+// Adds the blocks' energy partials to w in block order. Returns the first
+// inverted element (index into the loop's list, its measure in *measure),
+// or -1.
+long sum_blocks(const std::vector<BlockResult>& blocks, ElementWork& w, double* measure);
 
 // Per node, the force slots of its elements: element k's corner a writes
 // `width` doubles (x, y[, z]) at slot (k·corners + a)·width.

@@ -307,16 +307,11 @@ void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x, cons
   run_blocks(st.blocks.size(), pool, [&](size_t b) {
     hex8_block(m, st, x, v, dt, b * kHex8Block, std::min(n, (b + 1) * kHex8Block), st.blocks[b]);
   });
-  // Energies and the first inverted element, in block order.
-  for (const auto& r : st.blocks) {
-    if (r.inverted >= 0) {
-      const SolidElement& el = m.solids[static_cast<size_t>(st.elements[static_cast<size_t>(r.inverted)])];
-      throw InvertedElement("solid element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
-                            "volume " + std::to_string(r.measure) + " m³");
-    }
-    w.internal += r.internal;
-    w.hourglass += r.hourglass;
-    w.damping_power += r.damping_power;
+  double volume = 0.0;
+  if (const long bad = sum_blocks(st.blocks, w, &volume); bad >= 0) {
+    const SolidElement& el = m.solids[static_cast<size_t>(st.elements[static_cast<size_t>(bad)])];
+    throw InvertedElement("solid element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
+                          "volume " + std::to_string(volume) + " m³");
   }
   // Each node sums its elements' forces in element order.
   st.gather.add_to(st.force, f, pool);

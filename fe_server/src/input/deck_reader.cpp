@@ -92,17 +92,7 @@ struct Reader {
       }
     } else if (kw == "*PART") {
       if (b.cards.size() % 2) b.fail("*PART needs a title card and a PID card per part");
-      for (size_t i = 0; i + 1 < b.cards.size(); i += 2) {
-        Card c = fields_of(b.cards[i + 1], kW10);
-        Part p;
-        p.title = config::trim(b.cards[i].text);
-        p.id = static_cast<int>(c.integer(0, "PID"));
-        p.section = static_cast<int>(c.integer_or(1, "SECID", 0));
-        p.material = static_cast<int>(c.integer_or(2, "MID", 0));
-        p.where = c.where;
-        if (m.parts.count(p.id)) c.fail("part " + std::to_string(p.id) + " defined twice");
-        m.parts[p.id] = p;
-      }
+      for (size_t i = 0; i + 1 < b.cards.size(); i += 2) part(b.cards[i], b.cards[i + 1]);
     } else if (kw == "*SECTION_SOLID") {
       for (const Card& raw : b.cards) {
         Card c = fields_of(raw, kW10);
@@ -684,6 +674,19 @@ struct Reader {
         if (c.integer_or(static_cast<size_t>(2 + k), "DOF", 0) != 0) m.fixed[static_cast<size_t>(i)][k] = true;
   }
 
+  // A *PART (or *PART_INERTIA): its title card and its PID SECID MID card.
+  const Part& part(const Card& title, const Card& raw) {
+    Card c = fields_of(raw, kW10);
+    Part p;
+    p.title = config::trim(title.text);
+    p.id = static_cast<int>(c.integer(0, "PID"));
+    p.section = static_cast<int>(c.integer_or(1, "SECID", 0));
+    p.material = static_cast<int>(c.integer_or(2, "MID", 0));
+    p.where = c.where;
+    if (m.parts.count(p.id)) c.fail("part " + std::to_string(p.id) + " defined twice");
+    return m.parts[p.id] = p;
+  }
+
   // MID RO E PR of *MAT_ELASTIC and *MAT_RIGID's first card.
   static Material elastic_constants(const Card& c) {
     Material mat;
@@ -712,16 +715,8 @@ struct Reader {
     if (b.cards.size() != 5)
       b.fail("*PART_INERTIA needs five cards: title; PID SECID MID; XC YC ZC TM IRCS NODEID; IXX IXY IXZ IYY IYZ IZZ; "
              "VTX VTY VTZ VRX VRY VRZ");
-    Card c = fields_of(b.cards[1], kW10), c3 = fields_of(b.cards[2], kW10), c4 = fields_of(b.cards[3], kW10),
-         c5 = fields_of(b.cards[4], kW10);
-    Part p;
-    p.title = config::trim(b.cards[0].text);
-    p.id = static_cast<int>(c.integer(0, "PID"));
-    p.section = static_cast<int>(c.integer_or(1, "SECID", 0));
-    p.material = static_cast<int>(c.integer_or(2, "MID", 0));
-    p.where = c.where;
-    if (m.parts.count(p.id)) c.fail("part " + std::to_string(p.id) + " defined twice");
-    m.parts[p.id] = p;
+    const Part& p = part(b.cards[0], b.cards[1]);
+    Card c3 = fields_of(b.cards[2], kW10), c4 = fields_of(b.cards[3], kW10), c5 = fields_of(b.cards[4], kW10);
     RigidBody rb;
     rb.inertia_given = true;
     rb.com = Vec3(c3.real_or(0, "XC", 0.0), c3.real_or(1, "YC", 0.0), c3.real_or(2, "ZC", 0.0));
@@ -738,7 +733,7 @@ struct Reader {
       c4.fail("the inertia tensor is not positive semi-definite");
     rb.v0 = Vec3(c5.real_or(0, "VTX", 0.0), c5.real_or(1, "VTY", 0.0), c5.real_or(2, "VTZ", 0.0));
     rb.omega0 = Vec3(c5.real_or(3, "VRX", 0.0), c5.real_or(4, "VRY", 0.0), c5.real_or(5, "VRZ", 0.0));
-    rb.where = c.where;
+    rb.where = p.where;
     inertias[p.id] = rb;
   }
 

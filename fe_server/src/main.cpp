@@ -50,6 +50,9 @@ int usage(std::ostream& os, int rc) {
         "  --handshake-timeout S a connection must complete the handshake (HELLO, then AUTH) within\n"
         "                        S seconds (default 5)\n"
         "  --step-timeout S      per-step receive deadline (default: the port table's timeout)\n"
+        "  --sessions N          serve N sessions one after another on the same port and token (0: until\n"
+        "                        stopped), each from the deck's initial state into its own results file\n"
+        "                        (--out fe_{session}.h5, or _<n> added before .h5)\n"
         "  --threads N           threads for the element and node loops (default: every core, and one\n"
         "                        less when listening on loopback, where tlm_host shares the machine);\n"
         "                        results are bit-identical for any N\n"
@@ -68,6 +71,19 @@ bool is_loopback(const std::string& host) {
   if (inet_pton(AF_INET, host.c_str(), a) == 1) return a[0] == 127;
   static const unsigned char v6_loopback[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
   return inet_pton(AF_INET6, host.c_str(), a) == 1 && std::memcmp(a, v6_loopback, 16) == 0;
+}
+
+// The results file of session n: {session} in `out` replaced by n; without
+// it, "_n" before the extension when there is more than one session.
+std::string session_path(const std::string& out, int n, int sessions) {
+  const std::string key = "{session}";
+  const size_t at = out.find(key);
+  if (at != std::string::npos) return out.substr(0, at) + std::to_string(n) + out.substr(at + key.size());
+  if (sessions == 1) return out;
+  const size_t dot = out.rfind('.');
+  const size_t slash = out.rfind('/');
+  const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+  return has_ext ? out.substr(0, dot) + "_" + std::to_string(n) + out.substr(dot) : out + "_" + std::to_string(n);
 }
 
 // Threads when --threads is not given: every core the process may use, one
@@ -174,6 +190,7 @@ int main(int argc, char** argv) {
   fe::ServerOptions opt;
   std::string token_file;
   int threads = 0;  // 0: the default below
+  int sessions = 1;
   try {
     config::Args args(argc, argv);
     while (args.next()) {
@@ -189,6 +206,10 @@ int main(int argc, char** argv) {
       else if (args.is("--step-timeout")) opt.step_timeout = args.real(1e-3, 1e6);
       else if (args.is("--handshake-timeout")) opt.handshake_timeout = args.real(1e-3, 3600);
       else if (args.is("--quiet")) opt.quiet = true;
+      else if (args.is("--sessions")) {
+        sessions = args.integer();
+        if (sessions < 0) throw std::invalid_argument("--sessions must be 0 (until stopped) or more, got " + std::to_string(sessions));
+      }
       else if (args.is("--threads")) {
         threads = args.integer();
         if (threads < 1 || threads > 1024) throw std::invalid_argument("--threads must be 1..1024, got " + std::to_string(threads));
@@ -231,46 +252,60 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<fe::History> history;
   try {
-    fe::CavityPressureLoad load(model, table);
-    fe::MechanicalLoad mech(model, table);
-    fe::UserLoads loads;
-    loads.add(&load);
-    loads.add(&mech);
-    fe::PortMap ports(table, load, mech);
-    // Printed before mass scaling: the estimate is about the physical piston.
-    if (!opt.quiet) std::cout << fe::coupling_stability_text(fe::coupling_stability(model, table, 1.4e9), table, 1.4e9);
-    prepare_step(model, table.dt / table.subcycles, opt.quiet);
-    fe::Solver solver(model, table.dt / table.subcycles);
-    solver.set_user_load(&loads);
-    solver.set_threads(threads);
-    // Without *DATABASE_ DT cards: a row per coupling step.
-    history = std::make_unique<fe::History>(out, model, &table, table.dt / table.subcycles, table.dt);
+    const fe::Model pristine = model;  // each session starts from the deck's state (mass scaling included)
     fe::CouplingServer server(opt, tables);
     server.bind();
-    if (!opt.quiet)
-      std::cout << "fe_server: listening on " << opt.listen_host << ":" << server.port() << " (model "
-                << table.model_name << (tables.size() > 1 ? ", " + std::to_string(tables.size()) + " FMUs" : "") << ", "
-                << model.node_ids.size() << " nodes, dt " << table.dt / table.subcycles
-                << " s × " << table.subcycles << " per coupling step, " << solver.threads()
-                << (solver.threads() == 1 ? " thread" : " threads") << ")" << std::endl;
-    std::string message;
-    fe::ExitCode code = server.run(solver, ports, *history, message);
-    history->flush();
-    if (code == fe::kExitOk) {
-      bool drift = false, failed = false;
-      const std::string energy = history->energy_summary(solver, &drift, &failed);
-      if (!opt.quiet) {
-        std::cout << "fe_server: " << message << "\n"
-                  << "fe_server: " << energy << "; history (" << history->rows() << " rows) in " << out << std::endl;
+    fe::ExitCode worst = fe::kExitOk;
+    for (int session = 1; sessions == 0 || session <= sessions; ++session) {
+      const bool last = sessions != 0 && session == sessions;
+      model = pristine;
+      fe::CavityPressureLoad load(model, table);
+      fe::MechanicalLoad mech(model, table);
+      fe::UserLoads loads;
+      loads.add(&load);
+      loads.add(&mech);
+      fe::PortMap ports(table, load, mech);
+      const bool quiet = opt.quiet || session > 1;  // the model's report once
+      // Printed before mass scaling: the estimate is about the physical piston.
+      if (!quiet) std::cout << fe::coupling_stability_text(fe::coupling_stability(model, table, 1.4e9), table, 1.4e9);
+      prepare_step(model, table.dt / table.subcycles, quiet);
+      fe::Solver solver(model, table.dt / table.subcycles);
+      solver.set_user_load(&loads);
+      solver.set_threads(threads);
+      const std::string path = session_path(out, session, sessions);
+      // Without *DATABASE_ DT cards: a row per coupling step.
+      history = std::make_unique<fe::History>(path, model, &table, table.dt / table.subcycles, table.dt);
+      if (!opt.quiet)
+        std::cout << "fe_server: " << (sessions == 1 ? std::string() : "session " + std::to_string(session) + ": ")
+                  << "listening on " << opt.listen_host << ":" << server.port() << " (model " << table.model_name
+                  << (tables.size() > 1 ? ", " + std::to_string(tables.size()) + " FMUs" : "") << ", "
+                  << model.node_ids.size() << " nodes, dt " << table.dt / table.subcycles << " s × " << table.subcycles
+                  << " per coupling step, " << solver.threads() << (solver.threads() == 1 ? " thread" : " threads")
+                  << ")" << std::endl;
+      server.set_keep_listening(!last);
+      std::string message;
+      fe::ExitCode code = server.run(solver, ports, *history, message);
+      server.end_session();
+      history->flush();
+      const std::string tag = sessions == 1 ? "fe_server: " : "fe_server: session " + std::to_string(session) + ": ";
+      if (code == fe::kExitOk) {
+        bool drift = false, failed = false;
+        const std::string energy = history->energy_summary(solver, &drift, &failed);
+        if (!opt.quiet) std::cout << tag << message << "; " << energy << "; history (" << history->rows() << " rows) in " << path << std::endl;
+        const std::string hourglass = fe::hourglass_warning(solver.energies());
+        if (!hourglass.empty()) std::cerr << tag << "warning: " << hourglass << "\n";
+        code = energy_verdict(energy, drift, failed);
+      } else {
+        std::cerr << tag << message << "; history up to the last completed step (" << history->rows()
+                  << " rows) kept in " << path << std::endl;
       }
-      const std::string hourglass = fe::hourglass_warning(solver.energies());
-      if (!hourglass.empty()) std::cerr << "fe_server: warning: " << hourglass << "\n";
-      code = energy_verdict(energy, drift, failed);
-    } else {
-      std::cerr << "fe_server: " << message << "; history up to the last completed step (" << history->rows()
-                << " rows) kept in " << out << std::endl;
+      history.reset();
+      // A signal, or no host within --accept-timeout, ends the server; any
+      // other failed session is reported and the next one is served.
+      if (code >= fe::kExitStopped || code == fe::kExitAcceptTimeout) return code;
+      if (code != fe::kExitOk) worst = code;
     }
-    return code;
+    return worst;
   } catch (const config::InputError& e) {
     std::cerr << "fe_server: " << e.what() << "\n";
     return fe::kExitInput;

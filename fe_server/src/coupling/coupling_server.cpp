@@ -154,6 +154,13 @@ CouplingServer::~CouplingServer() {
   sl_close(&listener_);
 }
 
+void CouplingServer::end_session() {
+  for (auto& c : clients_) {
+    sl_close(&c.conn);
+    c.conn = SL_SOCKET_INIT;
+  }
+}
+
 std::string CouplingServer::name_of(const Client& c) const {
   return clients_.size() > 1 ? " from " + c.table->model_name : "";
 }
@@ -431,7 +438,7 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
   if (listener_.fd < 0) bind();
   const ExitCode accepted = accept_clients(message);
   if (accepted != kExitOk) return accepted;
-  sl_close(&listener_);  // one session per run
+  if (!keep_listening_) sl_close(&listener_);  // no further session: strangers get "connection refused"
   if (!opt_.quiet) std::cout << "fe_server: session accepted" << std::endl;
 
   const size_t n_in = clients_.back().in_offset + clients_.back().table->to_fe.size();

@@ -1,4 +1,5 @@
-// Server side of the coupling protocol: one session per run. A session has
+// Server side of the coupling protocol: one session per run() (fe_server's
+// --sessions calls run() again on the same listener). A session has
 // one client per port table: one FMU, or one per co-simulated part (piston,
 // valve) when several tables are given. Accepts them in any order, checks
 // each HELLO (protocol version, port-table hash, time step, subcycles,
@@ -70,6 +71,11 @@ class CouplingServer {
   ~CouplingServer();
   // Bind now, so the port is known (and written to port_file) before run().
   void bind();
+  // Keep the listener open after run() has accepted its session, for the
+  // next one (--sessions); otherwise run() closes it once its clients are in.
+  void set_keep_listening(bool keep) { keep_listening_ = keep; }
+  // After run(): close the session's connections, ready for the next run().
+  void end_session();
   int port() const { return port_; }
   // Serve one session. Returns an exit code; `message` says what happened.
   ExitCode run(Solver& solver, PortMap& ports, History& history, std::string& message);
@@ -129,6 +135,7 @@ class CouplingServer {
   std::vector<Client> clients_;
   double timeout_ = 60.0;
   sl_socket listener_ = SL_SOCKET_INIT;
+  bool keep_listening_ = false;
   int port_ = 0;
   std::vector<uint8_t> buf_;
   std::vector<uint8_t> peek_;  // what handshake_step looks at

@@ -1,0 +1,61 @@
+// fe_server --sessions N (issue 18, item 1): sessions one after another on
+// the same port and token, each from the deck's initial state into its own
+// results file, a summary line per session; then the server exits.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "h5io/timeseries.hpp"
+#include "integration_support.hpp"
+
+namespace {
+
+int run_host(const TempDir& dir, int port, const std::string& out) {
+  ChildProcess host({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server",
+                     "127.0.0.1:" + std::to_string(port), "--out", dir.file(out), "--quiet", "--set",
+                     "simulation.stoptime=0.01"});
+  const int rc = host.wait(kHardTimeout);
+  EXPECT_EQ(rc, 0) << host.output();
+  return rc;
+}
+
+}  // namespace
+
+TEST(Sessions, TwoHostsInTurnGetTwoIdenticalSessionsFromOneServer) {
+  TempDir dir;
+  Server server(dir, {"--sessions", "2", "--out", dir.file("fe_{session}.h5")});
+  ASSERT_GT(server.port, 0) << server.child->output();
+  run_host(dir, server.port, "host_1.h5");
+  run_host(dir, server.port, "host_2.h5");  // same port: the server is still listening
+  EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output();
+  const std::string log = server.child->output();
+  EXPECT_NE(log.find("session 1: session ended by the host"), std::string::npos) << log;
+  EXPECT_NE(log.find("session 2: session ended by the host"), std::string::npos) << log;
+  // Each session from the deck's initial state: the same host inputs give
+  // the same FE results, bit for bit.
+  const auto x1 = h5io::read_series(dir.file("fe_1.h5"), "ports/cavity.x");
+  const auto x2 = h5io::read_series(dir.file("fe_2.h5"), "ports/cavity.x");
+  ASSERT_GT(x1.size(), 100u);
+  EXPECT_EQ(x1, x2);
+  double largest = 0.0;
+  for (double v : x1) largest = std::max(largest, std::fabs(v));
+  EXPECT_GT(largest, 0.0) << "the piston moved";
+  // After its last session the server has closed its port.
+  EXPECT_FALSE(std::filesystem::exists(dir.file("fe_3.h5")));
+}
+
+TEST(Sessions, WithoutAPatternTheSessionNumberGoesBeforeTheExtension) {
+  TempDir dir;
+  Server server(dir, {"--sessions", "2"});  // --out fe.h5 from the helper
+  ASSERT_GT(server.port, 0) << server.child->output();
+  run_host(dir, server.port, "h1.h5");
+  run_host(dir, server.port, "h2.h5");
+  EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output();
+  EXPECT_TRUE(std::filesystem::exists(dir.file("fe_1.h5")));
+  EXPECT_TRUE(std::filesystem::exists(dir.file("fe_2.h5")));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("fe.h5")));
+}

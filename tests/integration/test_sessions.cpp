@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <csignal>
+#include <unistd.h>
 #include <string>
 #include <vector>
 
@@ -58,4 +60,29 @@ TEST(Sessions, WithoutAPatternTheSessionNumberGoesBeforeTheExtension) {
   EXPECT_TRUE(std::filesystem::exists(dir.file("fe_1.h5")));
   EXPECT_TRUE(std::filesystem::exists(dir.file("fe_2.h5")));
   EXPECT_FALSE(std::filesystem::exists(dir.file("fe.h5")));
+}
+
+// A session that fails (its host killed mid-run: link lost) is reported and
+// the next host is served; the exit code is that failure's (6).
+TEST(Sessions, AFailedSessionIsReportedAndTheNextOneServed) {
+  TempDir dir;
+  Server server(dir, {"--sessions", "2", "--step-timeout", "2", "--out", dir.file("fe_{session}.h5")});
+  ASSERT_GT(server.port, 0) << server.child->output();
+  {
+    ChildProcess doomed({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server",
+                         "127.0.0.1:" + std::to_string(server.port), "--out", dir.file("doomed.h5"), "--quiet", "--set",
+                         "simulation.stoptime=100"});
+    // Let it run into the session, then kill it without a word to the server.
+    for (int i = 0; i < 1000 && server.child->output().find("session accepted") == std::string::npos; ++i) usleep(10000);
+    ASSERT_NE(server.child->output().find("session accepted"), std::string::npos) << server.child->output();
+    usleep(100000);
+    ::kill(doomed.pid(), SIGKILL);
+    doomed.wait(kHardTimeout);
+  }
+  run_host(dir, server.port, "host_2.h5");
+  EXPECT_EQ(server.child->wait(kHardTimeout), 6) << server.child->output();
+  const std::string log = server.child->output();
+  EXPECT_NE(log.find("session 1: link lost"), std::string::npos) << log;
+  EXPECT_NE(log.find("session 2: session ended by the host"), std::string::npos) << log;
+  EXPECT_GT(h5io::read_series(dir.file("fe_2.h5"), "ports/cavity.x").size(), 100u);
 }

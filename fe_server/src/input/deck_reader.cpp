@@ -222,7 +222,10 @@ struct Reader {
       const bool spc = kw == "*CONSTRAINED_NODAL_RIGID_BODY_SPC";
       if (spc && b.cards.size() % 2) b.fail(kw + " needs two cards per body (PID CID NSID; CMO CON1 CON2)");
       for (size_t i = 0; i < b.cards.size(); i += spc ? 2 : 1) {
-        NodalRigidBodyCards r{fields_of(b.cards[i], kW10), {}, {}};
+        // Not `{card, {}, {}}`: an explicit {} would replace the members'
+        // initialisers with Eigen's default constructor, which leaves them unset.
+        NodalRigidBodyCards r;
+        r.card = fields_of(b.cards[i], kW10);
         if (spc) {
           Card c2 = fields_of(b.cards[i + 1], kW10);
           const long cmo = static_cast<long>(c2.real_or(0, "CMO", 0.0));

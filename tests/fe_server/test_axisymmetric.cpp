@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numeric>
+#include <sstream>
 
 #include "axi_decks.hpp"
 #include "impact_decks.hpp"
@@ -355,4 +356,73 @@ TEST(Axi4Mixed, ANodeOnTheAxisAgainstAnElasticSurfaceIsWarnedAbout) {
   bool found = false;
   for (const auto& w : warnings.messages) found = found || w.find("point.k:44: warning: node 901 lies on the axis") != std::string::npos;
   EXPECT_TRUE(found) << (warnings.messages.empty() ? std::string("no warning") : warnings.messages.front());
+}
+
+// The force through a section (*DATABASE_CROSS_SECTION_SET): a Ø40 mm bar
+// (ν = 0) stretched uniformly, v_y = ε̇·y; at mid-length, before the ends'
+// unloading reaches it, the elements below the cut pull its nodes with
+// F_y = −σ_axial·πR² exactly (one-point quads: Σ V·b_y over a layer is the
+// ring area πR² for any stretch), so the tolerance is round-off (1e-9). σ
+// itself is E·ε̇·t to O(strain) (hypoelastic update on the current length):
+// 1e-3. A chain of 1D bars gives the bar's force at its cut the same way.
+TEST(CrossSection, TheForceThroughACutIsTheStressTimesTheRingArea) {
+  const double R = 0.02, L = 0.2, rate = 10.0;  // 1/s
+  const int nr = 8, ny = 80, cut = ny / 2;
+  std::ostringstream d;
+  d.precision(17);
+  d << "*KEYWORD\n" << axi_test::block(1, 1, 0.0, R, nr, 0.0, L, ny)
+    << "*PART\nbar\n1,1,1\n*SECTION_SHELL\n1,15\n0\n*MAT_ELASTIC\n1,7850,2.1e11,0.0\n*INITIAL_VELOCITY_NODE\n";
+  auto nid = [&](int i, int j) { return 1 + j * (nr + 1) + i; };
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nr; ++i) d << nid(i, j) << ",0," << rate * L * j / ny << ",0\n";
+  d << "*SET_NODE_LIST\n7\n";
+  for (int i = 0; i <= nr; ++i) d << nid(i, cut) << (i % 8 == 7 || i == nr ? "\n" : ",");
+  d << "*SET_SHELL_LIST\n8\n";
+  for (int i = 0; i < nr; ++i) d << 1 + (cut - 1) * nr + i << (i % 8 == 7 || i == nr - 1 ? "\n" : ",");
+  d << "*DATABASE_CROSS_SECTION_SET\n7,0,0,8,0,0,42\n";
+  fe::Model m = fe::parse_deck(d.str(), "stretch.k");
+  ASSERT_EQ(m.cross_sections.size(), 1u);
+  EXPECT_EQ(m.cross_sections[0].id, 42);
+  fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
+  const double c = std::sqrt(2.1e11 / 7850);
+  while (s.time() < 0.3 * L / c) s.step();  // the end waves are 0.2·L from the cut
+  double sigma = 0.0;
+  for (int i = 0; i < nr; ++i) sigma += s.axi_stress(static_cast<size_t>((cut - 1) * nr + i))(1) / nr;
+  const fe::Vec3 F = s.section_force(0);
+  EXPECT_NEAR(F.y(), -sigma * M_PI * R * R, 1e-9 * sigma * M_PI * R * R);
+  EXPECT_NEAR(sigma, 2.1e11 * rate * s.time(), 1e-3 * sigma);
+  EXPECT_GT(sigma, 1e6) << "the bar is loaded";
+
+  // 1D bars: node 1 at y = 0 … node 11 at y = 0.1, cut at node 6, bar 5 below it.
+  std::ostringstream b;
+  b << "*KEYWORD\n*NODE\n";
+  for (int i = 0; i <= 10; ++i) b << i + 1 << ",0," << 0.01 * i << ",0\n";
+  b << "*PART\nbar\n1,1,1\n*SECTION_BEAM\n1,3\n1e-4\n*MAT_ELASTIC\n1,7850,2.1e11,0.0\n*ELEMENT_BEAM\n";
+  for (int i = 0; i < 10; ++i) b << i + 1 << ",1," << i + 1 << "," << i + 2 << "\n";
+  b << "*INITIAL_VELOCITY_NODE\n";
+  for (int i = 0; i <= 10; ++i) b << i + 1 << ",0," << rate * 0.01 * i << ",0\n";
+  b << "*SET_NODE_LIST\n1\n6\n*SET_BEAM_LIST\n2\n5\n*DATABASE_CROSS_SECTION_SET\n1,0,2\n";
+  fe::Model mb = fe::parse_deck(b.str(), "bars.k");
+  fe::Solver sb(mb, 0.9 * fe::Solver::stable_dt(mb).dt);
+  for (int k = 0; k < 3; ++k) sb.step();
+  const double force = sb.bar_stress(4) * 1e-4;
+  EXPECT_GT(force, 0.0);
+  EXPECT_NEAR(sb.section_force(0).y(), -force, 1e-12 * force) << "bar 5 pulls node 6 down";
+}
+
+TEST(CrossSection, ASectionOfRigidOrMissingElementsIsRefusedAtItsLine) {
+  const std::string base = "*KEYWORD\n*NODE\n1,0,0,0\n2,0,0.1,0\n*PART\nbar\n1,1,1\n*SECTION_BEAM\n1,3\n1e-4\n"
+                           "*ELEMENT_BEAM\n1,1,1,2\n*SET_NODE_LIST\n1\n2\n*SET_BEAM_LIST\n2\n1\n";
+  auto error = [](const std::string& deck) {
+    try {
+      fe::parse_deck(deck, "x.k");
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error(base + "*MAT_RIGID\n1,7850,2.1e11,0.3\n*DATABASE_CROSS_SECTION_SET\n1,0,2\n").find("x.k:22: BSID: element 1 is rigid"),
+            std::string::npos);
+  EXPECT_NE(error(base + "*MAT_ELASTIC\n1,7850,2.1e11,0.3\n*DATABASE_CROSS_SECTION_SET\n1,0,9\n").find("BSID 9"),
+            std::string::npos);
 }

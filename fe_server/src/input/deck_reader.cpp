@@ -4,6 +4,7 @@
 #include "elements/element_hex8.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -67,6 +68,8 @@ struct Reader {
       beam_cards, shell_cards, line_set_cards;
   std::vector<std::pair<Card, Card>> vel_set_cards, vel_gen_cards;
   std::map<int, RigidBody> inertias;  // *PART_INERTIA by part id
+  std::map<int, std::vector<int>> solid_sets, shell_sets, beam_sets;  // element ids
+  std::vector<Card> section_cards;
   std::map<int, std::pair<int, config::SourceLocation>> inertia_com_node;  // part id → NODEID
 
   void warn(const config::SourceLocation& w, const std::string& msg) {
@@ -193,6 +196,16 @@ struct Reader {
       if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
       auto& list = m.part_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
       for (int id : id_list(b, 1, "PID")) list.push_back(id);
+    } else if (kw == "*SET_SOLID" || kw == "*SET_SOLID_LIST" || kw == "*SET_SHELL" || kw == "*SET_SHELL_LIST" ||
+               kw == "*SET_BEAM" || kw == "*SET_BEAM_LIST") {
+      if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
+      auto& sets = kw.rfind("*SET_SOLID", 0) == 0 ? solid_sets : kw.rfind("*SET_SHELL", 0) == 0 ? shell_sets : beam_sets;
+      auto& list = sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
+      for (int id : id_list(b, 1, "EID")) list.push_back(id);
+    } else if (kw == "*DATABASE_CROSS_SECTION_SET") {
+      // NSID HSID BSID SSID TSID DSID ID ITYPE: the cut's nodes and the
+      // solid, beam and shell (here: axisymmetric) elements on one side.
+      for (const Card& raw : b.cards) section_cards.push_back(fields_of(raw, kW10));
     } else if (kw == "*SET_SEGMENT") {
       if (b.cards.empty()) b.fail("*SET_SEGMENT needs a header card with SID");
       auto& list = m.segment_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
@@ -320,7 +333,7 @@ struct Reader {
       // Field snapshots every DT, written as HDF5 + XDMF (not d3plot).
       if (!b.cards.empty()) m.snapshot_interval = fields_of(b.cards[0], kW10).real(0, "DT");
     } else if (kw == "*DATABASE_GLSTAT" || kw == "*DATABASE_RCFORC" || kw == "*DATABASE_NODOUT" ||
-               kw == "*DATABASE_ELOUT") {
+               kw == "*DATABASE_ELOUT" || kw == "*DATABASE_SECFORC") {
       // Card 1: DT (BINARY, LCUR, IOOPT: the file formats of LS-DYNA's ASCII
       // output, not used). The history file's rows at DT (output/history.hpp);
       // DT at or below the FE step: every step.
@@ -328,9 +341,9 @@ struct Reader {
       Card c = fields_of(b.cards[0], kW10);
       const double dt = c.real(0, "DT");
       if (!(dt > 0.0)) c.fail("DT must be positive");
-      double& to = kw == "*DATABASE_NODOUT" ? m.history_dt_nodes
-                   : kw == "*DATABASE_ELOUT" ? m.history_dt_elements
-                                             : m.history_dt_global;
+      double& to = kw == "*DATABASE_NODOUT"                                   ? m.history_dt_nodes
+                   : kw == "*DATABASE_ELOUT" || kw == "*DATABASE_SECFORC" ? m.history_dt_elements
+                                                                          : m.history_dt_global;
       to = to > 0.0 ? std::min(to, dt) : dt;
     } else if (kw == "*DATABASE_HISTORY_NODE") {
       for (int id : id_list(b, 0, "ID")) m.history_nodes.push_back(m.index_of(id, b.where));
@@ -522,6 +535,39 @@ struct Reader {
       if (it == bar_index.end()) throw InputError({name, 1}, "*DATABASE_HISTORY_BEAM names element " + std::to_string(id) + ", which is not a 1D bar element");
       id = it->second;
     }
+    for (size_t k = 0; k < section_cards.size(); ++k) cross_section(section_cards[k], k, solid_index, axi_index, bar_index);
+  }
+
+  // One *DATABASE_CROSS_SECTION_SET card, resolved once the elements are known.
+  void cross_section(const Card& c, size_t k, const std::map<int, int>& solid_index, const std::map<int, int>& axi_index,
+                     const std::map<int, int>& bar_index) {
+    CrossSection x;
+    x.where = c.where;
+    x.id = static_cast<int>(c.integer_or(6, "ID", static_cast<long>(k + 1)));
+    for (int id : m.node_sets[static_cast<int>(c.integer(0, "NSID"))]) x.nodes.push_back(m.index_of(id, c.where));
+    if (x.nodes.empty()) c.fail("NSID: the cut needs a node set of *SET_NODE_LIST");
+    std::sort(x.nodes.begin(), x.nodes.end());
+    auto resolve = [&](size_t field, const char* what, const std::map<int, std::vector<int>>& sets,
+                       const std::map<int, int>& index, auto part_of, std::vector<int>& out) {
+      const long sid = c.integer_or(field, what, 0);
+      if (sid == 0) return;
+      auto set = sets.find(static_cast<int>(sid));
+      if (set == sets.end()) c.fail(std::string(what) + " " + std::to_string(sid) + " is not a defined element set");
+      for (int id : set->second) {
+        auto it = index.find(id);
+        if (it == index.end()) c.fail(std::string(what) + ": element " + std::to_string(id) + " is not of that kind");
+        if (m.materials.at(m.parts.at(part_of(it->second)).material).rigid)
+          c.fail(std::string(what) + ": element " + std::to_string(id) + " is rigid: a section cuts deformable elements");
+        out.push_back(it->second);
+      }
+    };
+    resolve(1, "HSID", solid_sets, solid_index, [&](int e) { return m.solids[static_cast<size_t>(e)].part; }, x.solids);
+    resolve(2, "BSID", beam_sets, bar_index, [&](int e) { return m.bars[static_cast<size_t>(e)].part; }, x.bars);
+    resolve(3, "SSID", shell_sets, axi_index, [&](int e) { return m.axis[static_cast<size_t>(e)].part; }, x.axis);
+    if (c.integer_or(4, "TSID", 0) != 0 || c.integer_or(5, "DSID", 0) != 0)
+      c.fail("TSID and DSID (thick shells, discrete elements) are not supported in a cross section");
+    if (x.solids.empty() && x.axis.empty() && x.bars.empty()) c.fail("the cross section names no element set");
+    m.cross_sections.push_back(std::move(x));
   }
 
   const Material& material_of(int pid, const Card& c) {

@@ -130,6 +130,16 @@ struct LoadingSet {
   config::SourceLocation where;
 };
 
+// *DATABASE_CROSS_SECTION_SET: the force through a cut, the sum of the
+// internal forces that the elements of the sets (those on one side of the
+// cut) exert on the cut's nodes, as LS-DYNA's SECFORC output defines it.
+struct CrossSection {
+  int id = 0;
+  std::vector<int> nodes;               // node indices of the cut, ascending
+  std::vector<int> solids, axis, bars;  // element indices (deformable parts only)
+  config::SourceLocation where;
+};
+
 struct Model {
   std::string title;
   std::string source;
@@ -155,10 +165,12 @@ struct Model {
   std::vector<int> history_solids;  // element indices into solids
   std::vector<int> history_bars;    // element indices into bars (*DATABASE_HISTORY_BEAM)
   std::vector<int> history_axis;    // element indices into axis (*DATABASE_HISTORY_SHELL)
+  std::vector<CrossSection> cross_sections;
   double snapshot_interval = 0.0;  // *DATABASE_BINARY_D3PLOT DT (0: no field output)
   // History intervals, s (0: not given, the default of output/history.hpp):
   // energies, contact and ports (*DATABASE_GLSTAT, *DATABASE_RCFORC), history
-  // nodes (*DATABASE_NODOUT), history elements (*DATABASE_ELOUT).
+  // nodes (*DATABASE_NODOUT), history elements and sections (*DATABASE_ELOUT,
+  // *DATABASE_SECFORC).
   double history_dt_global = 0.0, history_dt_nodes = 0.0, history_dt_elements = 0.0;
   double dt2ms = 0.0;              // *CONTROL_TIMESTEP DT2MS (< 0: mass scaling to |DT2MS|)
   double hourglass_q = 0.1;        // *CONTROL_HOURGLASS QH

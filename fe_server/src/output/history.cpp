@@ -48,7 +48,8 @@ History::History(const std::string& path, const Model& model, const config::Port
     for (const char* c : {"ux", "uy", "uz"}) writer_.add_series(base + c, "m", stream_[1]);
     for (const char* c : {"vx", "vy", "vz"}) writer_.add_series(base + c, "m/s", stream_[1]);
   }
-  if (!model.history_solids.empty() || !model.history_axis.empty() || !model.history_bars.empty()) {
+  if (!model.history_solids.empty() || !model.history_axis.empty() || !model.history_bars.empty() ||
+      !model.cross_sections.empty()) {
     stream_[2] = writer_.add_stream();
     writer_.add_series("time_elements", "s", stream_[2]);
   }
@@ -69,6 +70,9 @@ History::History(const std::string& path, const Model& model, const config::Port
     writer_.add_series(base + "axial_stress", "Pa", stream_[2]);
     writer_.add_series(base + "axial_velocity", "m/s", stream_[2]);
   }
+  for (const CrossSection& cs : model.cross_sections)
+    for (const char* c : {"fx", "fy", "fz"})
+      writer_.add_series("sections/" + std::to_string(cs.id) + "/" + c, "N", stream_[2]);
   size_t widest = 0;
   for (size_t k : {stream_[0], stream_[1], stream_[2]}) widest = std::max(widest, writer_.columns(k));
   row_.resize(widest);
@@ -143,6 +147,10 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
     for (int el : model_.history_bars) {
       row_[k++] = s.bar_stress(static_cast<size_t>(el));
       row_[k++] = s.bar_axial_velocity(static_cast<size_t>(el));
+    }
+    for (size_t cs = 0; cs < model_.cross_sections.size(); ++cs) {
+      const Vec3 f = s.section_force(cs);
+      for (int c = 0; c < 3; ++c) row_[k++] = f[c];
     }
     writer_.append(row_, stream_[2]);
   }

@@ -20,7 +20,8 @@ namespace fe {
 //   time,  ports/*, contact/*, energy/*   *DATABASE_GLSTAT / RCFORC DT
 //   time_nodes,    nodes/*                *DATABASE_NODOUT DT
 //   time_elements, solids/*, bars/* (stress and axial velocity),
-//                  axisymmetric/*         *DATABASE_ELOUT DT
+//                  axisymmetric/*, sections/<id>/{fx,fy,fz}
+//                                         *DATABASE_ELOUT / SECFORC DT
 // A row every round(DT/Δt) FE steps (at least every step): a decimated
 // history holds exactly the values an every-step history has at its times.
 // Without a DT the stream uses the default interval given to the

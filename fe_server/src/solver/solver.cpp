@@ -1,5 +1,6 @@
 #include "solver/solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -194,6 +195,29 @@ Solver::Solver(const Model& model, double dt)
   contact_mass_ = mass_;
   for (size_t i = 0; i < n; ++i)
     if (body_of_[i] >= 0) contact_mass_[i] = model.rigid_bodies[static_cast<size_t>(body_of_[i])].mass;
+  // Cross sections: the slots of their elements' corners on the cut.
+  std::vector<int> hex_pos(model.solids.size(), -1), axi_pos(model.axis.size(), -1);
+  for (size_t k = 0; k < hex8_.elements.size(); ++k) hex_pos[static_cast<size_t>(hex8_.elements[k])] = static_cast<int>(k);
+  for (size_t k = 0; k < axi4_.elements.size(); ++k) axi_pos[static_cast<size_t>(axi4_.elements[k])] = static_cast<int>(k);
+  for (const CrossSection& cs : model.cross_sections) {
+    SectionSlots slots;
+    auto on_cut = [&](int node) { return std::binary_search(cs.nodes.begin(), cs.nodes.end(), node); };
+    for (int e : cs.solids)
+      for (int a = 0; a < 8; ++a)
+        if (on_cut(model.solids[static_cast<size_t>(e)].n[a]))
+          slots.hex.push_back(24 * hex_pos[static_cast<size_t>(e)] + 3 * a);
+    for (int e : cs.axis)
+      for (int a = 0; a < 4; ++a)
+        if (on_cut(model.axis[static_cast<size_t>(e)].n[a])) slots.axi.push_back(8 * axi_pos[static_cast<size_t>(e)] + 2 * a);
+    for (int e : cs.bars) {
+      if (on_cut(model.bars[static_cast<size_t>(e)].n1)) slots.bar_ends.emplace_back(e, 0);
+      if (on_cut(model.bars[static_cast<size_t>(e)].n2)) slots.bar_ends.emplace_back(e, 1);
+    }
+    if (slots.hex.empty() && slots.axi.empty() && slots.bar_ends.empty())
+      throw std::runtime_error(cs.where.str() + ": cross section " + std::to_string(cs.id) +
+                               ": none of its elements has a node on the cut (NSID)");
+    sections_.push_back(std::move(slots));
+  }
   for (const auto& c : model.contacts) {
     contacts_.push_back(std::make_unique<PenaltyContact>(model, c, dt, contact_mass_));
     contacts_.back()->refuse_initial_penetration(model, c, x_);
@@ -293,6 +317,20 @@ double Solver::max_penetration() const {
 double Solver::bar_stress(size_t e) const {
   const Part& part = m_.parts.at(m_.bars[e].part);
   return bars_.force[e] / part.bar_area;
+}
+
+Vec3 Solver::section_force(size_t k) const {
+  const SectionSlots& sl = sections_[k];
+  Vec3 f = Vec3::Zero();
+  for (int slot : sl.hex) f += Vec3(hex8_.force[static_cast<size_t>(slot)], hex8_.force[static_cast<size_t>(slot) + 1],
+                                    hex8_.force[static_cast<size_t>(slot) + 2]);
+  for (int slot : sl.axi) f += Vec3(axi4_.force[static_cast<size_t>(slot)], axi4_.force[static_cast<size_t>(slot) + 1], 0.0);
+  for (const auto& [e, end] : sl.bar_ends) {
+    const BarElement& b = m_.bars[static_cast<size_t>(e)];
+    const Vec3 axis = (x_[static_cast<size_t>(b.n2)] - x_[static_cast<size_t>(b.n1)]).normalized();
+    f += (end == 0 ? 1.0 : -1.0) * bars_.force[static_cast<size_t>(e)] * axis;  // as bar_forces adds them
+  }
+  return f;
 }
 
 double Solver::bar_axial_velocity(size_t e) const {

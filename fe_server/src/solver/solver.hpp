@@ -104,6 +104,10 @@ class Solver {
   const Eigen::Matrix<double, 6, 1>& axi_stress(size_t e) const { return axi4_.sigma[e]; }
   // Axial stress of 1D bar element e (tension positive), Pa.
   double bar_stress(size_t e) const;
+  // Force through cross section k of the model (*DATABASE_CROSS_SECTION_SET)
+  // in the last step: the internal forces its elements exert on the cut's
+  // nodes, N (global x, y, z; in 2D x is radial, y axial).
+  Vec3 section_force(size_t k) const;
   // Mean velocity of 1D bar element e's two nodes along its axis (n1 → n2), m/s.
   double bar_axial_velocity(size_t e) const;
   double contact_force() const { return contact_force_; }  // total normal force of the last step, N
@@ -167,6 +171,13 @@ class Solver {
   Axi4State axi4_;
   BarState bars_;
   std::vector<std::unique_ptr<PenaltyContact>> contacts_;
+  // Per cross section, where its forces are: hex8 and axi4 force slots, and
+  // bar ends (element index, 0 for n1 or 1 for n2).
+  struct SectionSlots {
+    std::vector<int> hex, axi;
+    std::vector<std::pair<int, int>> bar_ends;
+  };
+  std::vector<SectionSlots> sections_;
   double damping_power_ = 0.0, contact_force_ = 0.0;
   Energies energies_;
   double energy0_ = 0.0;

@@ -2,10 +2,11 @@
 
 namespace fe {
 
-BarState::BarState(const Model& m) : force(m.bars.size(), 0.0), EA(m.bars.size(), 0.0) {
+BarState::BarState(const Model& m) : force(m.bars.size(), 0.0), area(m.bars.size(), 0.0), EA(m.bars.size(), 0.0) {
   for (size_t e = 0; e < m.bars.size(); ++e) {
     const Part& part = m.parts.at(m.bars[e].part);
     const Material& mat = m.materials.at(part.material);
+    area[e] = part.bar_area;
     if (mat.rigid) continue;
     elements.push_back(static_cast<int>(e));
     EA[e] = mat.E * part.bar_area;

@@ -10,11 +10,12 @@
 namespace fe {
 
 // The bars' state: axial force per element, N (tension positive), and what
-// is resolved once: the bars of deformable parts and their axial stiffness E·A.
+// is resolved once: the bars of deformable parts, each bar's section area
+// and axial stiffness E·A.
 struct BarState {
   std::vector<double> force;
   std::vector<int> elements;
-  std::vector<double> EA;
+  std::vector<double> area, EA;
   explicit BarState(const Model& m);
 };
 

@@ -514,27 +514,25 @@ struct Reader {
           throw InputError(c.where, "contact segment set " + std::to_string(sid) + " is not defined in *SET_SEGMENT");
     }
     warn_point_loads_on_the_axis();
-    std::map<int, int> solid_index;
-    for (size_t i = 0; i < m.solids.size(); ++i) solid_index[m.solids[i].id] = static_cast<int>(i);
-    for (int& id : m.history_solids) {
-      auto it = solid_index.find(id);
-      if (it == solid_index.end()) throw InputError({name, 1}, "*DATABASE_HISTORY_SOLID names element " + std::to_string(id) + ", which is not a solid element");
-      id = it->second;
-    }
-    std::map<int, int> axi_index;
-    for (size_t i = 0; i < m.axis.size(); ++i) axi_index[m.axis[i].id] = static_cast<int>(i);
-    for (int& id : m.history_axis) {
-      auto it = axi_index.find(id);
-      if (it == axi_index.end()) throw InputError({name, 1}, "*DATABASE_HISTORY_SHELL names element " + std::to_string(id) + ", which is not an axisymmetric element");
-      id = it->second;
-    }
-    std::map<int, int> bar_index;
-    for (size_t i = 0; i < m.bars.size(); ++i) bar_index[m.bars[i].id] = static_cast<int>(i);
-    for (int& id : m.history_bars) {
-      auto it = bar_index.find(id);
-      if (it == bar_index.end()) throw InputError({name, 1}, "*DATABASE_HISTORY_BEAM names element " + std::to_string(id) + ", which is not a 1D bar element");
-      id = it->second;
-    }
+    // Element ids → indices, and the history lists (read as ids) resolved.
+    auto index_of_ids = [](const auto& elements) {
+      std::map<int, int> index;
+      for (size_t i = 0; i < elements.size(); ++i) index[elements[i].id] = static_cast<int>(i);
+      return index;
+    };
+    const std::map<int, int> solid_index = index_of_ids(m.solids), axi_index = index_of_ids(m.axis),
+                             bar_index = index_of_ids(m.bars);
+    auto resolve = [&](std::vector<int>& ids, const std::map<int, int>& index, const char* keyword, const char* kind) {
+      for (int& id : ids) {
+        auto it = index.find(id);
+        if (it == index.end())
+          throw InputError({name, 1}, std::string(keyword) + " names element " + std::to_string(id) + ", which is not " + kind);
+        id = it->second;
+      }
+    };
+    resolve(m.history_solids, solid_index, "*DATABASE_HISTORY_SOLID", "a solid element");
+    resolve(m.history_axis, axi_index, "*DATABASE_HISTORY_SHELL", "an axisymmetric element");
+    resolve(m.history_bars, bar_index, "*DATABASE_HISTORY_BEAM", "a 1D bar element");
     for (size_t k = 0; k < section_cards.size(); ++k) cross_section(section_cards[k], k, solid_index, axi_index, bar_index);
   }
 

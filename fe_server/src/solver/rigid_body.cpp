@@ -77,7 +77,7 @@ RigidBodies::RigidBodies(const Model& model, const std::vector<char>& live) : m_
     const bool deck_velocity = rb.inertia_given && (rb.v0.squaredNorm() > 0.0 || rb.omega0.squaredNorm() > 0.0);
     s.v = deck_velocity ? rb.v0 : m_nodes > 0.0 ? Vec3(p / m_nodes) : Vec3::Zero();
     s.v = s.v.cwiseProduct(s.free_translation);
-    s.com = s.com_prev = s.com0;
+    s.com = s.com0;
     if (s.rotates) {
       s.omega = deck_velocity ? rb.omega0 : Vec3(s.inertia0_pinv * h);
       s.omega = s.omega.cwiseProduct(s.free_rotation);
@@ -183,7 +183,6 @@ void RigidBodies::add_impulse(size_t b, const Vec3& f, const Vec3& moment, doubl
 
 void RigidBodies::advance_positions(double dt, std::vector<Vec3>& x, std::vector<Vec3>& v) {
   for (RigidBodyState& s : bodies_) {
-    s.com_prev = s.com;
     s.com += dt * s.v;
     if (!s.rotates) {
       // A body that only translates: the same update as a free node's.

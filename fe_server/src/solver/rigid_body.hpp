@@ -49,7 +49,7 @@ struct RigidBodyState {
   Vec3 free_rotation = Vec3::Ones();     // global axes
   bool rotates = false;                  // some rotation free and with inertia
   bool partly_constrained_rotation = false;
-  Vec3 com = Vec3::Zero(), com_prev = Vec3::Zero();       // x_c at t_n and t_{n-1}
+  Vec3 com = Vec3::Zero();                                // x_c at t_n
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();  // Q at t_n
   Eigen::Matrix3d Q = Eigen::Matrix3d::Identity(), Q_prev = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d rotation_rate = Eigen::Matrix3d::Zero();  // (Q − Q_prev)/Δt: a node's chord velocity is v_c + this·r0

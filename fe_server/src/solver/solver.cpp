@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -314,10 +313,7 @@ double Solver::max_penetration() const {
   return p;
 }
 
-double Solver::bar_stress(size_t e) const {
-  const Part& part = m_.parts.at(m_.bars[e].part);
-  return bars_.force[e] / part.bar_area;
-}
+double Solver::bar_stress(size_t e) const { return bars_.force[e] / bars_.area[e]; }
 
 Vec3 Solver::section_force(size_t k) const {
   const SectionSlots& sl = sections_[k];
@@ -413,7 +409,7 @@ void Solver::implicit_loads() {
   user_load_->apply_implicit(mob, v_prev_, v_, implicit_forces_);
   if (implicit_forces_.empty()) return;
   // The forces join f_ext (their work is accounted with the other user
-  // loads, in energy_account) and correct the velocity of whatever moves
+  // loads, in external_work) and correct the velocity of whatever moves
   // with their node.
   const size_t n = x_.size();
   for (const NodalForce& nf : implicit_forces_) {

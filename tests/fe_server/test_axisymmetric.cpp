@@ -425,4 +425,7 @@ TEST(CrossSection, ASectionOfRigidOrMissingElementsIsRefusedAtItsLine) {
             std::string::npos);
   EXPECT_NE(error(base + "*MAT_ELASTIC\n1,7850,2.1e11,0.3\n*DATABASE_CROSS_SECTION_SET\n1,0,9\n").find("BSID 9"),
             std::string::npos);
+  EXPECT_NE(error(base + "*MAT_ELASTIC\n1,7850,2.1e11,0.3\n*DATABASE_HISTORY_BEAM\n7\n")
+                .find("*DATABASE_HISTORY_BEAM names element 7, which is not a 1D bar element"),
+            std::string::npos);
 }

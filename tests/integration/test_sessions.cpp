@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <chrono>
 #include <csignal>
 #include <unistd.h>
 #include <string>
 #include <vector>
 
 #include "h5io/timeseries.hpp"
+#include "socketlib/protocol.h"
 #include "integration_support.hpp"
 
 namespace {
@@ -85,4 +87,31 @@ TEST(Sessions, AFailedSessionIsReportedAndTheNextOneServed) {
   EXPECT_NE(log.find("session 1: link lost"), std::string::npos) << log;
   EXPECT_NE(log.find("session 2: session ended by the host"), std::string::npos) << log;
   EXPECT_GT(h5io::read_series(dir.file("fe_2.h5"), "ports/cavity.x").size(), 100u);
+}
+
+// Between sessions the port stays open to anyone: a silent stranger who
+// connects after the first session does not keep the second host out; with
+// --sessions 0 a signal while waiting for the next host ends the server
+// cleanly (exit 128 + N), and so does no host within --accept-timeout (4).
+TEST(Sessions, AStrangerBetweenSessionsIsNoObstacleAndASignalOrNoHostEndsTheServer) {
+  TempDir dir;
+  {
+    Server server(dir, {"--sessions", "0", "--out", dir.file("fe_{session}.h5")});
+    ASSERT_GT(server.port, 0) << server.child->output();
+    run_host(dir, server.port, "h1.h5");
+    sl_socket stranger = SL_SOCKET_INIT;
+    ASSERT_EQ(sl_connect("127.0.0.1", server.port, sl_now_ms() + 5000, &stranger), SL_OK);  // and says nothing
+    run_host(dir, server.port, "h2.h5");
+    sl_close(&stranger);
+    for (int i = 0; i < 1000 && server.child->output().find("session 3: listening") == std::string::npos; ++i)
+      usleep(10000);
+    ::kill(server.child->pid(), SIGTERM);
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_EQ(server.child->wait(kHardTimeout), 128 + SIGTERM) << server.child->output();
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);
+    EXPECT_GT(h5io::read_series(dir.file("fe_2.h5"), "ports/cavity.x").size(), 100u) << "the second host was served";
+  }
+  TempDir quiet;
+  Server lonely(quiet, {"--sessions", "0", "--accept-timeout", "0.5"});
+  EXPECT_EQ(lonely.child->wait(kHardTimeout), 4) << lonely.child->output();
 }

@@ -4,12 +4,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <memory>
 #include <numeric>
 #include <sstream>
 
 #include "axi_decks.hpp"
 #include "impact_decks.hpp"
 #include "loads/cavity_load.hpp"
+#include "h5io/timeseries.hpp"
+#include "loads/mechanical_load.hpp"
+#include "output/history.hpp"
 #include "config/port_table.hpp"
 #include "elements/element_axi4.hpp"
 
@@ -229,6 +234,52 @@ TEST(Axi4CavityHook, RingAreasLoadAndFlowBalanceOnFacesNormalAndAlongTheAxis) {
   EXPECT_NEAR(power, structural, 1e-12 * std::fabs(p * annulus));
 }
 
+// A mechanical port on an elastic body (*USER_LOADING_SET LTYPE BODY): the
+// host's force shared by the nodal masses is a body force, so a free body
+// accelerates as a whole, F/M everywhere, with no stress (to round-off: no
+// node is pulled ahead of its neighbours), and the port reports its centre
+// of mass. The same force on a node set of its surface (FORCE) makes waves
+// and hourglassing; here the surface nodes lead.
+TEST(Axi4MechanicalPort, ABodyPortAcceleratesAnElasticBodyAsAWholeAndReportsItsCentreOfMass) {
+  const std::string mesh = axi_test::block(1, 1, 0.0, 0.03, 3, 0.0, 0.1, 10);
+  const std::string table_text =
+      "$FMU_SETTINGS\nmodel, p\ntimestep, 1e-4\n$FMU_HOPSAN_PORTS\n1, body, Mechanic\n"
+      "$FMU_HOPSAN_SEND\n1, force\n$FMU_HOPSAN_RECEIVE\n1, displacement\n1, velocity\n";
+  const double F = 1.0e4;
+  auto run = [&](const std::string& port_card, double* spread, double* stress) {
+    fe::Model m = fe::parse_deck("*KEYWORD\n" + mesh +
+                                     "*PART\np\n1,1,1\n*SECTION_SHELL\n1,15\n0\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n"
+                                     "*SET_PART_LIST\n1\n1\n*SET_NODE_LIST\n2\n41,42,43,44\n*USER_LOADING_SET\n" +
+                                     port_card + "\n",
+                                 "body.k");
+    fe::MechanicalLoad load(m, config::parse_port_table(table_text, "p.cfg"));
+    load.set_force(0, F);
+    const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
+    fe::Solver s(m, dt);
+    s.set_user_load(&load);
+    for (int i = 0; i < 400; ++i) s.step();
+    const double M = m.total_mass(), t = s.time();
+    double vmin = 1e300, vmax = -1e300;
+    for (const auto& v : s.v()) vmin = std::min(vmin, v.y()), vmax = std::max(vmax, v.y());
+    *spread = (vmax - vmin) / (F / M * t);
+    *stress = 0.0;
+    for (size_t e = 0; e < m.axis.size(); ++e) *stress = std::max(*stress, s.axi_stress(e).cwiseAbs().maxCoeff());
+    if (port_card.find("BODY") == std::string::npos) return;
+    // The centre of mass moves as F/M: central differences hold velocities at
+    // half steps, v = (F/M)·(t − Δt/2) to round-off; x = ½(F/M)·t² to O(Δt/t).
+    EXPECT_NEAR(load.velocity(0, s.v()), F / M * (t - 0.5 * dt), 1e-9 * F / M * t);
+    EXPECT_NEAR(load.displacement(0, s.x()), 0.5 * F / M * t * t, 2.0 * dt / t * 0.5 * F / M * t * t);
+  };
+  double spread = 0, stress = 0;
+  run("1,BODY,1", &spread, &stress);
+  EXPECT_LT(spread, 1e-9);
+  EXPECT_LT(stress, 1e-3) << "Pa";  // F/A = 3.5 MPa: round-off only
+  double spread_surface = 0, stress_surface = 0;
+  run("2,FORCE,1", &spread_surface, &stress_surface);
+  EXPECT_GT(spread_surface, 1e-2);
+  EXPECT_GT(stress_surface, 1e5);
+}
+
 // The same bar impact in hex8 and in axisymmetric quads (Ø20 mm, ν = 0.3,
 // a 0.1 m piston at 8 m/s onto a 0.3 m tool, h = 2.5 mm both): at a gauge
 // 0.1 m into the tool the first pulse's plateau (mean of its central 60 %)
@@ -340,6 +391,37 @@ TEST(Axi4Mixed, ARigidAxisymmetricBlockOnABarThroughANodeSetContact) {
               sigma0 / 1e6, W, W_ref);
 }
 
+// Two bodies of revolution touching at t = 0 (gap 0): a piston of radius
+// 30.5 mm (3 radial cells) standing on a tool of 32.5 mm (4 cells), as the
+// hammer scene starts. The tool's top nodes lie level with the piston's
+// bottom edge: inside the lines of its side face, but on its striking face,
+// so they are outside; nor are the piston's face nodes behind the tool's
+// cells on the axis (the axis bounds no surface). The deck must start, and
+// with nothing moving nothing may move: no contact force, no energy.
+TEST(Axi4Mixed, BodiesTouchingAtTheStartAreNeitherPenetratedAtAnEdgeNorThroughTheAxis) {
+  std::ostringstream d;
+  d << "*KEYWORD\n" << axi_test::block(1, 1, 0.0, 0.0305, 3, 0.0, 0.05, 5)
+    << axi_test::block(2, 1000, 0.0, 0.0325, 4, -0.05, 0.0, 5);
+  d << "*PART\npiston\n1,1,1\n*PART\ntool\n2,1,1\n*SECTION_SHELL\n1,15\n0\n";
+  d << "*MAT_ELASTIC\n1," << kRho << "," << kE << ",0.3\n";
+  d << "*SET_PART_LIST\n1\n1\n*SET_PART_LIST\n2\n2\n";
+  d << "*CONTACT_2D_AUTOMATIC_SURFACE_TO_SURFACE\n1,2,1.0\n0,1e20\n0,20\n";
+  fe::Model m = fe::parse_deck(d.str(), "touching.k");
+  const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
+  std::unique_ptr<fe::Solver> s;
+  ASSERT_NO_THROW(s = std::make_unique<fe::Solver>(m, dt));
+  for (int i = 0; i < 200; ++i) s->step();
+  EXPECT_EQ(s->contact_force(), 0.0);
+  double vmax = 0.0;
+  for (const auto& v : s->v()) vmax = std::max(vmax, v.norm());
+  EXPECT_EQ(vmax, 0.0);
+  // Pressed together (the piston 1 mm lower) the same deck is refused: real
+  // penetration is still found at an edge.
+  for (size_t i = 0; i < m.x0.size(); ++i)
+    if (m.node_ids[i] < 1000) m.x0[i].y() -= 1e-3;
+  EXPECT_THROW(fe::Solver(m, dt), std::runtime_error);
+}
+
 // The same contact against an elastic axisymmetric surface is a point load
 // on a body of revolution (singular: tried, the surface under it runs away):
 // the reader says so, naming the node and the contact's line.
@@ -383,15 +465,31 @@ TEST(CrossSection, TheForceThroughACutIsTheStressTimesTheRingArea) {
   fe::Model m = fe::parse_deck(d.str(), "stretch.k");
   ASSERT_EQ(m.cross_sections.size(), 1u);
   EXPECT_EQ(m.cross_sections[0].id, 42);
-  fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
-  const double c = std::sqrt(2.1e11 / 7850);
-  while (s.time() < 0.3 * L / c) s.step();  // the end waves are 0.2·L from the cut
+  const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
+  fe::Solver s(m, dt);
+  const std::string file = ::testing::TempDir() + "/stretch_sections.h5";
+  {
+    fe::History h(file, m, nullptr, dt, dt);  // a row every step
+    const double c = std::sqrt(2.1e11 / 7850);
+    while (s.time() < 0.3 * L / c) {  // the end waves are 0.2·L from the cut
+      s.step();
+      h.record(s, {}, {});
+    }
+  }
   double sigma = 0.0;
   for (int i = 0; i < nr; ++i) sigma += s.axi_stress(static_cast<size_t>((cut - 1) * nr + i))(1) / nr;
   const fe::Vec3 F = s.section_force(0);
   EXPECT_NEAR(F.y(), -sigma * M_PI * R * R, 1e-9 * sigma * M_PI * R * R);
   EXPECT_NEAR(sigma, 2.1e11 * rate * s.time(), 1e-3 * sigma);
   EXPECT_GT(sigma, 1e6) << "the bar is loaded";
+  // The history: the same force, and the cut's mean velocity: every cut node
+  // still moves at its initial rate·y (the stretch is uniform there), so
+  // round-off is the tolerance.
+  const auto fy = h5io::read_series(file, "sections/42/fy"), vy = h5io::read_series(file, "sections/42/vy");
+  ASSERT_FALSE(fy.empty());
+  EXPECT_EQ(fy.back(), F.y());
+  EXPECT_NEAR(vy.back(), rate * L / 2, 1e-12 * rate * L);
+  std::remove(file.c_str());
 
   // 1D bars: node 1 at y = 0 … node 11 at y = 0.1, cut at node 6, bar 5 below it.
   std::ostringstream b;

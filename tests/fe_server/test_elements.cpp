@@ -282,6 +282,46 @@ TEST_P(Mesher, StepsShareNodesAndFacesPointOutwards) {
   }
 }
 
+// The 2D mesh of the same piston: exact ring areas of the faces (no polygon),
+// and each section's outer surface as a node set lying on r = r_out along the
+// section's whole length (a feed force or a position monitor sits there).
+TEST(Mesher, AxisymmetricFacesHaveExactRingAreasAndSurfaceNodeSetsLieOnTheirCylinder) {
+  fe::RevolutionMeshOptions o;
+  o.element_size = 0.009;
+  o.axial_size = 0.005;
+  o.set_offset = 10;
+  const std::vector<fe::RevolutionSection> table = {{0.33, 0.0305, 0.0}, {0.11, 0.0328, 0.0}, {0.2, 0.028, 0.0}};
+  fe::RevolutionMesh mesh = fe::mesh_axisymmetric(table, o);
+  fe::Model m = fe::parse_deck("*KEYWORD\n" + mesh.keyword_text +
+                                   "*PART\np\n1,1,1\n*SECTION_SHELL\n1,15\n0\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n",
+                               "piston.k");
+  ASSERT_EQ(mesh.faces.size(), 4u);
+  const double expected[4] = {M_PI * 0.0305 * 0.0305, M_PI * (0.0328 * 0.0328 - 0.0305 * 0.0305),
+                              M_PI * (0.0328 * 0.0328 - 0.028 * 0.028), M_PI * 0.028 * 0.028};
+  for (int f = 0; f < 4; ++f) {
+    double area = 0.0;  // ring area of straight lines normal to the axis: π|r_b² − r_a²|
+    for (const auto& seg : m.segment_sets.at(mesh.faces[static_cast<size_t>(f)].id)) {
+      const double ra = m.x0[static_cast<size_t>(seg.n[0])].x(), rb = m.x0[static_cast<size_t>(seg.n[1])].x();
+      area += M_PI * std::fabs(rb * rb - ra * ra);
+    }
+    EXPECT_NEAR(area, expected[f], 1e-12 * expected[f]) << "face set " << mesh.faces[static_cast<size_t>(f)].id;
+  }
+  double y0 = 0.0;
+  for (size_t i = 0; i < table.size(); ++i) {
+    const auto& ids = m.node_sets.at(11 + static_cast<int>(i));
+    ASSERT_EQ(ids.size(), static_cast<size_t>(std::lround(table[i].length / 0.005)) + 1) << "section " << i + 1;
+    double lo = 1e9, hi = -1e9;
+    for (int id : ids) {
+      const fe::Vec3& p = m.x0[static_cast<size_t>(m.index_of(id, {}))];
+      EXPECT_NEAR(p.x(), table[i].r_out, 1e-12) << "node " << id;
+      lo = std::min(lo, p.y()), hi = std::max(hi, p.y());
+    }
+    EXPECT_NEAR(lo, y0, 1e-12);
+    EXPECT_NEAR(hi, y0 + table[i].length, 1e-12);
+    y0 += table[i].length;
+  }
+}
+
 TEST(MassScaling, OnlyTheElementsBelowTheStepGainMassAndTheStepThenRuns) {
   // Two cubes in a row, 10 mm and 2 mm: the small one limits the step 5×.
   std::ostringstream d;

@@ -161,6 +161,27 @@ TEST(HardCase, APointLoadOnACoarseBlockIsReportedAsHourglassingAndASpreadLoadIsN
   EXPECT_LT(spread, 0.1);
 }
 
+// A machine that strikes again and again: after each blow its internal
+// energy falls back to almost nothing while the (dissipated) hourglass energy
+// stays. The bound is taken against the energy that went through the
+// elements, the largest internal energy or the loads' work, not against
+// what happens to be stored at the end.
+TEST(HardCase, TheHourglassBoundIsTakenAgainstTheEnergyThatWentThroughTheElements) {
+  fe::Energies e;
+  e.internal = 0.04;  // the end of a hammer run: the blows have left
+  e.hourglass = 2.4;
+  e.peak_internal = 150.0;
+  e.external_work = 2500.0;
+  EXPECT_EQ(fe::hourglass_warning(e), "") << "2.4 J of 2500 J put through";
+  e.external_work = 20.0;
+  e.peak_internal = 15.0;
+  const std::string w = fe::hourglass_warning(e);
+  EXPECT_NE(w.find("12 % of the work of the loads 20 J"), std::string::npos) << w;
+  e.external_work = 0.0;  // an impact of initial velocities: no loads
+  EXPECT_NE(fe::hourglass_warning(e).find("16 % of the largest internal energy 15 J"), std::string::npos)
+      << fe::hourglass_warning(e);
+}
+
 TEST(HardCase, InitialPenetrationInAContactIsRefusedWithTheNodeAndDepth) {
   // The piston starts 0.5 mm inside the tool instead of 0.1 mm above it.
   std::string deck = fe_test::bar_impact_deck(0.1, 0.2, 0.01, 0.005, 8.0, kE);

@@ -96,8 +96,8 @@ void PenaltyContact::search(Side& s, const std::vector<Vec3>& x) {
   }
 }
 
-bool PenaltyContact::behind(const Segment& seg, size_t node, const std::vector<Vec3>& x, double depth_limit,
-                            Contact& c) const {
+bool PenaltyContact::project(const Segment& seg, size_t node, const std::vector<Vec3>& x, double window,
+                             Contact& c) const {
   const int nc = corners(seg);
   for (int k = 0; k < nc; ++k)
     if (static_cast<size_t>(seg.n[k]) == node) return false;
@@ -108,7 +108,7 @@ bool PenaltyContact::behind(const Segment& seg, size_t node, const std::vector<V
     if (!(len2 > 0.0)) return false;
     c.n = Vec3(d.y(), -d.x(), 0.0) / std::sqrt(len2);
     c.g = (x[node] - a).dot(c.n);
-    if (c.g >= 0.0 || c.g < -depth_limit) return false;
+    if (std::fabs(c.g) > window) return false;
     const double t = (x[node] - a).dot(d) / len2;
     if (t < -1e-6 || t > 1.0 + 1e-6) return false;
     c.w[0] = 1.0 - t, c.w[1] = t, c.w[2] = c.w[3] = 0.0;
@@ -122,7 +122,7 @@ bool PenaltyContact::behind(const Segment& seg, size_t node, const std::vector<V
   for (int k = 0; k < nc; ++k) centre += x[static_cast<size_t>(seg.n[k])];
   centre /= nc;
   c.g = (x[node] - centre).dot(c.n);
-  if (c.g >= 0.0 || c.g < -depth_limit) return false;  // outside, or too deep to be this segment
+  if (std::fabs(c.g) > window) return false;  // too far in front, or too deep to be this segment
   const Vec3 p = x[node] - c.g * c.n;
   // Weights over the segment's corners: split the quad into two triangles.
   double w[3];
@@ -141,37 +141,59 @@ bool PenaltyContact::behind(const Segment& seg, size_t node, const std::vector<V
   return true;
 }
 
+bool PenaltyContact::touching(const Side& s, size_t i, const std::vector<Vec3>& x, double window, bool reach_check,
+                              Contact& c, size_t& seg) const {
+  const size_t node = static_cast<size_t>(s.nodes[i]);
+  bool behind = false, on_or_in_front = false;
+  Contact trial;
+  for (int ci = s.start[i]; ci < s.start[i + 1]; ++ci) {
+    const size_t j = static_cast<size_t>(s.cand[static_cast<size_t>(ci)]);
+    if (reach_check && (x[node] - x[static_cast<size_t>(s.segments[j].n[0])]).squaredNorm() > s.reach2[j])
+      continue;  // too far to touch
+    if (!project(s.segments[j], node, x, window, trial)) continue;
+    if (trial.g >= 0.0) {
+      on_or_in_front = true;
+    } else if (!behind || trial.g < c.g) {
+      c = trial, seg = j, behind = true;
+    }
+  }
+  // The face the node went furthest through takes the contact: at an edge
+  // struck along the axis, the node is deep behind the struck face and only
+  // level with the side face. Behind a face but on (or in front of) another
+  // that it also projects onto, the node sits at a convex corner of the
+  // other body: beside the face it seems behind (a tool's top node level with
+  // a piston's edge), unless the penetration is as shallow as penalty
+  // contact keeps real ones.
+  return behind && (!on_or_in_front || -c.g <= kCornerDepth * size_);
+}
+
 int PenaltyContact::side_forces(Side& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                                 std::vector<Vec3>& f) {
   int active = 0;
   Contact c;
   for (size_t i = 0; i < s.nodes.size(); ++i) {
     const size_t node = static_cast<size_t>(s.nodes[i]);
-    for (int ci = s.start[i]; ci < s.start[i + 1]; ++ci) {
-      const size_t j = static_cast<size_t>(s.cand[static_cast<size_t>(ci)]);
-      const Segment& seg = s.segments[j];
-      if ((x[node] - x[static_cast<size_t>(seg.n[0])]).squaredNorm() > s.reach2[j]) continue;  // too far to touch
-      if (!behind(seg, node, x, 0.5 * size_, c)) continue;
-      const int nc = corners(seg);
-      double m_seg = 0.0;
-      Vec3 v_seg = Vec3::Zero();
-      for (int k = 0; k < nc; ++k) {
-        m_seg += c.w[k] * mass_[static_cast<size_t>(seg.n[k])];
-        v_seg += c.w[k] * v[static_cast<size_t>(seg.n[k])];
-      }
-      const double m_node = mass_[node];
-      const double m_eff = (m_node > 0.0 && m_seg > 0.0) ? m_node * m_seg / (m_node + m_seg) : std::max(m_node, m_seg);
-      if (!(m_eff > 0.0)) continue;
-      const double k = std::min(sfs_ * 0.1, 0.2) * m_eff / (dt_ * dt_);
-      const double gdot = (v[node] - v_seg).dot(c.n);
-      const double F = k * (-c.g) - damping_ * 2.0 * std::sqrt(k * m_eff) * gdot;
-      if (F <= 0.0) continue;
-      f[node] += F * c.n;
-      for (int k2 = 0; k2 < nc; ++k2) f[static_cast<size_t>(seg.n[k2])] -= c.w[k2] * F * c.n;
-      max_penetration_ = std::max(max_penetration_, -c.g);
-      ++active;
-      break;  // one segment per node
+    size_t j = 0;
+    if (!touching(s, i, x, 0.5 * size_, true, c, j)) continue;
+    const Segment& seg = s.segments[j];
+    const int nc = corners(seg);
+    double m_seg = 0.0;
+    Vec3 v_seg = Vec3::Zero();
+    for (int k = 0; k < nc; ++k) {
+      m_seg += c.w[k] * mass_[static_cast<size_t>(seg.n[k])];
+      v_seg += c.w[k] * v[static_cast<size_t>(seg.n[k])];
     }
+    const double m_node = mass_[node];
+    const double m_eff = (m_node > 0.0 && m_seg > 0.0) ? m_node * m_seg / (m_node + m_seg) : std::max(m_node, m_seg);
+    if (!(m_eff > 0.0)) continue;
+    const double k = std::min(sfs_ * 0.1, 0.2) * m_eff / (dt_ * dt_);
+    const double gdot = (v[node] - v_seg).dot(c.n);
+    const double F = k * (-c.g) - damping_ * 2.0 * std::sqrt(k * m_eff) * gdot;
+    if (F <= 0.0) continue;
+    f[node] += F * c.n;
+    for (int k2 = 0; k2 < nc; ++k2) f[static_cast<size_t>(seg.n[k2])] -= c.w[k2] * F * c.n;
+    max_penetration_ = std::max(max_penetration_, -c.g);
+    ++active;
   }
   return active;
 }
@@ -189,14 +211,12 @@ void PenaltyContact::refuse_initial_penetration(const Model& model, const Contac
   Contact c;
   for (auto& s : sides_) {
     search(s, x);
+    size_t j = 0;
     for (size_t i = 0; i < s.nodes.size(); ++i)
-      for (int k = s.start[i]; k < s.start[i + 1]; ++k)
-        if (behind(s.segments[static_cast<size_t>(s.cand[static_cast<size_t>(k)])], static_cast<size_t>(s.nodes[i]), x,
-                   2.0 * size_, c) &&
-            -c.g > worst) {
-          worst = -c.g;
-          worst_node = s.nodes[i];
-        }
+      if (touching(s, i, x, 2.0 * size_, false, c, j) && -c.g > worst) {
+        worst = -c.g;
+        worst_node = s.nodes[i];
+      }
   }
   if (worst <= tolerance) return;
   std::ostringstream m;

@@ -7,7 +7,12 @@
 // normal, its projection inside the segment) is pushed out with
 //   F = k·(−g) + c·(−ġ),   only while F > 0 (contact never pulls),
 // and the reaction goes to the segment's nodes by the projection's
-// barycentric weights. Stiffness from the masses and the time step, as in
+// barycentric weights. Of the segments a node is behind, the one it went
+// furthest through takes the contact; a node that also lies on or in front of
+// another face it projects onto sits at a convex corner and is outside
+// unless its penetration is penalty-shallow (two parts touching at t = 0: a
+// tool's top node level with a piston's edge is not 6 mm inside the piston).
+// Stiffness from the masses and the time step, as in
 // LS-DYNA's SOFT = 1: k = SFS·0.1·m_eff/Δt², capped at 0.2·m_eff/Δt². The
 // cap matters: a contact node already vibrates with its elements at up to
 // ω·Δt = 2·TSSFAC = 1.8; adding the penalty (both passes: ω_c·Δt ≤ 0.63)
@@ -54,8 +59,17 @@ class PenaltyContact {
     Vec3 n;          // the segment's outward unit normal
     double w[4];     // the projection's weights over the segment's corners
   };
-  // Is `node` behind `seg` (0 > g ≥ −depth_limit) with its projection inside it?
-  bool behind(const Segment& seg, size_t node, const std::vector<Vec3>& x, double depth_limit, Contact& c) const;
+  // Does `node` project inside `seg` within |g| ≤ window of it (in front or behind)?
+  bool project(const Segment& seg, size_t node, const std::vector<Vec3>& x, double window, Contact& c) const;
+  // Is node i in contact? Of the segments it projects onto, the one it is
+  // furthest behind (c, seg); false when it is behind none, or sits at a
+  // convex corner (on or in front of another face, and deeper than
+  // kCornerDepth segment sizes behind this one).
+  bool touching(const Side& s, size_t i, const std::vector<Vec3>& x, double window, bool reach_check, Contact& c,
+                size_t& seg) const;
+  // Penalty contact keeps penetrations to a few hundredths of a segment
+  // (k = 0.1·m/Δt²); a tenth separates them from a corner's geometry.
+  static constexpr double kCornerDepth = 0.1;
   void search(Side& s, const std::vector<Vec3>& x);
   int side_forces(Side& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f);
   const std::vector<double>& mass_;

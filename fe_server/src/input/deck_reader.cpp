@@ -294,9 +294,12 @@ struct Reader {
         LoadingSet ls;
         ls.segment_set = static_cast<int>(c.integer(0, "SID"));
         std::string ltype = config::to_upper(c.field(1, "LTYPE"));
-        if (ltype != "PRESSS" && ltype != "FORCE")
-          c.fail("LTYPE '" + c.fields[1] + "': expected PRESSS (pressure on a segment set) or FORCE (force along z on a node set)");
-        ls.force = ltype == "FORCE";
+        if (ltype != "PRESSS" && ltype != "FORCE" && ltype != "BODY")
+          c.fail("LTYPE '" + c.fields[1] +
+                 "': expected PRESSS (pressure on a segment set), FORCE (force along the axis on a node set) or BODY "
+                 "(force along the axis on a part set, shared by mass)");
+        ls.force = ltype == "FORCE" || ltype == "BODY";
+        ls.body = ltype == "BODY";
         ls.port_id = static_cast<int>(c.integer(2, "PORT"));
         ls.z_min = c.real_or(3, "ZMIN", -1e300);
         ls.z_max = c.real_or(4, "ZMAX", 1e300);
@@ -404,7 +407,10 @@ struct Reader {
 
   // The outer boundary of the axisymmetric elements of a part set, as line
   // segments with the body on their left: the edges that belong to one
-  // element only, in that element's counter-clockwise direction.
+  // element only, in that element's counter-clockwise direction. Edges on
+  // the axis (r = 0 at both ends) bound the mesh but no surface: the solid
+  // continues through the axis, so nothing can touch them (taken as
+  // contact lines, a node resting on the part's face would be "behind" them).
   std::vector<Segment> boundary_of_part_set(int sid, const config::SourceLocation& where) {
     auto it = m.part_sets.find(sid);
     if (it == m.part_sets.end()) throw InputError(where, "part set " + std::to_string(sid) + " is not defined");
@@ -422,6 +428,7 @@ struct Reader {
     std::vector<Segment> out;
     for (const auto& [a, b] : order) {
       if (edges[std::minmax(a, b)] != 1) continue;
+      if (on_axis(m.x0[static_cast<size_t>(a)]) && on_axis(m.x0[static_cast<size_t>(b)])) continue;
       Segment s;
       s.n[0] = a, s.n[1] = b, s.n[2] = s.n[3] = -1;
       out.push_back(s);
@@ -491,7 +498,16 @@ struct Reader {
       if (!in_body.count(static_cast<int>(i)) && !m.fixed[i].all() && !(m.mass[i] > 0.0))
         throw InputError({name, 1}, "node " + std::to_string(m.node_ids[i]) +
                                         " has no mass and is neither fixed nor part of a rigid body");
-    for (const auto& ls : m.loading_sets) {
+    for (auto& ls : m.loading_sets) {
+      if (ls.body) {
+        auto it = m.part_sets.find(ls.segment_set);
+        if (it == m.part_sets.end())
+          throw InputError(ls.where, "part set " + std::to_string(ls.segment_set) + " is not defined in *SET_PART_LIST");
+        ls.body_nodes = nodes_of_parts({it->second.begin(), it->second.end()});
+        if (ls.body_nodes.empty())
+          throw InputError(ls.where, "part set " + std::to_string(ls.segment_set) + " has no elements to load");
+        continue;
+      }
       if (ls.force && !m.node_sets.count(ls.segment_set))
         throw InputError(ls.where, "node set " + std::to_string(ls.segment_set) + " is not defined in *SET_NODE_LIST");
       if (!ls.force && !m.segment_sets.count(ls.segment_set))
@@ -650,12 +666,16 @@ struct Reader {
 
   // Nodes of axisymmetric elements move in the x–y plane only; those on the
   // axis (x = 0) do not move radially.
+  // A 2D node on the axis of symmetry: r = 0 exactly, as LS-DYNA's 2D decks
+  // place it (its radial motion is then held).
+  static bool on_axis(const Vec3& p) { return p.x() == 0.0; }
+
   void constrain_axisymmetric_nodes() {
     for (const auto& e : m.axis)
       for (int k = 0; k < 4; ++k) {
         const size_t i = static_cast<size_t>(e.n[k]);
         m.fixed[i][2] = true;
-        if (m.x0[i].x() == 0.0) m.fixed[i][0] = true;
+        if (on_axis(m.x0[i])) m.fixed[i][0] = true;
       }
   }
 

@@ -132,8 +132,9 @@ AxialStations axial_stations(const std::vector<RevolutionSection>& sections, con
   const double h = opt.axial_size > 0.0 ? opt.axial_size : opt.element_size;
   for (size_t i = 0; i < sections.size(); ++i) {
     const int n = std::max(1, static_cast<int>(std::lround(sections[i].length / h)));
+    const double start = st.at.back();
     for (int k = 1; k <= n; ++k) {
-      st.at.push_back(st.at.back() + sections[i].length / n);
+      st.at.push_back(k == n ? start + sections[i].length : start + sections[i].length * k / n);
       st.section_of_layer.push_back(i);
     }
     st.first_station.push_back(st.at.size() - 1);
@@ -365,6 +366,7 @@ RevolutionMesh mesh_axisymmetric(const std::vector<RevolutionSection>& sections,
     for (long n : e) k << "," << number[n];
     k << "\n";
   }
+  int gauge_number = 0;
   for (double yg : opt.gauges) {
     std::vector<int> ids;
     for (size_t i = 0; i < elems.size(); ++i)
@@ -373,6 +375,25 @@ RevolutionMesh mesh_axisymmetric(const std::vector<RevolutionSection>& sections,
     std::snprintf(buf, sizeof buf, "$ gauge layer at y = %.6g\n*DATABASE_HISTORY_SHELL\n", yg);
     k << buf;
     write_ids(k, ids);
+    // A cut through the layer's lower edge: its nodes and the layer's
+    // elements (above the cut) as *DATABASE_CROSS_SECTION_SET, id set offset
+    // + 100 + gauge number: the force through the section (σ integrated over
+    // the ring exactly) and the cut's mean velocity, which separate the
+    // down- and up-going waves.
+    const int cut = opt.set_offset + 100 + ++gauge_number;
+    std::set<int> lower;
+    for (int id : ids) {
+      const auto& e = elems[static_cast<size_t>(id - opt.element_offset - 1)];
+      lower.insert(number[e[0]]), lower.insert(number[e[1]]);
+    }
+    std::snprintf(buf, sizeof buf, "$ cross section %d at y = %.6g (the gauge layer's lower edge)\n*SET_NODE_LIST\n%d\n",
+                  cut, y[elem_layer[static_cast<size_t>(ids.front() - opt.element_offset - 1)]], cut);
+    k << buf;
+    write_ids(k, {lower.begin(), lower.end()});
+    k << "*SET_SHELL_LIST\n" << cut << "\n";
+    write_ids(k, ids);
+    k << "*DATABASE_CROSS_SECTION_SET\n$ nsid, hsid, bsid, ssid, tsid, dsid, id\n"
+      << cut << ",0,0," << cut << ",0,0," << cut << "\n";
   }
   // Exposed faces normal to the axis, per station and direction, as lines
   // with the body on their left: facing −y runs outwards, facing +y inwards.
@@ -396,6 +417,21 @@ RevolutionMesh mesh_axisymmetric(const std::vector<RevolutionSection>& sections,
     k << buf << "*SET_SEGMENT\n" << sid << "\n";
     for (const auto& s2 : segs) k << s2[0] << "," << s2[1] << "\n";
   });
+  // Each section's outer cylindrical surface as a node set (id: set offset +
+  // section number): where a guide's friction, a feed force or a position
+  // monitor sits on a deformable body.
+  for (size_t i = 0; i < sections.size(); ++i) {
+    size_t c_out = 0;
+    while (c_out + 1 < nr && r[c_out] < sections[i].r_out) ++c_out;
+    std::vector<int> ids;
+    for (size_t st = stations.first_station[i]; st <= stations.first_station[i + 1]; ++st)
+      ids.push_back(number.at(static_cast<long>(st * nr + c_out)));
+    std::snprintf(buf, sizeof buf, "$ node set %d: outer surface of section %zu, r = %.6g, y %.6g to %.6g\n",
+                  opt.set_offset + static_cast<int>(i) + 1, i + 1, r[c_out], y[stations.first_station[i]],
+                  y[stations.first_station[i + 1]]);
+    k << buf << "*SET_NODE_LIST\n" << opt.set_offset + static_cast<int>(i) + 1 << "\n";
+    write_ids(k, ids);
+  }
   out.keyword_text = k.str();
   out.nodes = static_cast<int>(number.size());
   out.elements = static_cast<int>(elems.size());

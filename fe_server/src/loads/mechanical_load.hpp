@@ -1,7 +1,9 @@
-// Mechanical co-simulation ports: the host's force along z on a node set
-// (*USER_LOADING_SET SID, FORCE, PORT), shared equally by the set's nodes (on
-// a rigid body the whole body feels it). The port reports the set's mean
-// displacement and velocity along z, and the force it applied.
+// Mechanical co-simulation ports: the host's force along the deck's axis on
+// a node set (*USER_LOADING_SET SID, FORCE, PORT), shared equally by the
+// set's nodes (on a rigid body the whole body feels it), or on the parts of a
+// part set (LTYPE BODY), shared in proportion to the nodal masses like a body
+// force. The port reports the same weighted mean of the nodes' displacement
+// and velocity along the axis (for BODY the centre of mass's).
 #pragma once
 
 #include <vector>
@@ -29,6 +31,7 @@ class MechanicalLoad : public UserLoad {
   const Model& model_;
   std::vector<int> ports_;
   std::vector<std::vector<int>> nodes_;
+  std::vector<std::vector<double>> weights_;  // each port's weights sum to 1
   std::vector<double> force_;
 };
 

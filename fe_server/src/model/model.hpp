@@ -122,6 +122,12 @@ struct LoadingSet {
   int port_id = 0;
   int segment_set = 0;  // PRESSS: a segment set; FORCE: a node set
   bool force = false;   // FORCE: a mechanical port's force along the axis on a node set
+  // BODY (force is then true too): SID is a part set; the port's force acts
+  // on its nodes in proportion to their masses (a body force: gravity,
+  // friction, a cushion on an elastic body without hourglassing its
+  // surface) and reports the parts' centre-of-mass motion.
+  bool body = false;
+  std::vector<int> body_nodes;  // node indices of the part set's elements (BODY)
   // Cavity bounds along the axis, moving with the reference node (e.g. on
   // the housing; -1: fixed). A segment is loaded by the fraction of it inside.
   double z_min = -1e300, z_max = 1e300;

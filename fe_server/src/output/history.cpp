@@ -70,9 +70,20 @@ History::History(const std::string& path, const Model& model, const config::Port
     writer_.add_series(base + "axial_stress", "Pa", stream_[2]);
     writer_.add_series(base + "axial_velocity", "m/s", stream_[2]);
   }
-  for (const CrossSection& cs : model.cross_sections)
+  for (const CrossSection& cs : model.cross_sections) {
     for (const char* c : {"fx", "fy", "fz"})
       writer_.add_series("sections/" + std::to_string(cs.id) + "/" + c, "N", stream_[2]);
+    // Beyond LS-DYNA's SECFORC: the cut's mean velocity (its nodes weighted
+    // by mass: the cut's momentum over its mass). With the force it separates
+    // the waves running each way through the cut (σ = ∓ρc·v).
+    for (const char* c : {"vx", "vy", "vz"})
+      writer_.add_series("sections/" + std::to_string(cs.id) + "/" + c, "m/s", stream_[2]);
+    double total = 0.0;
+    for (int n : cs.nodes) total += model.mass[static_cast<size_t>(n)];
+    std::vector<double> w;
+    for (int n : cs.nodes) w.push_back(total > 0.0 ? model.mass[static_cast<size_t>(n)] / total : 1.0 / cs.nodes.size());
+    section_weights_.push_back(std::move(w));
+  }
   size_t widest = 0;
   for (size_t k : {stream_[0], stream_[1], stream_[2]}) widest = std::max(widest, writer_.columns(k));
   row_.resize(widest);
@@ -151,6 +162,10 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
     for (size_t cs = 0; cs < model_.cross_sections.size(); ++cs) {
       const Vec3 f = s.section_force(cs);
       for (int c = 0; c < 3; ++c) row_[k++] = f[c];
+      Vec3 v = Vec3::Zero();
+      const auto& nodes = model_.cross_sections[cs].nodes;
+      for (size_t i = 0; i < nodes.size(); ++i) v += section_weights_[cs][i] * s.v_live()[static_cast<size_t>(nodes[i])];
+      for (int c = 0; c < 3; ++c) row_[k++] = v[c];
     }
     writer_.append(row_, stream_[2]);
   }

@@ -58,6 +58,7 @@ class History {
   h5io::TimeSeriesWriter writer_;
   const Model& model_;
   std::vector<double> row_;
+  std::vector<std::vector<double>> section_weights_;  // per cross section: its nodes' mass shares
   long every_[3] = {1, 1, 1};
   size_t stream_[3] = {0, 0, 0};
   std::unique_ptr<class FieldWriter> fields_;

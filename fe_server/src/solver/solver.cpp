@@ -82,10 +82,12 @@ std::vector<int> listed(const std::vector<char>& flags) {
 }  // namespace
 
 std::string hourglass_warning(const Energies& e) {
-  if (!(e.hourglass > 0.1 * std::fabs(e.internal))) return "";
+  const bool by_work = std::fabs(e.external_work) > e.peak_internal;
+  const double through = by_work ? std::fabs(e.external_work) : e.peak_internal;
+  if (!(e.hourglass > 0.1 * through)) return "";
   std::ostringstream s;
-  s << "hourglass energy " << e.hourglass << " J is " << (e.internal != 0.0 ? 100.0 * e.hourglass / std::fabs(e.internal) : 1e9)
-    << " % of the internal energy " << e.internal
+  s << "hourglass energy " << e.hourglass << " J is " << (through > 0.0 ? 100.0 * e.hourglass / through : 1e9) << " % of "
+    << (by_work ? "the work of the loads " : "the largest internal energy ") << through
     << " J (bound 10 %): zero-energy modes carry part of the deformation; refine the mesh where the load is "
        "concentrated or spread the load over several nodes";
   return s.str();
@@ -350,6 +352,7 @@ void Solver::internal_forces() {
     throw std::runtime_error(s.str());
   }
   energies_.internal += w.internal;
+  energies_.peak_internal = std::max(energies_.peak_internal, energies_.internal);
   energies_.hourglass += w.hourglass;
   damping_power_ = w.damping_power;
   energies_.spring = w.spring_energy;

@@ -48,6 +48,7 @@ struct Energies {
   double contact = 0.0;        // stored in and dissipated by contact
   double damping = 0.0;        // dissipated by dampers and bulk viscosity
   double external_work = 0.0;  // done by user loads
+  double peak_internal = 0.0;  // the largest internal energy reached so far
   // kinetic + internal + spring + hourglass + contact + damping − external work − its value at t = 0
   double balance_error = 0.0;
 };
@@ -55,7 +56,12 @@ struct Energies {
 // Empty, or a warning when the hourglass energy exceeds 10 % of the internal
 // energy: the rule of thumb of the LS-DYNA theory and user manuals, beyond
 // which the zero-energy modes have taken a visible part of the deformation
-// and the mesh or the load needs changing (refine, spread the load).
+// and the mesh or the load needs changing (refine, spread the load). The
+// hourglass energy is dissipated, so it accumulates; the internal energy of a
+// machine that strikes again and again returns to nearly zero after every
+// blow. The comparison is therefore with the energy that went through the
+// elements: the largest internal energy reached, or the work of the loads if
+// that is larger (a hammer's hydraulics put one blow's energy in per cycle).
 std::string hourglass_warning(const Energies& e);
 
 // What limits the stable time step.

@@ -34,6 +34,7 @@ TLM_HOST = BUILD / "tlm_host" / "tlm_host"
 FMUGEN = BUILD / "fmugen" / "fmugen"
 sys.path.insert(0, str(ROOT / "bench"))
 import stability_map as smap_module  # noqa: E402
+import hammer_mesh_study  # noqa: E402
 
 
 def log(msg):
@@ -220,6 +221,8 @@ def main():
     log("cavitation against the continuous model ...")
     cav_text, cav_code = cavitation()
     loop_text = loop_model()
+    log("elastic hammer: mesh of piston and tool ...")
+    mesh_study = hammer_mesh_study.study(OUT, QUICK)
 
     # Plots.
     fig, ax = plt.subplots(figsize=(6, 3.8))
@@ -360,6 +363,24 @@ def main():
                  f"{r['err_f']:.2f}, {r['err_v']:.2f}, {r['err_E']:.2f}{note} |")
     L.append("\nRecommended: the cheapest step with frequency and impact velocity within 0.5 % of the 0.5 µs run.\n")
     L.append("![TLM step Pareto](results/pareto_tlm_step.png)\n")
+    L.append("## (d) Elastic hammer: the mesh of piston and tool\n")
+    L.append("The scene's stepped piston (Ø61/65.6/56 mm, 640 mm) strikes the Ø65 mm tool at 8 m/s, both axisymmetric "
+             "(`bench/hammer_mesh_study.py`; the tool 2 m long here so the primary pulse passes its gauge, 0.2 m "
+             "below the top, before anything returns). Plateau (mean over the pulse's middle half), length (half-level "
+             "crossings), W = (A·c0/E)∫σ²dt and peak, against the finest mesh. The collar's 2.3 mm ring limits the "
+             f"step to about 0.32 µs for every mesh. 1D estimate: plateau {mesh_study['plateau_1D_MPa']:.1f} MPa, "
+             f"length {mesh_study['length_1D_us']:.1f} µs, ½mv² {mesh_study['kinetic_J']:.0f} J.\n")
+    L.append("| radial × axial [mm] | elements | Δt [µs] | µs per step (with start-up) | plateau [MPa] | length [µs] | "
+             "W [J] | peak [MPa] |\n|---|---|---|---|---|---|---|---|")
+    for r in mesh_study["rows"]:
+        chosen = " **(the scene's)**" if (r["radial_mm"], r["axial_mm"]) == (9.0, 10.0) else ""
+        L.append(f"| {r['radial_mm']:g} × {r['axial_mm']:g}{chosen} | {r['elements']} | {r['dt_us']:.3f} | "
+                 f"{r['us_per_step']:.0f} | {r['plateau_MPa']:.2f} ({r['plateau_vs_ref_pct']:+.2f} %) | "
+                 f"{r['length_us']:.1f} ({r['length_vs_ref_pct']:+.2f} %) | {r['W_J']:.1f} ({r['W_vs_ref_pct']:+.2f} %) | "
+                 f"{r['peak_MPa']:.0f} ({r['peak_vs_ref_pct']:+.1f} %) |")
+    L.append("\nThe scene's 9 × 10 mm mesh keeps plateau, length and W within 0.6 % of the 2.5 mm mesh at 1/13 of "
+             "its elements; only the front's overshoot (peak) is lower, by about 6 %: read peaks as mesh-dependent. "
+             "![mesh study](results/mesh_study.png)\n")
     L.append("## Coupling stability map\n")
     L.append("Scene one_dof (rigid piston, A = 10 cm², on a spring of 1 MN/m and a shut chamber of volume V, "
              "β = 1.4 GPa), kicked at 0.1 m/s; ω² = β·A²/(V·m) + k/m. `bench/stability_map.py` runs every point "

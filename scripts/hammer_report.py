@@ -11,60 +11,111 @@ Table 3 quantities for the monolithic reference and each co-simulation:
                (co-simulation only: the reference's tool is a lumped mass),
   frequency, impact velocity, stroke, Q_in, p_in, peak p_A, p_B, p_control,
   peak tool stress (most compressive gauge stress of each blow, mean),
+  peak piston stress (elastic scene: its gauge 165 mm above the striking face),
   time shift of the piston lift against the reference (cross-correlation),
-  wall time per simulated second.
+  wall time per simulated second;
+
+and for the elastic scene the physics checks of issue 14: the primary pulse
+is a plateau within 5 % of the 1D impedance estimate from the measured
+impact velocity, as long as 2·L_piston/c0 within 10 %; the FE energy balance
+within its bound. Then the thesis' Fig. 16 (input power p_in·Q_in and output
+power W·f against the restrictor diameter) over the conditions run.
 
 Usage: hammer_report.py OUT_DIR   (writes OUT_DIR/report.md and *.png)
 """
 import json
 import pathlib
+import re
 import sys
 
 import h5py
 import numpy as np
 
-# Tool: steel bar Ø65 mm (shared/scenes/hammer.md), as in scenes/hammer/deck.k.
-E, RHO, AREA = 2.1e11, 7850.0, 3.3183e-3
+# Steel (shared/scenes/hammer.md); tool Ø65 mm.
+E, RHO = 2.1e11, 7850.0
 C0 = (E / RHO) ** 0.5
-GAUGE = "200040"                  # bar element 200 mm below the tool's top
-GAUGE_NODES = ("200040", "200041")  # its two nodes
-MODES = ("pressure", "tlm", "tlm10", "pressure10")
-MODE_TEXT = {"pressure": "pressure, 1 us", "tlm": "TLM, 1 us", "tlm10": "TLM, 10 us, k = 10",
+AREA = np.pi * 0.0325**2          # tool section
+A_STRIKE = np.pi * 0.0305**2      # piston's striking stem
+L_PISTON = 0.64
+# Rigid scene (scenes/hammer): the 1D-bar tool's gauge element and its nodes.
+BAR_GAUGE = "200040"
+BAR_GAUGE_NODES = ("200040", "200041")
+# Elastic scene (scenes/hammer_elastic): the cross sections fe_mesh puts
+# through the tool's gauge layer (200 mm below the top) and the piston's
+# (165 mm above its striking face, in the Ø61 mm stem).
+SECTION = "111"
+PISTON_SECTION = "101"
+MODES = ("tlm10", "pressure", "tlm", "pressure10")
+MODE_TEXT = {"pressure": "pressure, 1 us", "tlm": "TLM, 1 us", "tlm10": "TLM, 10 us",
              "pressure10": "pressure, 10 us, k = 10"}
 
 
+def elastic(fe):
+    return "sections" in fe and SECTION in fe["sections"]
+
+
 def gauge(fe):
-    """Time, stress and axial particle velocity (+z) at the tool's gauge,
-    from the element history stream (files of fe_server before the
-    decimated histories: the every-step rows and the gauge nodes)."""
+    """Time, stress and axial particle velocity (up positive) at the tool's
+    gauge. Elastic tool: the section force over the area and the cut's mean
+    velocity; 1D bar: the element's stress and velocity (older files: the
+    mean of its two nodes)."""
+    if elastic(fe):
+        return (fe["time_elements"][:], fe[f"sections/{SECTION}/fy"][:] / AREA, fe[f"sections/{SECTION}/vy"][:])
     if "time_elements" in fe:
-        return (fe["time_elements"][:], fe[f"bars/{GAUGE}/axial_stress"][:],
-                fe[f"bars/{GAUGE}/axial_velocity"][:])
-    return (fe["time"][:], fe[f"bars/{GAUGE}/axial_stress"][:],
-            0.5 * (fe[f"nodes/{GAUGE_NODES[0]}/vz"][:] + fe[f"nodes/{GAUGE_NODES[1]}/vz"][:]))
+        return (fe["time_elements"][:], fe[f"bars/{BAR_GAUGE}/axial_stress"][:],
+                fe[f"bars/{BAR_GAUGE}/axial_velocity"][:])
+    return (fe["time"][:], fe[f"bars/{BAR_GAUGE}/axial_stress"][:],
+            0.5 * (fe[f"nodes/{BAR_GAUGE_NODES[0]}/vz"][:] + fe[f"nodes/{BAR_GAUGE_NODES[1]}/vz"][:]))
+
+
+def piston_peak(fe, impact_times):
+    """Most compressive mean axial stress through the piston's gauge section
+    (elastic scene), mean over the blows; None for the rigid piston."""
+    if not elastic(fe) or PISTON_SECTION not in fe["sections"]:
+        return None
+    t = fe["time_elements"][:]
+    s = fe[f"sections/{PISTON_SECTION}/fy"][:] / A_STRIKE
+    peaks = []
+    for ti in impact_times:
+        i0, i1 = np.searchsorted(t, [ti - 20e-6, ti + 1.0e-3])
+        if i1 < len(t):
+            peaks.append(s[i0:i1].min())
+    return float(np.mean(peaks)) if peaks else None
 
 
 def primary_pulses(fe, impact_times):
-    """W from the down-going stress of each blow's primary pulse, and the
-    peak compressive stress. σ_d = (σ + ρ·c0·v)/2 separates the down-going
-    wave from the one reflected at the rock (1D wave relations: σ = ρc·v
-    for a wave moving towards −z, σ = −ρc·v towards +z)."""
+    """Per blow: W from the down-going stress of the primary pulse, the peak
+    compressive stress, and the pulse's plateau (mean over its middle half)
+    and length (between the crossings of half the plateau). σ_d = (σ + ρ·c0·v)/2
+    separates the down-going wave from the one reflected at the rock (1D wave
+    relations: σ = ρc·v for a wave moving down, σ = −ρc·v moving up)."""
     t, sigma, v = gauge(fe)
     sigma_d = 0.5 * (sigma + RHO * C0 * v)
-    W, peaks = [], []
+    out = {"W": [], "peak": [], "plateau": [], "length": []}
     for ti in impact_times:
         i0, i1 = np.searchsorted(t, [ti - 20e-6, ti + 1.0e-3])
         if i1 >= len(t) or i1 - i0 < 10:
             continue
-        s = sigma_d[i0:i1]
+        s, ts = sigma_d[i0:i1], t[i0:i1]
         k = int(np.argmin(s))
         # The pulse ends where the down-going stress first falls below 2 % of
         # its peak after the peak (a rigid piston's pulse decays exponentially).
         tail = np.nonzero(s[k:] > 0.02 * s[k])[0]
         end = k + (tail[0] if len(tail) else len(s) - k)
-        W.append(AREA * C0 / E * np.trapz(s[:end] ** 2, t[i0:i0 + end]))
-        peaks.append(sigma[i0:i1].min())
-    return (float(np.mean(W)) if W else float("nan"), float(np.mean(peaks)) if peaks else float("nan"))
+        out["W"].append(AREA * C0 / E * np.trapz(s[:end] ** 2, ts[:end]))
+        out["peak"].append(sigma[i0:i1].min())
+        # Plateau: the median after the front's ringing, then refined over the
+        # middle half between the half-plateau crossings.
+        first = int(np.argmax(s < 0.5 * s[k]))
+        guess = np.median(s[(ts > ts[first] + 30e-6) & (ts < ts[first] + 200e-6)])
+        rise = np.interp(0.5 * guess, [s[first], s[max(first - 1, 0)]], [ts[first], ts[max(first - 1, 0)]])
+        after = first + int(np.argmax(s[first:] > 0.5 * guess))
+        fall = np.interp(0.5 * guess, [s[after - 1], s[after]], [ts[after - 1], ts[after]])
+        length = fall - rise
+        mid = (ts > rise + 0.25 * length) & (ts < fall - 0.25 * length)
+        out["plateau"].append(float(np.mean(s[mid])) if mid.any() else float("nan"))
+        out["length"].append(length)
+    return {k: (float(np.mean(v)) if v else float("nan")) for k, v in out.items()}
 
 
 def time_shift(ref, host):
@@ -102,15 +153,37 @@ ROWS = [("W_kin", "blow energy ½mv² [J]", "{:.0f}"), ("W_stress", "W from tool
         ("stroke", "piston stroke [mm]", "{:.1f}"), ("Q_in", "inlet flow Q_in [l/min]", "{:.1f}"),
         ("p_in", "inlet pressure p_in [bar abs]", "{:.1f}"), ("p_A", "peak p_A [bar abs]", "{:.1f}"),
         ("p_B", "peak p_B [bar abs]", "{:.1f}"), ("p_control", "peak p_control [bar abs]", "{:.1f}"),
-        ("sigma", "peak tool stress [MPa]", "{:.0f}"), ("shift", "time shift vs reference [us]", "{:.0f}"),
-        ("wall", "wall time per simulated s [s]", "{:.1f}")]
+        ("sigma", "peak tool stress [MPa]", "{:.0f}"), ("plateau", "tool pulse plateau [MPa]", "{:.1f}"),
+        ("length", "tool pulse length [us]", "{:.0f}"), ("sigma_p", "peak piston stress [MPa]", "{:.0f}"),
+        ("shift", "time shift vs reference [us]", "{:.0f}"), ("wall", "wall time per simulated s [s]", "{:.1f}")]
+
+
+def energy_balance(log):
+    """fe_server's closing energy account: (error in % of the scale, bound in %)."""
+    m = re.search(r"energy balance error \S+ J \(([-\d.e+]+) % of \S+ J, bound ([\d.]+) %\)", log)
+    return (float(m.group(1)), float(m.group(2))) if m else (float("nan"), float("nan"))
+
+
+def checks(col):
+    """Issue 14's physics checks on one co-simulation (elastic scene)."""
+    plateau_1d = -col["v"] * RHO * C0 * A_STRIKE / (A_STRIKE + AREA) / 1e6
+    length_1d = 2.0 * L_PISTON / C0 * 1e6
+    dp = 100.0 * (col["plateau"] / plateau_1d - 1.0)
+    dl = 100.0 * (col["length"] / length_1d - 1.0)
+    err, bound = col["balance"]
+    return [("tool pulse plateau vs 1D impedance estimate", f"{col['plateau']:.1f} vs {plateau_1d:.1f} MPa ({dp:+.1f} %)",
+             "≤ 5 %", abs(dp) <= 5.0),
+            ("tool pulse length vs 2·L_piston/c0", f"{col['length']:.0f} vs {length_1d:.0f} us ({dl:+.1f} %)", "≤ 10 %",
+             abs(dl) <= 10.0),
+            ("FE energy balance over the run", f"{err:.3g} % of the energy held", f"≤ {bound:g} %", abs(err) <= bound)]
 
 
 def evaluate(cond):
     ref_js = json.loads((cond / "reference.json").read_text())
     cols = {"reference": figures(ref_js)}
+    cols["reference"]["P_in"] = ref_js["input_power_W"]
+    cols["reference"]["P_out"] = ref_js["output_power_W"]
     with h5py.File(cond / "reference.h5") as ref:
-        t_end = ref["time"][-1]
         for m in MODES:
             d = cond / m
             if not (d / "host.json").exists():
@@ -118,10 +191,22 @@ def evaluate(cond):
             js = json.loads((d / "host.json").read_text())
             col = figures(js)
             with h5py.File(d / "host.h5") as host, h5py.File(d / "fe.h5") as fe:
-                col["W_stress"], sigma = primary_pulses(fe, js["impact_times_s"])
-                col["sigma"] = 1e-6 * sigma
+                pulses = primary_pulses(fe, js["impact_times_s"])
+                col["W_stress"] = pulses["W"]
+                col["sigma"] = 1e-6 * pulses["peak"]
+                col["elastic"] = elastic(fe)
+                if col["elastic"]:
+                    col["plateau"] = 1e-6 * pulses["plateau"]
+                    col["length"] = 1e6 * pulses["length"]
+                    peak_p = piston_peak(fe, js["impact_times_s"])
+                    col["sigma_p"] = 1e-6 * peak_p if peak_p is not None else None
                 col["shift"] = 1e6 * time_shift(ref, host)
+                t_end = host["time"][-1]
             col["wall"] = float((d / "wall_seconds").read_text()) / t_end
+            col["balance"] = energy_balance((d / "fe_server.log").read_text()) if (d / "fe_server.log").exists() \
+                else (float("nan"), float("nan"))
+            col["P_in"] = js["input_power_W"]
+            col["P_out"] = col["W_stress"] * col["f"] if np.isfinite(col["W_stress"]) else js["output_power_W"]
             cols[m] = col
     return cols
 
@@ -147,15 +232,18 @@ def table(cols):
 
 
 def plot(cond, cols):
+    """Piston lift, spool, cavity A pressure (last 0.1 s) and the tool's
+    stress pulse of the last evaluated blow (total and down-going)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(3, 1, figsize=(9, 10))
+    fig, ax = plt.subplots(4, 1, figsize=(9, 13))
     with h5py.File(cond / "reference.h5") as ref:
         t = ref["time"][:]
         s = t > t[-1] - 0.1
         ax[0].plot(1e3 * t[s], 1e3 * ref["components/piston/x"][s], "k", lw=2, label="monolithic reference")
         ax[1].plot(1e3 * t[s], ref["components/spool/x"][s] * 1e3, "k", lw=2, label="monolithic reference")
+        ax[2].plot(1e3 * t[s], 1e-5 * ref["nodes/cavA.P2/p"][s], "k", lw=2, label="monolithic reference")
     for m in MODES:
         if m not in cols:
             continue
@@ -164,15 +252,22 @@ def plot(cond, cols):
             s = t > t[-1] - 0.1
             ax[0].plot(1e3 * t[s], 1e3 * host["components/mech/x"][s], label=MODE_TEXT[m])
             ax[1].plot(1e3 * t[s], 1e3 * host["components/smech/x"][s], label=MODE_TEXT[m])
+            ax[2].plot(1e3 * t[s], 1e-5 * host["nodes/cavA.P2/p"][s], label=MODE_TEXT[m])
         with h5py.File(cond / m / "fe.h5") as fe:
             js = json.loads((cond / m / "host.json").read_text())
             ti = js["impact_times_s"][-1]
-            t, sigma, _ = gauge(fe)
+            t, sigma, v = gauge(fe)
             s = (t > ti - 50e-6) & (t < ti + 800e-6)
-            ax[2].plot(1e6 * (t[s] - ti), 1e-6 * sigma[s], label=MODE_TEXT[m])
+            line = ax[3].plot(1e6 * (t[s] - ti), 1e-6 * sigma[s], label=f"{MODE_TEXT[m]}: stress")[0]
+            ax[3].plot(1e6 * (t[s] - ti), 1e-6 * 0.5 * (sigma[s] + RHO * C0 * v[s]), "--", color=line.get_color(),
+                       label=f"{MODE_TEXT[m]}: down-going part")
+            if cols[m].get("elastic"):
+                ax[3].axhline(-cols[m]["v"] * RHO * C0 * A_STRIKE / (A_STRIKE + AREA) / 1e6, color="k", ls=":",
+                              label="1D impedance estimate (measured impact velocity)")
     ax[0].set(xlabel="time [ms]", ylabel="piston lift [mm]", title=f"{cond.name}: last 0.1 s")
     ax[1].set(xlabel="time [ms]", ylabel="spool position [mm]")
-    ax[2].set(xlabel="time after the last evaluated impact [µs]", ylabel="tool stress at the gauge [MPa]",
+    ax[2].set(xlabel="time [ms]", ylabel="cavity A pressure [bar abs]")
+    ax[3].set(xlabel="time after the last evaluated impact [µs]", ylabel="tool stress at the gauge [MPa]",
               title="stress 200 mm below the tool's top (compression negative)")
     for a in ax:
         a.grid(alpha=0.3)
@@ -182,28 +277,79 @@ def plot(cond, cols):
     plt.close(fig)
 
 
+def power_plot(out, results):
+    """The thesis' Fig. 16: input power p_in·Q_in and output power W·f
+    against the restrictor diameter, one line per supply pressure."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    by_p = {}
+    for cond, cols in results:
+        p, d = int(cond.name.split("bar")[0]), float(cond.name.split("_")[1][:-2])
+        mode = next((m for m in MODES if m in cols), None)
+        by_p.setdefault(p, []).append((d, cols["reference"], cols.get(mode)))
+    for p, rows in sorted(by_p.items()):
+        rows.sort()
+        d = [r[0] for r in rows]
+        line = ax.plot(d, [r[1]["P_in"] / 1e3 for r in rows], "o--", label=f"{p} bar: input p_in·Q_in (reference)")[0]
+        if all(r[2] for r in rows):
+            ax.plot(d, [r[2]["P_in"] / 1e3 for r in rows], "o-", color=line.get_color(),
+                    label=f"{p} bar: input (co-simulation)")
+            ax.plot(d, [r[2]["P_out"] / 1e3 for r in rows], "s-", color=line.get_color(), mfc="none",
+                    label=f"{p} bar: output W·f (co-simulation, W from tool stress)")
+        ax.plot(d, [r[1]["P_out"] / 1e3 for r in rows], "s--", color=line.get_color(), mfc="none",
+                label=f"{p} bar: output ½mv²·f (reference)")
+    ax.set(xlabel="restrictor diameter [mm]", ylabel="power [kW]", title="Input and output power (thesis Fig. 16)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "power.png", dpi=110)
+    plt.close(fig)
+
+
 def main():
     out = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "out/hammer")
     conds = sorted((d for d in out.glob("*bar_*mm") if (d / "reference.json").exists()),
                    key=lambda d: (-int(d.name.split("bar")[0]), -float(d.name.split("_")[1][:-2])))
     if not conds:
         sys.exit(f"hammer_report.py: no runs under {out}")
+    results = [(cond, evaluate(cond)) for cond in conds]
+    is_elastic = any(col.get("elastic") for _, cols in results for col in cols.values())
+    scene = ("the elastic piston and tool (axisymmetric), the rigid spool and the rock in fe_server"
+             if is_elastic else "the rigid piston and spool, the 1D-bar tool and the rock in fe_server")
     md = ["# Hydraulic hammer: co-simulation against the monolithic reference", "",
-          "Written by scripts/run_hammer.sh (scripts/hammer_report.py). Piston, spool, tool and rock",
-          "in fe_server (rigid piston and spool, 1D-bar tool); the rest in tlm_host. Reference: the",
-          "monolithic TLM model (lumped tool). In brackets: difference to the reference. Whole cycles",
-          "after 0.3 s; pressures low-pass filtered at 500 Hz. W from tool stress: the down-going",
-          "primary pulse 200 mm below the tool's top, W = (A·c0/E)·∫σ² dt. Time shift: lag of the",
-          "piston lift's cross-correlation, positive when the co-simulation is later.", ""]
-    for cond in conds:
-        cols = evaluate(cond)
-        md += [f"## {cond.name.replace('bar_', ' bar, restrictor Ø').replace('mm', ' mm')}", "", table(cols), "",
-               f"![{cond.name}]({cond.name}/hammer.png)", ""]
+          f"Written by scripts/run_hammer.sh (scripts/hammer_report.py). Co-simulation: {scene};",
+          "the hydraulics in tlm_host. Reference: the monolithic TLM model (rigid piston, lumped tool).",
+          "In brackets: difference to the reference. Whole cycles after 0.3 s; pressures low-pass",
+          "filtered at 500 Hz. W from tool stress: the down-going primary pulse 200 mm below the tool's",
+          "top, W = (A·c0/E)·∫σ² dt. Time shift: lag of the piston lift's cross-correlation, positive",
+          "when the co-simulation is later.", ""]
+    failed = []
+    for cond, cols in results:
+        md += [f"## {cond.name.replace('bar_', ' bar, restrictor Ø').replace('mm', ' mm')}", "", table(cols), ""]
+        for m, col in cols.items():
+            if m == "reference" or not col.get("elastic"):
+                continue
+            md += [f"Physics checks ({MODE_TEXT[m]}):", "", "| check | measured | bound | |", "|---|---|---|---|"]
+            for what, measured, bound, ok in checks(col):
+                md.append(f"| {what} | {measured} | {bound} | {'holds' if ok else '**fails**'} |")
+                if not ok:
+                    failed.append(f"{cond.name} {m}: {what}: {measured}")
+            md.append("")
+        md += [f"![{cond.name}]({cond.name}/hammer.png)", ""]
         plot(cond, cols)
         print(f"{cond.name}:")
         print(table(cols))
+    if len(results) > 1:
+        power_plot(out, results)
+        md += ["## Input and output power against the restrictor (thesis Fig. 16)", "", "![power](power.png)", ""]
+    if failed:
+        md += ["## Checks that fail", ""] + [f"- {f}" for f in failed] + [""]
     (out / "report.md").write_text("\n".join(md) + "\n")
     print(f"report: {out / 'report.md'}")
+    for f in failed:
+        print(f"hammer_report.py: check fails: {f}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The main job: install what is missing, build, and run the hydraulic hammer
-# co-simulation in its four running conditions and three coupling modes
-# (fe_server and tlm_host on loopback), with the report and plots in
-# out/hammer/. Arguments go to scripts/run_hammer.sh, e.g. --modes tlm10.
+# co-simulation (the elastic piston and tool in fe_server, the hydraulics in
+# tlm_host, on loopback) in its four running conditions beside the monolithic
+# reference, with the report and plots in out/hammer/. Arguments go to
+# scripts/run_hammer.sh, e.g. --conditions 150:6.0 or --scene rigid.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/install_deps.sh"

@@ -1,55 +1,80 @@
 #!/usr/bin/env bash
-# The main job: the hydraulic hammer co-simulated (piston, spool, tool and
-# rock in fe_server on loopback; the hydraulics in tlm_host) in its running
-# conditions and coupling modes, beside the monolithic reference; then the
-# report (report.md, Table 3 quantities, time shift per mode) and plots.
+# The main job: the hydraulic hammer co-simulated (the bodies in fe_server on
+# loopback, the hydraulics in tlm_host) in its running conditions, beside the
+# monolithic reference; then the report (report.md, Table 3 quantities, the
+# physics checks, the power plot) and plots.
 #
-#   scripts/run_hammer.sh [--modes "pressure tlm tlm10"]
+#   scripts/run_hammer.sh [--scene elastic|rigid] [--modes "tlm10 ..."]
 #                         [--conditions "150:6.0 150:5.4 100:6.0 100:5.4"]
-#                         [--stop 0.6] [--out out/hammer]
+#                         [--stop S] [--jobs N] [--out out/hammer]
 #
-# Modes: pressure (the thesis' scheme, coupling step 1 us), tlm (TLM
-# coupling, 1 us), tlm10 (TLM coupling every 10 us, 10 FE steps each),
-# pressure10 (pressure coupling every 10 us, 10 FE steps each: what
-# sub-cycling costs in pressure mode; not in the default set).
+# Scenes: elastic (default; scenes/hammer_elastic: the piston and the tool as
+# elastic axisymmetric bodies, the spool and the rock block rigid; TLM
+# coupling every 10 us, 32 FE steps each: mode tlm10 only) or rigid
+# (scenes/hammer: rigid piston and spool, 1D-bar tool; modes pressure, tlm,
+# tlm10, pressure10, default "pressure tlm tlm10").
+# Modes (rigid scene): pressure (the thesis' scheme, coupling step 1 us),
+# tlm (TLM coupling, 1 us), tlm10 (TLM coupling every 10 us, 10 FE steps
+# each), pressure10 (pressure coupling every 10 us, 10 FE steps each: what
+# sub-cycling costs in pressure mode).
 # Conditions: supply relief setting in bar, restrictor diameter in mm.
+# Stop: simulated seconds per run (default 0.56 elastic: start-up to 0.3 s,
+# then at least 5 whole cycles at the slowest condition's ~21 Hz; 0.6 rigid).
+# Jobs: conditions run side by side (default 2: each co-simulation's
+# fe_server computes on one core while its tlm_host waits on the socket).
 # Each run gets its own fe_server with a fresh token on an ephemeral port.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${PCS_BUILD_DIR:-$root/build}
-modes="pressure tlm tlm10"
+scene_name=elastic
+modes=
 conditions="150:6.0 150:5.4 100:6.0 100:5.4"
-stop=0.6
+stop=
+jobs=2
 out=$root/out/hammer
 while [ $# -gt 0 ]; do
   case "$1" in
+    --scene) scene_name=$2; shift 2 ;;
     --modes) modes=$2; shift 2 ;;
     --conditions) conditions=$2; shift 2 ;;
     --stop) stop=$2; shift 2 ;;
+    --jobs) jobs=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     *) echo "run_hammer.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
   esac
 done
-scene=$build/scenes/hammer
-for f in deck.k hammer.fmu; do
-  [ -f "$scene/$f" ] || { echo "run_hammer.sh: $scene/$f missing: build first (scripts/build.sh)" >&2; exit 2; }
-done
+case "$scene_name" in
+  elastic) scene_dir=hammer_elastic; modes=${modes:-tlm10}; stop=${stop:-0.56}
+           ref_log=(--set simulation.log_every=20) ;;  # the reference's rows every 20 us too
+  rigid) scene_dir=hammer; modes=${modes:-"pressure tlm tlm10"}; stop=${stop:-0.6}; ref_log=() ;;
+  *) echo "run_hammer.sh: --scene '$scene_name': expected elastic or rigid" >&2; exit 2 ;;
+esac
+[[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "run_hammer.sh: --jobs '$jobs': a positive integer" >&2; exit 2; }
+scene=$build/scenes/$scene_dir
+[ -f "$scene/deck.k" ] || { echo "run_hammer.sh: $scene/deck.k missing: build first (scripts/build.sh)" >&2; exit 2; }
 mkdir -p "$out"
-server=
-trap '[ -n "$server" ] && kill $server 2>/dev/null || true' EXIT
 
 run_mode() {  # condition directory, mode, common --set arguments...
   local dir=$1 mode=$2; shift 2
   local ports fmu host_step=()
-  case "$mode" in
-    pressure) ports=ports.cfg; fmu=hammer.fmu ;;
-    tlm) ports=ports_tlm.cfg; fmu=hammer_tlm.fmu ;;
-    tlm10) ports=ports_tlm10.cfg; fmu=hammer_tlm10.fmu
-           host_step=(--set simulation.timestep=1e-5 --set simulation.log_every=1) ;;
-    pressure10) ports=ports_pressure10.cfg; fmu=hammer_p10.fmu
-           host_step=(--set simulation.timestep=1e-5 --set simulation.log_every=1) ;;
-    *) echo "run_hammer.sh: mode '$mode': expected pressure, tlm, tlm10 or pressure10" >&2; exit 2 ;;
-  esac
+  if [ "$scene_name" = elastic ]; then
+    [ "$mode" = tlm10 ] || { echo "run_hammer.sh: mode '$mode': the elastic scene runs tlm10 (TLM, 10 us)" >&2; return 2; }
+    ports=$root/scenes/hammer_elastic/ports.cfg; fmu=hammer_elastic.fmu
+    # A row every 20 us (the impact velocity is read from the row before
+    # contact: 0.02 m/s at most), keeping the whole job under 0.5 GB.
+    host_step=(--set simulation.timestep=1e-5 --set simulation.log_every=2)
+  else
+    case "$mode" in
+      pressure) ports=ports.cfg; fmu=hammer.fmu ;;
+      tlm) ports=ports_tlm.cfg; fmu=hammer_tlm.fmu ;;
+      tlm10) ports=ports_tlm10.cfg; fmu=hammer_tlm10.fmu
+             host_step=(--set simulation.timestep=1e-5 --set simulation.log_every=1) ;;
+      pressure10) ports=ports_pressure10.cfg; fmu=hammer_p10.fmu
+             host_step=(--set simulation.timestep=1e-5 --set simulation.log_every=1) ;;
+      *) echo "run_hammer.sh: mode '$mode': expected pressure, tlm, tlm10 or pressure10" >&2; return 2 ;;
+    esac
+    ports=$root/scenes/hammer/$ports
+  fi
   local run=$dir/$mode
   mkdir -p "$run"
   rm -f "$run/port"
@@ -58,34 +83,58 @@ run_mode() {  # condition directory, mode, common --set arguments...
   local PCS_TOKEN
   PCS_TOKEN=$(od -An -N16 -tx1 /dev/urandom | tr -d ' \n')
   export PCS_TOKEN
-  (cd "$scene" && exec "$build/fe_server/fe_server" --model deck.k --ports "$root/scenes/hammer/$ports" \
-     --listen 127.0.0.1:0 --port-file "$run/port" --out "$run/fe.h5" --accept-timeout 60 --quiet) \
+  (cd "$scene" && exec "$build/fe_server/fe_server" --model deck.k --ports "$ports" \
+     --listen 127.0.0.1:0 --port-file "$run/port" --out "$run/fe.h5" --accept-timeout 60) \
      > "$run/fe_server.log" 2>&1 &
-  server=$!
+  local server=$!
+  trap "kill $server 2>/dev/null || true" EXIT
   for _ in $(seq 400); do [ -s "$run/port" ] && break; sleep 0.05; done
-  [ -s "$run/port" ] || { cat "$run/fe_server.log" >&2; exit 1; }
+  [ -s "$run/port" ] || { cat "$run/fe_server.log" >&2; return 1; }
   local start wall
   start=$(date +%s.%N)
   "$build/tlm_host/tlm_host" "$root/scenes/hammer/model.tlm" --fmu "$scene/$fmu" \
     --server "127.0.0.1:$(cat "$run/port")" "$@" "${host_step[@]}" \
     --out "$run/host.h5" --report "$run/host.json" > "$run/tlm_host.log"
   wall=$(echo "$(date +%s.%N) - $start" | bc)
-  wait $server || { echo "fe_server failed, see $run/fe_server.log" >&2; exit 1; }
-  server=
+  wait $server || { echo "fe_server failed, see $run/fe_server.log" >&2; return 1; }
+  trap - EXIT
   echo "$wall" > "$run/wall_seconds"
   printf '   %-8s %6.1f s wall (%.1f s per simulated second)\n' "$mode" "$wall" "$(echo "$wall / $stop" | bc -l)"
 }
 
-declare -A area=([6.0]=2.827e-5 [5.4]=2.290e-5)
-for c in $conditions; do
+run_condition() {  # p:d
+  local c=$1 p d dir
   p=${c%%:*}; d=${c##*:}
-  [ -n "${area[$d]:-}" ] || { echo "run_hammer.sh: restrictor '$d': 6.0 or 5.4 mm" >&2; exit 2; }
   dir=$out/${p}bar_${d}mm
   mkdir -p "$dir"
   echo "== $p bar, restrictor $d mm"
-  set_args=(--set relief.p_crack=${p}e5 --set restrictor.A=${area[$d]} --set simulation.stoptime=$stop)
-  "$build/tlm_host/tlm_host" "$root/scenes/hammer_monolithic/model.tlm" --quiet "${set_args[@]}" \
+  local set_args=(--set relief.p_crack=${p}e5 --set restrictor.A=${area[$d]} --set simulation.stoptime=$stop)
+  "$build/tlm_host/tlm_host" "$root/scenes/hammer_monolithic/model.tlm" --quiet "${set_args[@]}" "${ref_log[@]}" \
     --out "$dir/reference.h5" --report "$dir/reference.json" > /dev/null
   for m in $modes; do run_mode "$dir" "$m" "${set_args[@]}"; done
+}
+
+declare -A area=([6.0]=2.827e-5 [5.4]=2.290e-5)
+for c in $conditions; do
+  d=${c##*:}
+  [ -n "${area[$d]:-}" ] || { echo "run_hammer.sh: restrictor '$d': 6.0 or 5.4 mm" >&2; exit 2; }
+  [[ "${c%%:*}" =~ ^[0-9]+$ ]] || { echo "run_hammer.sh: condition '$c': expected <bar>:<mm>, e.g. 150:6.0" >&2; exit 2; }
 done
+echo "run_hammer.sh: $scene_name scene, modes: $modes, stop $stop s, conditions: $conditions ($jobs at a time)"
+t0=$(date +%s.%N)
+pids=() logs=() failed=0
+# Ctrl-C: each run's fe_server and tlm_host stop (the host tells the server).
+trap 'for p in "${pids[@]}"; do pkill -TERM -P "$p"; kill "$p"; done 2>/dev/null; exit 130' INT TERM
+for c in $conditions; do
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+  log=$out/run_${c/:/bar_}mm.log
+  ( run_condition "$c" ) > "$log" 2>&1 &
+  pids+=($!); logs+=("$log")
+done
+for i in "${!pids[@]}"; do
+  wait "${pids[$i]}" || failed=1
+  cat "${logs[$i]}"
+done
+[ $failed -eq 0 ] || { echo "run_hammer.sh: a run failed (see the logs above and under $out)" >&2; exit 1; }
+printf 'run_hammer.sh: all runs in %.0f s wall; results %s\n' "$(echo "$(date +%s.%N) - $t0" | bc)" "$(du -sh "$out" | cut -f1)"
 /usr/bin/python3 "$root/scripts/hammer_report.py" "$out"

@@ -415,6 +415,26 @@ TEST(Axi4Mixed, BodiesTouchingAtTheStartAreNeitherPenetratedAtAnEdgeNorThroughTh
   double vmax = 0.0;
   for (const auto& v : s->v()) vmax = std::max(vmax, v.norm());
   EXPECT_EQ(vmax, 0.0);
+  // Struck (the piston at 5 m/s from the touching start): its edge node is
+  // pressed into the tool's top face and also lies 2 mm inside the line of
+  // the tool's side; taking that side as the contact face would throw it
+  // inwards with k·2 mm (it did: 25 kJ from a 1 J blow). The energy account
+  // holds to 1 % (as for the bar impacts) and hourglassing stays below 2 %.
+  fe::Model struck = m;
+  for (size_t i = 0; i < struck.x0.size(); ++i)
+    if (struck.node_ids[i] < 1000) struck.v0[i] = fe::Vec3(0.0, -5.0, 0.0);
+  fe::Solver hit(struck, dt);
+  double ke0 = 0.0;
+  for (size_t i = 0; i < struck.x0.size(); ++i) ke0 += 0.5 * struck.mass[i] * struck.v0[i].squaredNorm();
+  double worst = 0.0, peak = 0.0;
+  while (hit.time() < 60e-6) {  // the blow (a 50 mm piston: ~20 us) and after
+    hit.step();
+    worst = std::max(worst, std::fabs(hit.energies().balance_error));
+    peak = std::max(peak, hit.contact_force());
+  }
+  EXPECT_GT(peak, 1e5) << "N: the blow happened";
+  EXPECT_LT(worst, 0.01 * ke0);
+  EXPECT_LT(hit.energies().hourglass, 0.02 * ke0);
   // Pressed together (the piston 1 mm lower) the same deck is refused: real
   // penetration is still found at an edge.
   for (size_t i = 0; i < m.x0.size(); ++i)

@@ -144,8 +144,10 @@ bool PenaltyContact::project(const Segment& seg, size_t node, const std::vector<
 bool PenaltyContact::touching(const Side& s, size_t i, const std::vector<Vec3>& x, double window, bool reach_check,
                               Contact& c, size_t& seg) const {
   const size_t node = static_cast<size_t>(s.nodes[i]);
-  bool behind = false, on_or_in_front = false;
-  Contact trial;
+  const double shallow = kCornerDepth * size_;
+  bool pressed = false, deep = false, on_or_in_front = false;
+  Contact trial, deep_c;
+  size_t deep_seg = 0;
   for (int ci = s.start[i]; ci < s.start[i + 1]; ++ci) {
     const size_t j = static_cast<size_t>(s.cand[static_cast<size_t>(ci)]);
     if (reach_check && (x[node] - x[static_cast<size_t>(s.segments[j].n[0])]).squaredNorm() > s.reach2[j])
@@ -153,18 +155,24 @@ bool PenaltyContact::touching(const Side& s, size_t i, const std::vector<Vec3>& 
     if (!project(s.segments[j], node, x, window, trial)) continue;
     if (trial.g >= 0.0) {
       on_or_in_front = true;
-    } else if (!behind || trial.g < c.g) {
-      c = trial, seg = j, behind = true;
+    } else if (-trial.g <= shallow) {
+      if (!pressed || trial.g < c.g) c = trial, seg = j, pressed = true;  // the deepest of the shallow
+    } else if (!deep || trial.g > deep_c.g) {
+      deep_c = trial, deep_seg = j, deep = true;  // the least deep of the deep
     }
   }
-  // The face the node went furthest through takes the contact: at an edge
-  // struck along the axis, the node is deep behind the struck face and only
-  // level with the side face. Behind a face but on (or in front of) another
-  // that it also projects onto, the node sits at a convex corner of the
-  // other body: beside the face it seems behind (a tool's top node level with
-  // a piston's edge), unless the penetration is as shallow as penalty
-  // contact keeps real ones.
-  return behind && (!on_or_in_front || -c.g <= kCornerDepth * size_);
+  // Penalty contact keeps a pressed node shallow. At an edge struck along
+  // the axis the node is pressed into the struck face and only level with
+  // (or a hair inside) the side face: of the shallow faces the deepest is the
+  // one pressed. A face the node is deep behind while it is shallow behind or
+  // on another is the far side of a convex corner of the other body (a tool's
+  // top node level with a piston's edge is not 6 mm inside the piston's
+  // side): not a contact. A node deep behind faces only is a real deep
+  // penetration: the shortest way out.
+  if (pressed) return true;
+  if (!deep || on_or_in_front) return false;
+  c = deep_c, seg = deep_seg;
+  return true;
 }
 
 int PenaltyContact::side_forces(Side& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v,

@@ -7,11 +7,12 @@
 // normal, its projection inside the segment) is pushed out with
 //   F = k·(−g) + c·(−ġ),   only while F > 0 (contact never pulls),
 // and the reaction goes to the segment's nodes by the projection's
-// barycentric weights. Of the segments a node is behind, the one it went
-// furthest through takes the contact; a node that also lies on or in front of
-// another face it projects onto sits at a convex corner and is outside
-// unless its penetration is penalty-shallow (two parts touching at t = 0: a
-// tool's top node level with a piston's edge is not 6 mm inside the piston).
+// barycentric weights. Penalty contact keeps a pressed node shallow, so of
+// the faces a node is shallow behind, the deepest is the one pressed (at an
+// edge struck along the axis the node is also level with the side face); a
+// face it is deep behind while on or shallow behind another is the far side
+// of a convex corner, not a contact (two parts touching at t = 0: a tool's
+// top node level with a piston's edge is not 6 mm inside the piston).
 // Stiffness from the masses and the time step, as in
 // LS-DYNA's SOFT = 1: k = SFS·0.1·m_eff/Δt², capped at 0.2·m_eff/Δt². The
 // cap matters: a contact node already vibrates with its elements at up to
@@ -61,10 +62,11 @@ class PenaltyContact {
   };
   // Does `node` project inside `seg` within |g| ≤ window of it (in front or behind)?
   bool project(const Segment& seg, size_t node, const std::vector<Vec3>& x, double window, Contact& c) const;
-  // Is node i in contact? Of the segments it projects onto, the one it is
-  // furthest behind (c, seg); false when it is behind none, or sits at a
-  // convex corner (on or in front of another face, and deeper than
-  // kCornerDepth segment sizes behind this one).
+  // Is node i in contact, and with which segment (c, seg)? Of the faces it
+  // is shallow behind (≤ kCornerDepth segment sizes) the deepest; else, if it
+  // is deep behind faces and on or in front of none, the least deep; else
+  // (behind none, or deep behind one face at a convex corner while on
+  // another) not in contact.
   bool touching(const Side& s, size_t i, const std::vector<Vec3>& x, double window, bool reach_check, Contact& c,
                 size_t& seg) const;
   // Penalty contact keeps penetrations to a few hundredths of a segment

@@ -372,9 +372,11 @@ RevolutionMesh mesh_axisymmetric(const std::vector<RevolutionSection>& sections,
     for (size_t i = 0; i < elems.size(); ++i)
       if (y[elem_layer[i]] <= yg && yg < y[elem_layer[i] + 1]) ids.push_back(opt.element_offset + static_cast<int>(i) + 1);
     if (ids.empty()) throw std::invalid_argument("gauge y = " + std::to_string(yg) + " is outside the body");
-    std::snprintf(buf, sizeof buf, "$ gauge layer at y = %.6g\n*DATABASE_HISTORY_SHELL\n", yg);
-    k << buf;
-    write_ids(k, ids);
+    if (!opt.gauge_cut_only) {
+      std::snprintf(buf, sizeof buf, "$ gauge layer at y = %.6g\n*DATABASE_HISTORY_SHELL\n", yg);
+      k << buf;
+      write_ids(k, ids);
+    }
     // A cut through the layer's lower edge: its nodes and the layer's
     // elements (above the cut) as *DATABASE_CROSS_SECTION_SET, id set offset
     // + 100 + gauge number: the force through the section (σ integrated over

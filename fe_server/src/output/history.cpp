@@ -71,13 +71,15 @@ History::History(const std::string& path, const Model& model, const config::Port
     writer_.add_series(base + "axial_velocity", "m/s", stream_[2]);
   }
   for (const CrossSection& cs : model.cross_sections) {
-    for (const char* c : {"fx", "fy", "fz"})
-      writer_.add_series("sections/" + std::to_string(cs.id) + "/" + c, "N", stream_[2]);
     // Beyond LS-DYNA's SECFORC: the cut's mean velocity (its nodes weighted
     // by mass: the cut's momentum over its mass). With the force it separates
-    // the waves running each way through the cut (σ = ∓ρc·v).
-    for (const char* c : {"vx", "vy", "vz"})
-      writer_.add_series("sections/" + std::to_string(cs.id) + "/" + c, "m/s", stream_[2]);
+    // the waves running each way through the cut (σ = ∓ρc·v). In a 2D
+    // axisymmetric deck only the axial components exist: a full ring's
+    // radial forces and velocities cancel around it.
+    for (int c : section_components()) {
+      writer_.add_series("sections/" + std::to_string(cs.id) + "/f" + "xyz"[c], "N", stream_[2]);
+      writer_.add_series("sections/" + std::to_string(cs.id) + "/v" + "xyz"[c], "m/s", stream_[2]);
+    }
     double total = 0.0;
     for (int n : cs.nodes) total += model.mass[static_cast<size_t>(n)];
     std::vector<double> w;
@@ -95,6 +97,11 @@ History::History(const std::string& path, const Model& model, const config::Port
 }
 
 History::~History() = default;
+
+std::vector<int> History::section_components() const {
+  if (model_.symmetry_axis == 1) return {1};  // 2D axisymmetric: along the axis only
+  return {0, 1, 2};
+}
 
 size_t History::snapshots() const { return fields_ ? fields_->snapshots() : 0; }
 
@@ -161,11 +168,10 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
     }
     for (size_t cs = 0; cs < model_.cross_sections.size(); ++cs) {
       const Vec3 f = s.section_force(cs);
-      for (int c = 0; c < 3; ++c) row_[k++] = f[c];
       Vec3 v = Vec3::Zero();
       const auto& nodes = model_.cross_sections[cs].nodes;
       for (size_t i = 0; i < nodes.size(); ++i) v += section_weights_[cs][i] * s.v_live()[static_cast<size_t>(nodes[i])];
-      for (int c = 0; c < 3; ++c) row_[k++] = v[c];
+      for (int c : section_components()) row_[k++] = f[c], row_[k++] = v[c];
     }
     writer_.append(row_, stream_[2]);
   }

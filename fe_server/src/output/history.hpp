@@ -59,6 +59,7 @@ class History {
   const Model& model_;
   std::vector<double> row_;
   std::vector<std::vector<double>> section_weights_;  // per cross section: its nodes' mass shares
+  std::vector<int> section_components() const;        // the components a section writes (2D: y only)
   long every_[3] = {1, 1, 1};
   size_t stream_[3] = {0, 0, 0};
   std::unique_ptr<class FieldWriter> fields_;

@@ -234,6 +234,47 @@ TEST(Axi4CavityHook, RingAreasLoadAndFlowBalanceOnFacesNormalAndAlongTheAxis) {
   EXPECT_NEAR(power, structural, 1e-12 * std::fabs(p * annulus));
 }
 
+// One cavity between two bodies (two *USER_LOADING_SET lines with the same
+// port): a piston's ring face (facing +y) and the housing's bore step above
+// it (facing −y), both annuli r ∈ [0.03, 0.04]. The pressure pushes them
+// apart with equal and opposite forces (action and reaction), the flow is
+// the rate at which they close the gap, q = A·(v_piston − v_housing) along
+// +y, and p·q is the power on both bodies together. The port's displacement
+// is its first surface's (the piston's).
+TEST(Axi4CavityHook, ACavityBetweenTwoBodiesPushesBothAndItsFlowIsTheirRelativeMotion) {
+  const std::string deck = "*KEYWORD\n" + axi_test::block(1, 1, 0.03, 0.04, 2, 0.0, 0.02, 2) +
+                           axi_test::block(2, 100, 0.03, 0.04, 2, 0.03, 0.05, 2) +
+                           "*PART\npiston\n1,1,1\n*PART\nhousing\n2,1,1\n*SECTION_SHELL\n1,15\n0\n"
+                           "*MAT_ELASTIC\n1,7850,2.1e11,0.3\n"
+                           "*SET_SEGMENT\n1\n9,8\n8,7\n"        // the piston's top face (y = 0.02), facing +y
+                           "*SET_SEGMENT\n2\n100,101\n101,102\n"  // the housing's bottom face (y = 0.03), facing −y
+                           "*USER_LOADING_SET\n1,PRESSS,1\n2,PRESSS,1\n";
+  fe::Model m = fe::parse_deck(deck, "gap.k");
+  auto t = config::parse_port_table(
+      "$FMU_SETTINGS\nmodel, p\ntimestep, 1e-4\n$FMU_HOPSAN_PORTS\n1, gap, Hydraulic\n"
+      "$FMU_HOPSAN_SEND\n1, p\n$FMU_HOPSAN_RECEIVE\n1, q\n1, x\n",
+      "p.cfg");
+  fe::CavityPressureLoad load(m, t);
+  const double p = 5.0e6, A = M_PI * (0.04 * 0.04 - 0.03 * 0.03);
+  load.set_pressure(0, p);
+  std::vector<fe::Vec3> v(m.x0.size(), fe::Vec3::Zero()), f(m.x0.size(), fe::Vec3::Zero());
+  const double vp = 1.5, vh = -0.5;  // the piston rises, the housing comes down: the gap closes at 2 m/s
+  for (size_t i = 0; i < v.size(); ++i) v[i] = fe::Vec3(0.0, m.node_ids[i] < 100 ? vp : vh, 0.0);
+  load.apply(0.0, m.x0, v, f);
+  fe::Vec3 on_piston = fe::Vec3::Zero(), on_housing = fe::Vec3::Zero();
+  for (size_t i = 0; i < f.size(); ++i) (m.node_ids[i] < 100 ? on_piston : on_housing) += f[i];
+  // Round-off of a sum of ring areas: 1e-12 relative.
+  EXPECT_NEAR(on_piston.y(), -p * A, 1e-12 * p * A) << "the piston is pushed down";
+  EXPECT_NEAR(on_housing.y(), p * A, 1e-12 * p * A) << "the housing is pushed up";
+  EXPECT_NEAR(load.flow(0, v), A * (vp - vh), 1e-12 * A * (vp - vh));
+  double structural = 0.0;
+  for (size_t i = 0; i < f.size(); ++i) structural -= f[i].dot(v[i]);
+  EXPECT_NEAR(p * load.flow(0, v), structural, 1e-12 * p * A * (vp - vh));
+  std::vector<fe::Vec3> x = m.x0;
+  for (size_t i = 0; i < x.size(); ++i) x[i].y() += m.node_ids[i] < 100 ? 1e-3 : -2e-3;
+  EXPECT_NEAR(load.displacement(0, x), 1e-3, 1e-15) << "the first surface's (the piston's) displacement along its normal";
+}
+
 // A mechanical port on an elastic body (*USER_LOADING_SET LTYPE BODY): the
 // host's force shared by the nodal masses is a body force, so a free body
 // accelerates as a whole, F/M everywhere, with no stress (to round-off: no

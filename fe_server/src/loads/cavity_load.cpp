@@ -78,27 +78,31 @@ CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTab
   }
   for (const auto& port : table.ports) {
     if (port.type != config::PortType::Hydraulic) continue;
-    const LoadingSet* ls = nullptr;
-    for (const auto& l : model.loading_sets)
-      if (l.port_id == port.id && !l.force) ls = &l;
-    if (!ls)
-      throw config::InputError(port.where, "hydraulic port " + std::to_string(port.id) + " (" +
-                                               port.label + ") has no *USER_LOADING_SET in " +
-                                               model.source);
     PortSurface ps;
     ps.port_id = port.id;
-    ps.bounds = *ls;
-    ps.segments = model.segment_sets.at(ls->segment_set);
-    std::set<int> nodes;
-    Vec3 total = Vec3::Zero();
-    for (const auto& s : ps.segments) {
-      for (int k = 0; k < corners(s); ++k) nodes.insert(s.n[k]);
-      total += segment_area_vector(s, model.x0);
+    // Every *USER_LOADING_SET of the port, in deck order: one cavity may
+    // wet faces of several bodies (a piston's collar and the housing's bore
+    // step: action and reaction through the same pressure).
+    std::set<int> nodes, first_nodes;
+    for (const auto& l : model.loading_sets) {
+      if (l.port_id != port.id || l.force) continue;
+      Vec3 total = Vec3::Zero();
+      for (const auto& seg : model.segment_sets.at(l.segment_set)) {
+        ps.segments.push_back(seg);
+        ps.segment_set.push_back(static_cast<int>(ps.sets.size()));
+        for (int k = 0; k < corners(seg); ++k) (ps.sets.empty() ? first_nodes : nodes).insert(seg.n[k]);
+        total += segment_area_vector(seg, model.x0);
+      }
+      if (total.norm() <= 0.0)
+        throw config::InputError(l.where, "segment set " + std::to_string(l.segment_set) + " has zero total area");
+      if (ps.sets.empty()) ps.normal0 = total.normalized();
+      ps.sets.push_back(l);
     }
-    if (total.norm() <= 0.0)
-      throw config::InputError(ls->where, "segment set " + std::to_string(ls->segment_set) +
-                                              " has zero total area");
-    ps.normal0 = total.normalized();
+    if (ps.sets.empty())
+      throw config::InputError(port.where, "hydraulic port " + std::to_string(port.id) + " (" + port.label +
+                                               ") has no *USER_LOADING_SET in " + model.source);
+    ps.first_nodes.assign(first_nodes.begin(), first_nodes.end());
+    nodes.insert(first_nodes.begin(), first_nodes.end());
     ps.nodes.assign(nodes.begin(), nodes.end());
     ps.segment_area.assign(ps.segments.size(), Vec3::Zero());
     ps.corner_weight.assign(4 * ps.segments.size(), 0.0);
@@ -142,15 +146,20 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
                                std::vector<Vec3>& f_ext) {
   for (size_t i = 0; i < surfaces_.size(); ++i) {
     PortSurface& ps = surfaces_[i];
-    const LoadingSet& b = ps.bounds;
     const int axis = model_.symmetry_axis;
-    const double shift = b.reference_node >= 0 ? x[static_cast<size_t>(b.reference_node)][axis] -
-                                                     model_.x0[static_cast<size_t>(b.reference_node)][axis]
-                                               : 0.0;
-    const bool bounded = b.z_min > -1e299 || b.z_max < 1e299;
+    // Each loading set's bounds, shifted with its reference node.
+    ps.shift.resize(ps.sets.size());
+    for (size_t k = 0; k < ps.sets.size(); ++k) {
+      const int ref = ps.sets[k].reference_node;
+      ps.shift[k] = ref >= 0 ? x[static_cast<size_t>(ref)][axis] - model_.x0[static_cast<size_t>(ref)][axis] : 0.0;
+    }
     // Wetted area vectors first: the TLM pressure needs the flow they carry.
     Vec3 total = Vec3::Zero();
     for (size_t s = 0; s < ps.segments.size(); ++s) {
+      const size_t k = static_cast<size_t>(ps.segment_set[s]);
+      const LoadingSet& b = ps.sets[k];
+      const bool bounded = b.z_min > -1e299 || b.z_max < 1e299;
+      const double shift = ps.shift[k];
       Vec3 a;
       if (ps.fixed_shape[s]) {
         a = ps.area0[s];  // its corner weights are those of the constructor
@@ -282,8 +291,8 @@ double CavityPressureLoad::flow(int slot, const std::vector<Vec3>& v) const {
 double CavityPressureLoad::displacement(int slot, const std::vector<Vec3>& x) const {
   const PortSurface& ps = surfaces_[static_cast<size_t>(slot)];
   double u = 0.0;
-  for (int n : ps.nodes) u += (x[static_cast<size_t>(n)] - model_.x0[static_cast<size_t>(n)]).dot(ps.normal0);
-  return u / static_cast<double>(ps.nodes.size());
+  for (int n : ps.first_nodes) u += (x[static_cast<size_t>(n)] - model_.x0[static_cast<size_t>(n)]).dot(ps.normal0);
+  return u / static_cast<double>(ps.first_nodes.size());
 }
 
 }  // namespace fe

@@ -1,7 +1,9 @@
 // The co-simulation user load: each hydraulic port's pressure acts on its
-// segment set (*USER_LOADING_SET); each port reports the volume rate its
-// surface displaces, from the same area vectors the load used, so the
-// hydraulic power p·q equals the power the pressure does on the structure.
+// segment sets (*USER_LOADING_SET, one or more per port: a cavity may wet a
+// piston's face and the housing's opposite face, action and reaction); each
+// port reports the volume rate its surfaces displace, from the same area
+// vectors the load used, so the hydraulic power p·q equals the power the
+// pressure does on the structure.
 //
 // Sign convention (LS-DYNA's): a segment's normal follows its node order by
 // the right-hand rule and points out of the body into the cavity; a positive
@@ -78,7 +80,8 @@ class CavityPressureLoad : public UserLoad {
   bool loaded_nodes(std::vector<int>& nodes) const override {
     for (const PortSurface& ps : surfaces_) {
       nodes.insert(nodes.end(), ps.nodes.begin(), ps.nodes.end());
-      if (ps.bounds.reference_node >= 0) nodes.push_back(ps.bounds.reference_node);
+      for (const LoadingSet& l : ps.sets)
+        if (l.reference_node >= 0) nodes.push_back(l.reference_node);
     }
     return true;
   }
@@ -93,7 +96,7 @@ class CavityPressureLoad : public UserLoad {
 
   // Volume rate displaced into the cavity by the port's surface, m³/s.
   double flow(int slot, const std::vector<Vec3>& v) const;
-  // Mean displacement of the surface along its normal, m.
+  // Mean displacement of the port's first surface along its normal, m.
   double displacement(int slot, const std::vector<Vec3>& x) const;
   // Wetted area the last apply() used, m².
   double area(int slot) const { return area_vector_[static_cast<size_t>(slot)].norm(); }
@@ -109,8 +112,14 @@ class CavityPressureLoad : public UserLoad {
     // the wetted fraction is evaluated per step.
     std::vector<char> fixed_shape;
     std::vector<Vec3> area0;
-    Vec3 normal0 = Vec3::UnitZ();    // unit normal of the whole set at t = 0
-    LoadingSet bounds;
+    // The port's loading sets (deck order) and, per segment, its set: each
+    // set has its own cavity bounds. The first set is the port's own
+    // surface: its nodes and its normal at t = 0 give the port's displacement.
+    std::vector<LoadingSet> sets;
+    std::vector<int> segment_set;
+    std::vector<double> shift;  // per set: its bounds' shift in the last apply()
+    std::vector<int> first_nodes;
+    Vec3 normal0 = Vec3::UnitZ();
     // For the implicit TLM solve: per segment corner, the index into `nodes`;
     // per node its weight w_n; per mobility group (a body, or a free node)
     // the summed weight; per node the index of its group in `groups`.

@@ -26,6 +26,15 @@ double Model::total_mass() const {
   return m;
 }
 
+double Curve::value(double t) const {
+  const double x = (t - offa) / sfa;
+  if (x <= a.front()) return sfo * o.front() + offo;
+  if (x >= a.back()) return sfo * o.back() + offo;
+  const size_t k = static_cast<size_t>(std::upper_bound(a.begin(), a.end(), x) - a.begin());
+  const double w = (x - a[k - 1]) / (a[k] - a[k - 1]);
+  return sfo * ((1.0 - w) * o[k - 1] + w * o[k]) + offo;
+}
+
 namespace {
 
 // Fields of a card: comma-separated as written, else fixed-width columns.
@@ -58,6 +67,7 @@ struct Reader {
   Model& m;
   DeckWarnings* warnings;
   std::map<int, std::pair<double, double>> spring_mats;  // mid → (k, c)
+  std::vector<std::pair<Card, bool>> motion_cards;  // *BOUNDARY_PRESCRIBED_MOTION card, and whether _SET
   std::map<int, std::pair<int, double>> sections;         // secid → (elform, bar area)
   struct NodalRigidBodyCards {
     Card card;
@@ -310,6 +320,33 @@ struct Reader {
         ls.where = c.where;
         m.loading_sets.push_back(ls);
       }
+    } else if (kw == "*DEFINE_CURVE") {
+      // LCID SIDR SFA SFO OFFA OFFO DATTYP, then one point (A, O) per card (2 fields of 20).
+      if (b.cards.empty()) b.fail("*DEFINE_CURVE needs a card with LCID");
+      Card c = fields_of(b.cards[0], kW10);
+      Curve curve;
+      curve.id = static_cast<int>(c.integer(0, "LCID"));
+      curve.where = c.where;
+      curve.sfa = c.real_or(2, "SFA", 0.0);
+      curve.sfo = c.real_or(3, "SFO", 0.0);
+      if (curve.sfa == 0.0) curve.sfa = 1.0;  // LS-DYNA: 0 means 1
+      if (curve.sfo == 0.0) curve.sfo = 1.0;
+      curve.offa = c.real_or(4, "OFFA", 0.0);
+      curve.offo = c.real_or(5, "OFFO", 0.0);
+      if (c.integer_or(6, "DATTYP", 0) != 0) c.fail("DATTYP other than 0 (a time curve) is not supported");
+      for (size_t i = 1; i < b.cards.size(); ++i) {
+        Card pt = fields_of(b.cards[i], {20});
+        const double a = pt.real(0, "A1"), o = pt.real_or(1, "O1", 0.0);
+        if (!curve.a.empty() && !(a > curve.a.back()))
+          pt.fail("the curve's abscissae must increase (" + std::to_string(a) + " after " + std::to_string(curve.a.back()) + ")");
+        curve.a.push_back(a);
+        curve.o.push_back(o);
+      }
+      if (curve.a.empty()) c.fail("curve " + std::to_string(curve.id) + " has no points");
+      if (m.curves.count(curve.id)) c.fail("curve " + std::to_string(curve.id) + " defined twice");
+      m.curves[curve.id] = curve;
+    } else if (kw == "*BOUNDARY_PRESCRIBED_MOTION_NODE" || kw == "*BOUNDARY_PRESCRIBED_MOTION_SET") {
+      for (const Card& raw : b.cards) motion_cards.push_back({fields_of(raw, kW10), kw == "*BOUNDARY_PRESCRIBED_MOTION_SET"});
     } else if (kw == "*CONTROL_TERMINATION") {
       if (!b.cards.empty()) m.end_time = fields_of(b.cards[0], kW10).real(0, "ENDTIM");
     } else if (kw == "*CONTROL_TIMESTEP") {
@@ -460,6 +497,7 @@ struct Reader {
     for (const Card& c : discrete_cards) discrete(c);
     for (const Card& c : spc_cards) spc(c, {m.index_of(static_cast<int>(c.integer(0, "NID")), c.where)});
     for (const Card& c : spc_set_cards) spc(c, nodes_of_set(static_cast<int>(c.integer(0, "NSID")), c));
+    for (const auto& [c, is_set] : motion_cards) prescribed_motion(c, is_set);
     for (const Card& c : vel_cards)
       m.v0[static_cast<size_t>(m.index_of(static_cast<int>(c.integer(0, "NID")), c.where))] =
           Vec3(c.real_or(1, "VX", 0), c.real_or(2, "VY", 0), c.real_or(3, "VZ", 0));
@@ -494,8 +532,11 @@ struct Reader {
     rigid_bodies();
     std::set<int> in_body;
     for (const auto& rb : m.rigid_bodies) in_body.insert(rb.nodes.begin(), rb.nodes.end());
+    std::vector<Eigen::Matrix<bool, 3, 1>> held = m.fixed;  // fixed or prescribed
+    for (const auto& p : m.prescribed)
+      for (int i : p.nodes) held[static_cast<size_t>(i)][p.dof] = true;
     for (size_t i = 0; i < n; ++i)
-      if (!in_body.count(static_cast<int>(i)) && !m.fixed[i].all() && !(m.mass[i] > 0.0))
+      if (!in_body.count(static_cast<int>(i)) && !held[i].all() && !(m.mass[i] > 0.0))
         throw InputError({name, 1}, "node " + std::to_string(m.node_ids[i]) +
                                         " has no mass and is neither fixed nor part of a rigid body");
     for (auto& ls : m.loading_sets) {
@@ -733,6 +774,35 @@ struct Reader {
     d.length0 = (m.x0[static_cast<size_t>(d.n2)] - m.x0[static_cast<size_t>(d.n1)]).norm();
     if (d.length0 <= 0.0) c.fail("discrete element " + std::to_string(d.id) + " has zero length: its direction is undefined");
     m.discretes.push_back(d);
+  }
+
+  // NID|NSID DOF VAD LCID SF VID DEATH BIRTH.
+  void prescribed_motion(const Card& c, bool is_set) {
+    PrescribedMotion p;
+    p.where = c.where;
+    const int id = static_cast<int>(c.integer(0, is_set ? "NSID" : "NID"));
+    p.nodes = is_set ? nodes_of_set(id, c) : std::vector<int>{m.index_of(id, c.where)};
+    const long dof = c.integer(1, "DOF");
+    if (dof < 1 || dof > 3)
+      c.fail("DOF " + std::to_string(dof) + ": 1, 2 or 3 (x, y, z translation) are supported; rotations and "
+             "directions by vector are not");
+    p.dof = static_cast<int>(dof - 1);
+    const long vad = c.integer_or(2, "VAD", 0);
+    if (vad < 0 || vad > 2) c.fail("VAD " + std::to_string(vad) + ": 0 velocity, 1 acceleration or 2 displacement");
+    p.vad = static_cast<int>(vad);
+    p.curve_id = static_cast<int>(c.integer(3, "LCID"));
+    if (!m.curves.count(p.curve_id)) c.fail("LCID " + std::to_string(p.curve_id) + " is not defined by a *DEFINE_CURVE");
+    p.sf = c.real_or(4, "SF", 1.0);
+    if (p.sf == 0.0) p.sf = 1.0;  // LS-DYNA: 0 means 1
+    if (c.integer_or(5, "VID", 0) != 0) c.fail("VID (a direction vector) is not supported: use DOF 1, 2 or 3");
+    p.death = c.real_or(6, "DEATH", 0.0);
+    if (p.death == 0.0) p.death = 1e28;
+    p.birth = c.real_or(7, "BIRTH", 0.0);
+    if (!(p.birth < p.death)) c.fail("BIRTH must come before DEATH");
+    for (int i : p.nodes)
+      if (m.fixed[static_cast<size_t>(i)][p.dof])
+        c.fail("node " + std::to_string(m.node_ids[static_cast<size_t>(i)]) + " has that DOF fixed by an SPC as well");
+    m.prescribed.push_back(std::move(p));
   }
 
   void spc(const Card& c, const std::vector<int>& nodes) {

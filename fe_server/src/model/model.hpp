@@ -146,6 +146,31 @@ struct CrossSection {
   config::SourceLocation where;
 };
 
+// *DEFINE_CURVE: a load curve, piecewise linear between its points,
+// constant beyond its ends (LS-DYNA extrapolates the end slopes only for
+// some keywords; a held end value is what a prescribed motion expects).
+// value(t) = SFO·y((t − OFFA)/SFA) + OFFO, as LS-DYNA scales and offsets.
+struct Curve {
+  int id = 0;
+  std::vector<double> a, o;  // abscissae (ascending), ordinates
+  double sfa = 1.0, sfo = 1.0, offa = 0.0, offo = 0.0;
+  config::SourceLocation where;
+  double value(double t) const;
+};
+
+// *BOUNDARY_PRESCRIBED_MOTION_NODE / _SET: a translational DOF of nodes
+// follows a curve (VAD 0 velocity, 1 acceleration, 2 displacement) scaled by
+// SF, between BIRTH and DEATH. The solver imposes it on the velocity of each
+// step and books the force that takes as work of the loads.
+struct PrescribedMotion {
+  std::vector<int> nodes;  // node indices
+  int dof = 0;             // 0 x, 1 y, 2 z
+  int vad = 2;
+  int curve_id = 0;  // in Model::curves
+  double sf = 1.0, birth = 0.0, death = 1e28;
+  config::SourceLocation where;
+};
+
 struct Model {
   std::string title;
   std::string source;
@@ -186,6 +211,8 @@ struct Model {
   std::map<int, std::vector<int>> node_sets;
   std::vector<LoadingSet> loading_sets;
   std::vector<int> history_nodes;  // node indices
+  std::map<int, Curve> curves;
+  std::vector<PrescribedMotion> prescribed;
   double end_time = 0.0;           // *CONTROL_TERMINATION (0: not given)
   double dt_scale = 0.9;           // *CONTROL_TIMESTEP TSSFAC
 

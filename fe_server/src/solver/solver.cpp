@@ -17,13 +17,17 @@ bool in_rigid_part(const Model& m, int part) {
   return mat != m.materials.end() && mat->second.rigid;
 }
 
-// Mass that moves with node i: its rigid body's, or its own.
+// Mass that moves with node i: its rigid body's, or its own; infinite for a
+// node held in every DOF (fixed, or driven by a prescribed motion: the
+// motion, not the node's inertia, decides it).
 double moving_mass(const Model& m, int i) {
   for (const auto& b : m.rigid_bodies)
     for (int n : b.nodes)
       if (n == i) return b.mass;
-  return m.fixed[static_cast<size_t>(i)].all() ? std::numeric_limits<double>::infinity()
-                                               : m.mass[static_cast<size_t>(i)];
+  Eigen::Matrix<bool, 3, 1> held = m.fixed[static_cast<size_t>(i)];
+  for (const auto& p : m.prescribed)
+    if (std::find(p.nodes.begin(), p.nodes.end(), i) != p.nodes.end()) held[p.dof] = true;
+  return held.all() ? std::numeric_limits<double>::infinity() : m.mass[static_cast<size_t>(i)];
 }
 
 // Node lists of the per-node passes, by what reaches the nodes.
@@ -62,12 +66,16 @@ NodeReach node_reach(const Model& m) {
     mark_segments(r.contact, c.master_set);
   }
   for (const auto& ls : m.loading_sets) {
-    if (ls.force)
+    if (ls.body)
+      for (int i : ls.body_nodes) r.loading[static_cast<size_t>(i)] = 1;
+    else if (ls.force)
       mark_node_set(r.loading, ls.segment_set, ls.where);
     else
       mark_segments(r.loading, ls.segment_set);
     if (ls.reference_node >= 0) r.loading[static_cast<size_t>(ls.reference_node)] = 1;
   }
+  for (const auto& p : m.prescribed)  // their reaction joins the loads
+    for (int i : p.nodes) r.loading[static_cast<size_t>(i)] = 1;
   for (int i : m.history_nodes) r.history[static_cast<size_t>(i)] = 1;
   return r;
 }
@@ -159,6 +167,12 @@ Solver::Solver(const Model& model, double dt)
   body_of_.assign(n, -1);
   for (size_t b = 0; b < model.rigid_bodies.size(); ++b)
     for (int i : model.rigid_bodies[b].nodes) body_of_[static_cast<size_t>(i)] = static_cast<int>(b);
+  for (const PrescribedMotion& p : model.prescribed)
+    for (int i : p.nodes)
+      if (body_of_[static_cast<size_t>(i)] >= 0)
+        throw std::runtime_error(p.where.str() + ": node " + std::to_string(model.node_ids[static_cast<size_t>(i)]) +
+                                 " belongs to a rigid body: prescribe a node joined to the body by a spring, or "
+                                 "a node of a deformable part");
   // A body moves as one: its nodes start with v_c + ω × r.
   bodies_.initial_velocities(v_);
   v_prev_ = v_;
@@ -239,7 +253,7 @@ void Solver::build_node_lists() {
   }
   int_nodes_ = listed(r.internal);
   con_nodes_ = listed(r.contact);
-  ext_nodes_ = user_load_ ? listed(r.loading) : std::vector<int>();
+  ext_nodes_ = user_load_ || !m_.prescribed.empty() ? listed(r.loading) : std::vector<int>();
   std::vector<char> live(n, 0), active(n, 0);
   for (size_t i = 0; i < n; ++i) {
     live[i] = r.internal[i] || r.contact[i] || r.loading[i] || r.history[i];
@@ -439,6 +453,33 @@ void Solver::implicit_loads() {
   touched_groups_.clear();
 }
 
+void Solver::prescribed_motions() {
+  // v_{n+1/2} of a prescribed DOF from its curve: velocity at t_{n+1/2},
+  // acceleration at t_n, displacement at t_{n+1}. The force that takes,
+  // R = m·(v_target − v_{n−1/2})/h − (the DOF's other forces), joins f_ext,
+  // so its work is booked with the loads' (a massless node: R balances the
+  // others).
+  const double h = n_ == 0 ? 0.5 * dt_ : dt_;
+  for (const PrescribedMotion& p : m_.prescribed) {
+    if (t_ < p.birth || t_ > p.death) continue;
+    const Curve& c = m_.curves.at(p.curve_id);
+    const int d = p.dof;
+    for (int node : p.nodes) {
+      const size_t i = static_cast<size_t>(node);
+      double target;
+      if (p.vad == 0)
+        target = p.sf * c.value(t_ + 0.5 * dt_);
+      else if (p.vad == 1)
+        target = v_prev_[i][d] + h * p.sf * c.value(t_);
+      else
+        target = (p.sf * c.value(t_ + dt_) - (x_[i][d] - m_.x0[i][d])) / dt_;
+      const double others = f_int_[i][d] + f_ext_[i][d] + f_con_[i][d];
+      f_ext_[i][d] += mass_[i] * (target - v_prev_[i][d]) / h - others;
+      v_[i][d] = target;
+    }
+  }
+}
+
 void Solver::external_work() {
   // Work of the user loads over the last step, f_n complete (stages 2 and 6),
   // while x_prev_ and x_ are still x_{n-1} and x_n.
@@ -488,6 +529,7 @@ void Solver::step() {
   accelerations();
   velocities();
   implicit_loads();
+  prescribed_motions();
   external_work();
   positions();
   energy_account();

@@ -128,6 +128,7 @@ class Solver {
   void accelerations();
   void velocities();
   void implicit_loads();
+  void prescribed_motions();
   void external_work();
   void positions();
   void energy_account();

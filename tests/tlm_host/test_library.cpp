@@ -167,6 +167,35 @@ xv.y, valve.x
   EXPECT_NEAR(pA[i], 0.5 * (1.5e7 + 4e5), 1e-3 * 1.5e7);
 }
 
+// A position relative to the housing, and back: y = u1 − u2 and u1 + u2,
+// evaluated in the model's order within the same step (the difference is
+// declared before the sum that reads it), so the sum gives back u1 exactly.
+TEST(SignalBlocks, SubtractAndAddInTheModelsOrder) {
+  testing_support::TempDir dir;
+  std::string f = run(dir, R"(*SIMULATION
+timestep, 1e-4
+stoptime, 2e-3
+*COMPONENT
+piston, SignalRamp, y0=0, y1=0.08, t0=0, t1=1e-3
+housing, SignalStep, y0=0.002, y1=-0.003, t_step=5e-4
+rel, SignalSubtract
+back, SignalAdd
+*CONNECT
+piston.y, rel.u1
+housing.y, rel.u2
+rel.y, back.u1
+housing.y, back.u2
+)");
+  const auto t = series(f, "time"), rel = series(f, "components/rel/y"), back = series(f, "components/back/y");
+  ASSERT_EQ(t.size(), rel.size());
+  for (size_t i = 0; i < t.size(); ++i) {
+    const double ts = t[i];  // a signal at the end of its step
+    const double piston = 0.08 * std::min(1.0, ts / 1e-3), housing = ts >= 5e-4 ? -0.003 : 0.002;
+    EXPECT_NEAR(rel[i], piston - housing, 1e-15) << "t = " << ts;
+    EXPECT_NEAR(back[i], piston, 1e-15) << "t = " << ts;
+  }
+}
+
 TEST(EnergyAccount, StoredPlusDissipatedIsConservedInAClosedCircuit) {
   testing_support::TempDir dir;
   std::string f = run(dir, R"(*SIMULATION

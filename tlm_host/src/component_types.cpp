@@ -46,6 +46,8 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"SignalRamp", make<SignalRamp>()},
       {"SignalTable", make<SignalTable>()},
       {"SignalGain", make<SignalGain>()},
+      {"SignalAdd", make<SignalAdd>()},
+      {"SignalSubtract", make<SignalSubtract>()},
       {"SignalLowPass", make<SignalLowPass>()},
   };
   return types;

@@ -4,6 +4,8 @@
 //   SignalRamp      y from y0 to y1 linearly over [t0, t1], held outside
 //   SignalTable     y(t) from a table "t1:y1; t2:y2; ..."
 //   SignalGain      y = k·u
+//   SignalAdd       y = u1 + u2
+//   SignalSubtract  y = u1 − u2 (e.g. a position relative to the housing)
 //   SignalLowPass   first-order lag τ·dy/dt = u − y, integrated exactly
 //                   per step: y ← u + (y − u)·exp(−Δt/τ)
 // The time a signal sees is the end of the coming step, t + Δt, so a step at
@@ -99,6 +101,34 @@ class SignalGain : public SignalComponent {
   double value(double) override { return k_ * *u_; }
   double k_ = 1.0;
   const double* u_ = nullptr;
+};
+
+// Two inputs, one output: the sum or the difference. Evaluated in the
+// model's order: declare them before the signals that read them (else
+// those read the previous step's value).
+class SignalAdd : public SignalComponent {
+ public:
+  using SignalComponent::SignalComponent;
+  const char* type_name() const override { return "SignalAdd"; }
+  void configure(ParameterSet&) override {
+    add_signal_input("u1", &u1_);
+    add_signal_input("u2", &u2_);
+    add_output();
+  }
+  void log_variables(std::vector<LogVariable>& out) override { out.push_back({"y", "", &y_}); }
+
+ protected:
+  double value(double) override { return *u1_ + *u2_; }
+  const double *u1_ = nullptr, *u2_ = nullptr;
+};
+
+class SignalSubtract : public SignalAdd {
+ public:
+  using SignalAdd::SignalAdd;
+  const char* type_name() const override { return "SignalSubtract"; }
+
+ private:
+  double value(double) override { return *u1_ - *u2_; }
 };
 
 class SignalLowPass : public SignalComponent {

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <memory>
 #include <string>
 
@@ -122,6 +123,26 @@ fe::ExitCode energy_verdict(const std::string& energy, bool drift, bool failed) 
   return fe::kExitOk;
 }
 
+// The deck's dynamic relaxation, if any, then the transient's start at
+// t = 0 from the settled state; its report on stdout (a relaxation that did
+// not converge is a warning on stderr: the transient starts anyway).
+void relax(fe::Solver& solver, const fe::Model& model, bool quiet) {
+  const fe::Solver::RelaxationReport r = solver.relax();
+  if (!r.ran) return;
+  solver.begin_transient();
+  std::ostringstream s;
+  s << r.steps << " steps (" << r.time << " s): kinetic energy " << r.kinetic << " J, " << r.kinetic / r.peak
+    << " of its peak " << r.peak << " J (DRTOL " << model.relaxation.drtol << "); residual: the largest out-of-balance "
+    << "force on one part " << r.resultant << " N (" << (r.worst.empty() ? "none" : r.worst) << ")";
+  if (r.load > 0.0) s << ", " << 100.0 * r.resultant / r.load << " % of the largest support force " << r.load << " N";
+  if (!r.converged)
+    std::cerr << "fe_server: warning: dynamic relaxation did not converge within "
+              << (r.time >= model.relaxation.drterm ? "DRTERM" : "its step limit") << " after " << s.str()
+              << "; the transient starts from there\n";
+  else if (!quiet)
+    std::cout << "fe_server: dynamic relaxation converged after " << s.str() << std::endl;
+}
+
 int run_standalone(fe::Model& model, const std::string& out, bool quiet, int threads) {
   if (!(model.end_time > 0.0)) {
     std::cerr << "fe_server: " << model.source
@@ -137,6 +158,12 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   prepare_step(model, dt, quiet);
   fe::Solver solver(model, dt);
   solver.set_threads(threads);
+  try {
+    relax(solver, model, quiet);
+  } catch (const std::exception& e) {
+    std::cerr << "fe_server: dynamic relaxation: " << e.what() << "\n";
+    return fe::kExitNumerical;
+  }
   // Without *DATABASE_ DT cards: 10000 rows over the run.
   fe::History history(out, model, nullptr, dt, model.end_time / 1e4);
   const long steps = static_cast<long>(std::ceil(model.end_time / dt));
@@ -270,8 +297,9 @@ int main(int argc, char** argv) {
       if (!quiet) std::cout << fe::coupling_stability_text(fe::coupling_stability(model, table, 1.4e9), table, 1.4e9);
       prepare_step(model, table.dt / table.subcycles, quiet);
       fe::Solver solver(model, table.dt / table.subcycles);
-      solver.set_user_load(&loads);
       solver.set_threads(threads);
+      relax(solver, model, quiet);  // before the host's loads: they start with the transient
+      solver.set_user_load(&loads);
       const std::string path = session_path(out, session, sessions);
       // Without *DATABASE_ DT cards: a row per coupling step.
       history = std::make_unique<fe::History>(path, model, &table, table.dt / table.subcycles, table.dt);

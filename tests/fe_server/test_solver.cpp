@@ -226,6 +226,82 @@ TEST(PrescribedMotion, BadCardsAreRefusedWithTheirLine) {
             std::string::npos);
 }
 
+// The preload (*CONTROL_DYNAMIC_RELAXATION): a steel column of ten 1D bars
+// (with 1 kg at each end) stands on a support spring under gravity
+// (*LOAD_BODY_Z, both phases) and is pressed down by a feed spring whose far
+// end a prescribed motion drives 10 mm down: on a ramp during the
+// relaxation (curve SIDR 1), held there in the transient (SIDR 0). After the
+// relaxation the support carries the feed plus the weight (statics), the
+// residual is a small fraction of the feed, and the transient starts at rest
+// and stays there.
+TEST(DynamicRelaxation, APreloadedColumnSettlesToItsStaticStateAndTheTransientStartsAtRest) {
+  std::ostringstream d;
+  d.precision(17);
+  d << "*KEYWORD\n*NODE\n";
+  for (int i = 0; i <= 10; ++i) d << i + 1 << ",0,0," << 0.01 * i << "\n";
+  d << "100,0,0,-0.05\n200,0,0,0.15\n";
+  d << "*ELEMENT_MASS\n1,1,1.0\n2,11,1.0\n";
+  d << "*PART\ncolumn\n1,1,1\n*SECTION_BEAM\n1,3\n1e-4\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n*ELEMENT_BEAM\n";
+  for (int i = 1; i <= 10; ++i) d << i << ",1," << i << "," << i + 1 << "\n";
+  d << "*PART\nsupport\n2,2,2\n*PART\nfeed\n3,2,3\n*SECTION_DISCRETE\n2,0\n"
+       "*MAT_SPRING_ELASTIC\n2,1.0e7\n*MAT_SPRING_ELASTIC\n3,1.0e5\n"
+       "*ELEMENT_DISCRETE\n901,2,100,1\n902,3,11,200\n";
+  d << "*SET_NODE_LIST\n1\n";
+  for (int i = 1; i <= 11; ++i) d << i << (i % 8 == 0 ? "\n" : ",");
+  d << "\n*BOUNDARY_SPC_SET\n1,0,1,1,0\n*BOUNDARY_SPC_NODE\n100,0,1,1,1\n200,0,1,1,0\n";
+  d << "*DEFINE_CURVE\n1,2\n0,9.81\n1,9.81\n"            // gravity, both phases
+       "*DEFINE_CURVE\n2,1\n0,0\n0.005,-0.01\n1,-0.01\n"  // the feed's ramp, relaxation only
+       "*DEFINE_CURVE\n3,0\n0,-0.01\n1,-0.01\n"            // held in the transient
+       "*LOAD_BODY_Z\n1\n"
+       "*BOUNDARY_PRESCRIBED_MOTION_NODE\n200,3,2,2\n200,3,2,3\n"
+       "*CONTROL_DYNAMIC_RELAXATION\n$ nrcyck, drtol, drfctr\n250,1e-8,0.995\n";
+  fe::Model m = fe::parse_deck(d.str(), "column.k");
+  ASSERT_TRUE(m.relaxes());
+  fe::Solver s(m, 1e-6);
+  const fe::Solver::RelaxationReport r = s.relax();
+  ASSERT_TRUE(r.ran);
+  EXPECT_TRUE(r.converged) << r.steps << " steps, kinetic " << r.kinetic << " of " << r.peak;
+  s.begin_transient();
+  EXPECT_EQ(s.time(), 0.0);
+  const auto& x = s.x();
+  auto u = [&](int id) { return x[static_cast<size_t>(m.index_of(id, {}))].z() - m.x0[static_cast<size_t>(m.index_of(id, {}))].z(); };
+  EXPECT_NEAR(u(200), -0.01, 1e-15) << "the feed's far end where its curve put it";
+  const double feed = 1e5 * (u(11) - u(200));          // the feed spring's compression × k
+  const double support = -1e7 * u(1);                  // the support spring's compression × k
+  const double weight = m.total_mass() * 9.81;         // the column's 2.0785 kg
+  std::printf("preload: feed %.3f N, weight %.4f N, support %.3f N; residual %.3g N (%s), %.3g %% of %.1f N; "
+              "%ld steps\n", feed, weight, support, r.resultant, r.worst.c_str(), 100 * r.resultant / r.load, r.load,
+              r.steps);
+  EXPECT_GT(feed, 900.0);
+  // Statics: the support carries the feed and the weight. DRTOL 1e-4 leaves
+  // a velocity of 1 % of the peak in the slowest mode, an out-of-balance of
+  // the same order of a small force: 0.1 % of the feed bounds both.
+  EXPECT_NEAR(support, feed + weight, 1e-3 * feed);
+  EXPECT_LT(r.resultant, 1e-3 * feed);
+  EXPECT_NEAR(r.load, feed + weight, 1e-2 * feed) << "the largest support force: the support spring's anchor";
+  // The transient starts at rest and stays (the same loads, now from curves 1 and 3).
+  const double top = u(11);
+  double vmax = 0.0;
+  while (s.time() < 2e-3) {
+    s.step();
+    for (const auto& v : s.v()) vmax = std::max(vmax, v.norm());
+  }
+  EXPECT_LT(vmax, 1e-4) << "m/s";
+  EXPECT_NEAR(u(11), top, 1e-7);
+}
+
+TEST(DynamicRelaxation, InitialVelocitiesCannotBeCombinedWithIt) {
+  try {
+    fe::parse_deck("*KEYWORD\n*NODE\n1,0,0,0\n*ELEMENT_MASS\n1,1,1.0\n*INITIAL_VELOCITY_NODE\n1,0,0,1\n"
+                   "*CONTROL_DYNAMIC_RELAXATION\n250,0,0,0,0,0,0,1\n",
+                   "dr.k");
+    FAIL() << "must refuse";
+  } catch (const config::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("dr.k:8: dynamic relaxation ends with every node at rest"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Solver, RefusesATimeStepAboveTheStableLimitAndNamesTheElement) {
   auto m = fe::parse_deck(kOscillator, "osc.k");
   const double critical = 2.0 / std::sqrt(2.0e5 / 2.0);

@@ -26,6 +26,13 @@ double Model::total_mass() const {
   return m;
 }
 
+bool Model::relaxes() const {
+  if (relaxation.idrflg) return true;
+  for (const auto& [id, c] : curves)
+    if (c.sidr >= 1) return true;
+  return false;
+}
+
 double Curve::value(double t) const {
   const double x = (t - offa) / sfa;
   if (x <= a.front()) return sfo * o.front() + offo;
@@ -327,6 +334,9 @@ struct Reader {
       Curve curve;
       curve.id = static_cast<int>(c.integer(0, "LCID"));
       curve.where = c.where;
+      const long sidr = c.integer_or(1, "SIDR", 0);
+      if (sidr < 0 || sidr > 2) c.fail("SIDR " + std::to_string(sidr) + ": 0 (transient), 1 (dynamic relaxation) or 2 (both)");
+      curve.sidr = static_cast<int>(sidr);
       curve.sfa = c.real_or(2, "SFA", 0.0);
       curve.sfo = c.real_or(3, "SFO", 0.0);
       if (curve.sfa == 0.0) curve.sfa = 1.0;  // LS-DYNA: 0 means 1
@@ -345,6 +355,38 @@ struct Reader {
       if (curve.a.empty()) c.fail("curve " + std::to_string(curve.id) + " has no points");
       if (m.curves.count(curve.id)) c.fail("curve " + std::to_string(curve.id) + " defined twice");
       m.curves[curve.id] = curve;
+    } else if (kw == "*LOAD_BODY_X" || kw == "*LOAD_BODY_Y" || kw == "*LOAD_BODY_Z") {
+      // LCID SF LCIDDR XC YC ZC CID
+      if (b.cards.empty()) b.fail(kw + " needs a card with LCID");
+      Card c = fields_of(b.cards[0], kW10);
+      BodyLoad l;
+      l.dof = kw.back() - 'X';
+      l.curve_id = static_cast<int>(c.integer(0, "LCID"));
+      l.sf = c.real_or(1, "SF", 1.0);
+      if (l.sf == 0.0) l.sf = 1.0;  // LS-DYNA: 0 means 1
+      l.curve_dr_id = static_cast<int>(c.integer_or(2, "LCIDDR", 0));
+      if (c.integer_or(6, "CID", 0) != 0) c.fail("CID (a local coordinate system) is not supported");
+      l.where = c.where;
+      m.body_loads.push_back(l);
+    } else if (kw == "*CONTROL_DYNAMIC_RELAXATION") {
+      // NRCYCK DRTOL DRFCTR DRTERM TSSFDR IRELAL EDTTL IDRFLG
+      Card c = b.cards.empty() ? Card{} : fields_of(b.cards[0], kW10);
+      auto& r = m.relaxation;
+      r.where = b.where;
+      if (!b.cards.empty()) {
+        r.nrcyck = static_cast<int>(c.integer_or(0, "NRCYCK", 0));
+        if (r.nrcyck == 0) r.nrcyck = 250;
+        r.drtol = c.real_or(1, "DRTOL", 0.0);
+        if (r.drtol == 0.0) r.drtol = 1e-3;
+        r.drfctr = c.real_or(2, "DRFCTR", 0.0);
+        if (r.drfctr == 0.0) r.drfctr = 0.995;
+        r.drterm = c.real_or(3, "DRTERM", 0.0);
+        if (r.drterm == 0.0) r.drterm = 1e28;
+        if (c.real_or(4, "TSSFDR", 0.0) != 0.0) c.fail("TSSFDR (another step for the relaxation) is not supported: leave it 0");
+        r.idrflg = c.integer_or(7, "IDRFLG", 0) == 1;
+        if (r.nrcyck < 1 || !(r.drtol > 0.0 && r.drtol < 1.0) || !(r.drfctr > 0.0 && r.drfctr < 1.0) || !(r.drterm > 0.0))
+          c.fail("NRCYCK ≥ 1, 0 < DRTOL < 1, 0 < DRFCTR < 1 and DRTERM > 0 are needed");
+      }
     } else if (kw == "*BOUNDARY_PRESCRIBED_MOTION_NODE" || kw == "*BOUNDARY_PRESCRIBED_MOTION_SET") {
       for (const Card& raw : b.cards) motion_cards.push_back({fields_of(raw, kW10), kw == "*BOUNDARY_PRESCRIBED_MOTION_SET"});
     } else if (kw == "*CONTROL_TERMINATION") {
@@ -498,6 +540,10 @@ struct Reader {
     for (const Card& c : spc_cards) spc(c, {m.index_of(static_cast<int>(c.integer(0, "NID")), c.where)});
     for (const Card& c : spc_set_cards) spc(c, nodes_of_set(static_cast<int>(c.integer(0, "NSID")), c));
     for (const auto& [c, is_set] : motion_cards) prescribed_motion(c, is_set);
+    for (const BodyLoad& l : m.body_loads)
+      for (int id : {l.curve_id, l.curve_dr_id})
+        if (id != 0 && !m.curves.count(id))
+          throw InputError(l.where, "load curve " + std::to_string(id) + " is not defined by a *DEFINE_CURVE");
     for (const Card& c : vel_cards)
       m.v0[static_cast<size_t>(m.index_of(static_cast<int>(c.integer(0, "NID")), c.where))] =
           Vec3(c.real_or(1, "VX", 0), c.real_or(2, "VY", 0), c.real_or(3, "VZ", 0));
@@ -529,6 +575,12 @@ struct Reader {
       }
       for (int i : nodes) m.v0[static_cast<size_t>(i)] = v;
     }
+    if (m.relaxes())
+      for (size_t i = 0; i < n; ++i)
+        if (m.v0[i].squaredNorm() > 0.0)
+          throw InputError(m.relaxation.where.file.empty() ? config::SourceLocation{name, 1} : m.relaxation.where,
+                           "dynamic relaxation ends with every node at rest, so initial velocities (node " +
+                               std::to_string(m.node_ids[i]) + ") cannot be combined with it");
     rigid_bodies();
     std::set<int> in_body;
     for (const auto& rb : m.rigid_bodies) in_body.insert(rb.nodes.begin(), rb.nodes.end());

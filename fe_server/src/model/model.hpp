@@ -152,6 +152,7 @@ struct CrossSection {
 // value(t) = SFO·y((t − OFFA)/SFA) + OFFO, as LS-DYNA scales and offsets.
 struct Curve {
   int id = 0;
+  int sidr = 0;  // 0: the transient only, 1: dynamic relaxation only, 2: both
   std::vector<double> a, o;  // abscissae (ascending), ordinates
   double sfa = 1.0, sfo = 1.0, offa = 0.0, offo = 0.0;
   config::SourceLocation where;
@@ -168,6 +169,30 @@ struct PrescribedMotion {
   int vad = 2;
   int curve_id = 0;  // in Model::curves
   double sf = 1.0, birth = 0.0, death = 1e28;
+  config::SourceLocation where;
+};
+
+// *LOAD_BODY_X/Y/Z: a base acceleration a(t) = SF·curve(t) along an axis;
+// every node feels the inertia force −m·a (gravity along −y: *LOAD_BODY_Y
+// with +9.81). LCIDDR: the curve during dynamic relaxation (0: LCID, if
+// that curve acts there, SIDR ≥ 1).
+struct BodyLoad {
+  int dof = 2;
+  int curve_id = 0, curve_dr_id = 0;
+  double sf = 1.0;
+  config::SourceLocation where;
+};
+
+// *CONTROL_DYNAMIC_RELAXATION: before the transient, the model settles
+// under the loads whose curves act in that phase (SIDR 1 or 2), its
+// velocities scaled by DRFCTR every step, until the kinetic energy, checked
+// every NRCYCK steps, falls below DRTOL of its peak (or DRTERM passes). The
+// transient then starts at t = 0 from that state, every node at rest. Runs
+// when a curve has SIDR ≥ 1 or IDRFLG = 1, as in LS-DYNA.
+struct DynamicRelaxation {
+  int nrcyck = 250;
+  double drtol = 1e-3, drfctr = 0.995, drterm = 1e28;
+  bool idrflg = false;
   config::SourceLocation where;
 };
 
@@ -213,6 +238,9 @@ struct Model {
   std::vector<int> history_nodes;  // node indices
   std::map<int, Curve> curves;
   std::vector<PrescribedMotion> prescribed;
+  std::vector<BodyLoad> body_loads;
+  DynamicRelaxation relaxation;
+  bool relaxes() const;  // a dynamic relaxation phase runs before the transient
   double end_time = 0.0;           // *CONTROL_TERMINATION (0: not given)
   double dt_scale = 0.9;           // *CONTROL_TIMESTEP TSSFAC
 

@@ -145,6 +145,17 @@ Vec3 RigidBodies::angular_velocity(RigidBodyState& s, double dt) const {
   return w;
 }
 
+void RigidBodies::scale_velocities(double factor, const std::vector<Vec3>& x, std::vector<Vec3>& v) {
+  for (RigidBodyState& s : bodies_) {
+    s.v *= factor, s.L *= factor, s.omega *= factor;
+    if (factor == 0.0) {
+      s.v_prev.setZero(), s.omega_prev.setZero();
+      s.rotation_rate.setZero();
+    }
+    set_live_velocities(s, x, v);
+  }
+}
+
 void RigidBodies::set_live_velocities(const RigidBodyState& s, const std::vector<Vec3>& x,
                                       std::vector<Vec3>& v) const {
   if (!s.rotates) {

@@ -84,6 +84,9 @@ class RigidBodies {
                    std::vector<Vec3>& v);
   // Stage 8: x_c, Q, and the live nodes' positions and chord velocities.
   void advance_positions(double dt, std::vector<Vec3>& x, std::vector<Vec3>& v);
+  // Dynamic relaxation: every body's v_c, L and ω times `factor` (0: at
+  // rest, both half steps), and its live nodes' velocities with them.
+  void scale_velocities(double factor, const std::vector<Vec3>& x, std::vector<Vec3>& v);
   // Kinetic energy at t_n from the mean of the half-step velocities (the
   // initial ones on the first step).
   double kinetic_energy(bool first_step) const;

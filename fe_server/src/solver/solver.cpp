@@ -76,6 +76,7 @@ NodeReach node_reach(const Model& m) {
   }
   for (const auto& p : m.prescribed)  // their reaction joins the loads
     for (int i : p.nodes) r.loading[static_cast<size_t>(i)] = 1;
+  if (!m.body_loads.empty()) r.loading.assign(n, 1);  // gravity loads every node
   for (int i : m.history_nodes) r.history[static_cast<size_t>(i)] = 1;
   return r;
 }
@@ -173,6 +174,19 @@ Solver::Solver(const Model& model, double dt)
         throw std::runtime_error(p.where.str() + ": node " + std::to_string(model.node_ids[static_cast<size_t>(i)]) +
                                  " belongs to a rigid body: prescribe a node joined to the body by a spring, or "
                                  "a node of a deformable part");
+  // The mass a body load accelerates: a node's own, scaled on a rigid body
+  // so that its nodes carry the body's mass (*PART_INERTIA may differ from
+  // the mesh's).
+  if (!model.body_loads.empty()) {
+    body_load_mass_ = model.mass;
+    for (const auto& rb : model.rigid_bodies) {
+      double sum = 0.0;
+      for (int i : rb.nodes) sum += model.mass[static_cast<size_t>(i)];
+      for (int i : rb.nodes)
+        body_load_mass_[static_cast<size_t>(i)] =
+            sum > 0.0 ? model.mass[static_cast<size_t>(i)] * rb.mass / sum : rb.mass / static_cast<double>(rb.nodes.size());
+    }
+  }
   // A body moves as one: its nodes start with v_c + ω × r.
   bodies_.initial_velocities(v_);
   v_prev_ = v_;
@@ -253,7 +267,7 @@ void Solver::build_node_lists() {
   }
   int_nodes_ = listed(r.internal);
   con_nodes_ = listed(r.contact);
-  ext_nodes_ = user_load_ || !m_.prescribed.empty() ? listed(r.loading) : std::vector<int>();
+  ext_nodes_ = user_load_ || !m_.prescribed.empty() || !m_.body_loads.empty() ? listed(r.loading) : std::vector<int>();
   std::vector<char> live(n, 0), active(n, 0);
   for (size_t i = 0; i < n; ++i) {
     live[i] = r.internal[i] || r.contact[i] || r.loading[i] || r.history[i];
@@ -382,8 +396,26 @@ void Solver::user_loads() {
   f_ext_prev_.swap(f_ext_);
   for_each_node(ext_nodes_, [&](size_t i) { f_ext_[i].setZero(); });
   if (user_load_) user_load_->apply(t_, x_, v_, f_ext_);
+  body_loads();
   // Their work is accounted in external_work, once stage 6 has added the
   // forces that depend on v_{n+1/2}.
+}
+
+bool Solver::curve_acts(int curve_id) const {
+  const int sidr = m_.curves.at(curve_id).sidr;
+  return relaxing_ ? sidr >= 1 : sidr != 1;
+}
+
+void Solver::body_loads() {
+  for (const BodyLoad& l : m_.body_loads) {
+    // In the relaxation LCIDDR if given, else LCID if its curve acts there.
+    const int id = relaxing_ && l.curve_dr_id != 0 ? l.curve_dr_id : l.curve_id;
+    if (!(relaxing_ && l.curve_dr_id != 0) && !curve_acts(id)) continue;
+    const double a = l.sf * m_.curves.at(id).value(t_);
+    if (a == 0.0) continue;
+    const int d = l.dof;
+    for_each_node(ext_nodes_, [&](size_t i) { f_ext_[i][d] -= body_load_mass_[i] * a; });
+  }
 }
 
 void Solver::contact() {
@@ -412,6 +444,75 @@ void Solver::velocities() {
   for (size_t b = 0; b < bodies_.size(); ++b)
     for (int i : bodies_[b].live) v_prev_[static_cast<size_t>(i)] = v_[static_cast<size_t>(i)];
   bodies_.advance_velocities(h, dt_, x_, v_);
+  if (relaxing_) {  // dynamic relaxation: every velocity times DRFCTR
+    const double f = m_.relaxation.drfctr;
+    for_each_node(free_, [&](size_t i) { v_[i] *= f; });
+    bodies_.scale_velocities(f, x_, v_);
+  }
+}
+
+Solver::RelaxationReport Solver::relax() {
+  RelaxationReport rep;
+  if (!m_.relaxes()) return rep;
+  if (n_ > 0) throw std::logic_error("Solver::relax after the first step");
+  rep.ran = true;
+  const DynamicRelaxation& r = m_.relaxation;
+  constexpr long kMaxSteps = 4000000;
+  relaxing_ = true;
+  while (true) {
+    step();
+    ++rep.steps;
+    rep.peak = std::max(rep.peak, energies_.kinetic);
+    if (rep.steps % r.nrcyck == 0 && rep.peak > 0.0 && energies_.kinetic < r.drtol * rep.peak) {
+      rep.converged = true;
+      break;
+    }
+    if (t_ >= r.drterm || rep.steps >= kMaxSteps) break;
+  }
+  rep.time = t_;
+  rep.kinetic = energies_.kinetic;
+  // The residual, from the forces of the last step: summed over each part's
+  // free DOFs (a part at rest in equilibrium sums to zero), a rigid body's
+  // from its own force.
+  std::map<int, Vec3> by_part;
+  std::vector<int> part_of(x_.size(), 0);
+  for (const auto& e : m_.solids) for (int k : e.n) part_of[static_cast<size_t>(k)] = e.part;
+  for (const auto& e : m_.axis) for (int k : e.n) part_of[static_cast<size_t>(k)] = e.part;
+  for (const auto& e : m_.bars) part_of[static_cast<size_t>(e.n1)] = part_of[static_cast<size_t>(e.n2)] = e.part;
+  std::vector<Eigen::Matrix<bool, 3, 1>> held = m_.fixed;
+  for (const PrescribedMotion& p : m_.prescribed)
+    for (int i : p.nodes) {
+      held[static_cast<size_t>(i)][p.dof] = true;
+      rep.load = std::max(rep.load, std::fabs(f_ext_[static_cast<size_t>(i)][p.dof]));
+    }
+  for (size_t i = 0; i < x_.size(); ++i) {
+    if (body_of_[i] >= 0) continue;
+    Vec3 f = f_int_[i] + f_ext_[i] + f_con_[i];
+    for (int k = 0; k < 3; ++k) {
+      if (held[i][k]) rep.load = std::max(rep.load, std::fabs(f[k])), f[k] = 0.0;  // a support's reaction
+    }
+    if (part_of[i] != 0) by_part.emplace(part_of[i], Vec3::Zero()).first->second += f;
+  }
+  for (const auto& [part, f] : by_part)
+    if (f.norm() >= rep.resultant) rep.resultant = f.norm(), rep.worst = "part " + std::to_string(part) + " (" + m_.parts.at(part).title + ")";
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const Vec3 f = bodies_[b].force.cwiseProduct(bodies_[b].free_translation);
+    if (f.norm() > rep.resultant)
+      rep.resultant = f.norm(), rep.worst = "rigid body " + std::to_string(m_.rigid_bodies[b].id);
+  }
+  return rep;
+}
+
+void Solver::begin_transient() {
+  relaxing_ = false;
+  x();  // every node placed
+  for (auto& vi : v_) vi.setZero();
+  bodies_.scale_velocities(0.0, x_, v_);
+  v_prev_ = v_;
+  x_prev_ = x_;
+  t_ = 0.0;
+  n_ = 0;
+  energies_.kinetic = 0.0;
 }
 
 void Solver::implicit_loads() {
@@ -461,7 +562,7 @@ void Solver::prescribed_motions() {
   // others).
   const double h = n_ == 0 ? 0.5 * dt_ : dt_;
   for (const PrescribedMotion& p : m_.prescribed) {
-    if (t_ < p.birth || t_ > p.death) continue;
+    if (t_ < p.birth || t_ > p.death || !curve_acts(p.curve_id)) continue;
     const Curve& c = m_.curves.at(p.curve_id);
     const int d = p.dof;
     for (int node : p.nodes) {

@@ -86,6 +86,25 @@ class Solver {
   void set_user_load(UserLoad* load);
   void step();
 
+  // Dynamic relaxation (*CONTROL_DYNAMIC_RELAXATION, model/model.hpp): the
+  // model settles under the loads that act in that phase, velocities scaled
+  // by DRFCTR every step, until converged; then begin_transient() restarts
+  // time at 0 with every node at rest in the settled state. Without a
+  // relaxation in the deck relax() does nothing.
+  struct RelaxationReport {
+    bool ran = false, converged = false;
+    long steps = 0;
+    double time = 0.0;              // pseudo-time of the relaxation, s
+    double kinetic = 0.0, peak = 0.0;  // kinetic energy at the end and its peak, J
+    // The residual: the largest out-of-balance force summed over one part
+    // (its free DOFs), and the largest force a prescribed motion or support
+    // takes (the feed, a reaction) to compare it with, N.
+    double resultant = 0.0, load = 0.0;
+    std::string worst;  // that part
+  };
+  RelaxationReport relax();
+  void begin_transient();
+
   double time() const { return t_; }
   long step_count() const { return n_; }
   double dt() const { return dt_; }
@@ -129,6 +148,10 @@ class Solver {
   void velocities();
   void implicit_loads();
   void prescribed_motions();
+  void body_loads();
+  bool curve_acts(int curve_id) const;  // in this phase (transient or relaxation)
+  bool relaxing_ = false;
+  std::vector<double> body_load_mass_;  // per node: the mass a body load accelerates
   void external_work();
   void positions();
   void energy_account();

@@ -75,6 +75,8 @@ struct Reader {
   DeckWarnings* warnings;
   std::map<int, std::pair<double, double>> spring_mats;  // mid → (k, c)
   std::vector<std::pair<Card, bool>> motion_cards;  // *BOUNDARY_PRESCRIBED_MOTION card, and whether _SET
+  Card body_parts_card;  // *LOAD_BODY_PARTS PSID
+  bool has_body_parts = false;
   std::map<int, std::pair<int, double>> sections;         // secid → (elform, bar area)
   struct NodalRigidBodyCards {
     Card card;
@@ -368,6 +370,10 @@ struct Reader {
       if (c.integer_or(6, "CID", 0) != 0) c.fail("CID (a local coordinate system) is not supported");
       l.where = c.where;
       m.body_loads.push_back(l);
+    } else if (kw == "*LOAD_BODY_PARTS") {
+      if (b.cards.empty()) b.fail("*LOAD_BODY_PARTS needs a card with PSID");
+      body_parts_card = fields_of(b.cards[0], kW10);
+      has_body_parts = true;
     } else if (kw == "*CONTROL_DYNAMIC_RELAXATION") {
       // NRCYCK DRTOL DRFCTR DRTERM TSSFDR IRELAL EDTTL IDRFLG
       Card c = b.cards.empty() ? Card{} : fields_of(b.cards[0], kW10);
@@ -540,6 +546,13 @@ struct Reader {
     for (const Card& c : spc_cards) spc(c, {m.index_of(static_cast<int>(c.integer(0, "NID")), c.where)});
     for (const Card& c : spc_set_cards) spc(c, nodes_of_set(static_cast<int>(c.integer(0, "NSID")), c));
     for (const auto& [c, is_set] : motion_cards) prescribed_motion(c, is_set);
+    if (has_body_parts) {
+      // LS-DYNA: the body loads act on the parts of this set only.
+      const long psid = body_parts_card.integer(0, "PSID");
+      auto it = m.part_sets.find(static_cast<int>(psid));
+      if (it == m.part_sets.end()) body_parts_card.fail("part set " + std::to_string(psid) + " is not defined");
+      for (BodyLoad& l : m.body_loads) l.parts = it->second;
+    }
     for (const BodyLoad& l : m.body_loads)
       for (int id : {l.curve_id, l.curve_dr_id})
         if (id != 0 && !m.curves.count(id))

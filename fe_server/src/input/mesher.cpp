@@ -418,6 +418,12 @@ RevolutionMesh mesh_axisymmetric(const std::vector<RevolutionSection>& sections,
                   dir < 0 ? "-" : "+", r_lo, r_hi);
     k << buf << "*SET_SEGMENT\n" << sid << "\n";
     for (const auto& s2 : segs) k << s2[0] << "," << s2[1] << "\n";
+    // The face's nodes too (node set 20 above the segment set's id): a
+    // support plate (*CONSTRAINED_NODAL_RIGID_BODY) or a feed sits there.
+    std::set<int> face_nodes;
+    for (const auto& s2 : segs) face_nodes.insert(s2[0]), face_nodes.insert(s2[1]);
+    k << "*SET_NODE_LIST\n" << sid + 20 << "\n";
+    write_ids(k, {face_nodes.begin(), face_nodes.end()});
   });
   // Each section's outer cylindrical surface as a node set (id: set offset +
   // section number): where a guide's friction, a feed force or a position

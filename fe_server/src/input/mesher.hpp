@@ -60,8 +60,12 @@ RevolutionMesh mesh_revolution(const std::vector<RevolutionSection>& sections, c
 // table, and cells of about element_size between them (`radial_growth` > 1
 // grades them, each cell that much wider than the one inside it). Faces
 // normal to the axis become *SET_SEGMENT sets of 2-node lines (the body on
-// their left, so the normal points out); gauge layers go to
-// *DATABASE_HISTORY_SHELL.
+// their left, so the normal points out), their nodes a *SET_NODE_LIST
+// numbered the segment set's id + 20; gauge layers go to
+// *DATABASE_HISTORY_SHELL (unless gauge_cut_only), with a
+// *DATABASE_CROSS_SECTION_SET through each layer's lower edge (id set offset
+// + 100 + gauge number); each section's outer surface nodes become a
+// *SET_NODE_LIST numbered set offset + section number.
 RevolutionMesh mesh_axisymmetric(const std::vector<RevolutionSection>& sections, const RevolutionMeshOptions& opt);
 
 // Parse "L,ro,ri; L,ro,ri; ..." (ri may be omitted; '/' may replace ';').

@@ -174,10 +174,11 @@ struct PrescribedMotion {
 
 // *LOAD_BODY_X/Y/Z: a base acceleration a(t) = SF·curve(t) along an axis;
 // every node feels the inertia force −m·a (gravity along −y: *LOAD_BODY_Y
-// with +9.81). LCIDDR: the curve during dynamic relaxation (0: LCID, if
+// with +9.81); with *LOAD_BODY_PARTS only the nodes of those parts. LCIDDR: the curve during dynamic relaxation (0: LCID, if
 // that curve acts there, SIDR ≥ 1).
 struct BodyLoad {
   int dof = 2;
+  std::vector<int> parts;  // *LOAD_BODY_PARTS: only these parts' nodes (empty: every node)
   int curve_id = 0, curve_dr_id = 0;
   double sf = 1.0;
   config::SourceLocation where;

@@ -186,6 +186,22 @@ Solver::Solver(const Model& model, double dt)
         body_load_mass_[static_cast<size_t>(i)] =
             sum > 0.0 ? model.mass[static_cast<size_t>(i)] * rb.mass / sum : rb.mass / static_cast<double>(rb.nodes.size());
     }
+    // *LOAD_BODY_PARTS (one set for every body load): the parts' element
+    // nodes keep their mass, every other node none.
+    if (!model.body_loads.front().parts.empty()) {
+      std::vector<char> in(n, 0);
+      const auto& parts = model.body_loads.front().parts;
+      auto member = [&](int pid) { return std::find(parts.begin(), parts.end(), pid) != parts.end(); };
+      for (const auto& e : model.solids)
+        if (member(e.part)) for (int k : e.n) in[static_cast<size_t>(k)] = 1;
+      for (const auto& e : model.axis)
+        if (member(e.part)) for (int k : e.n) in[static_cast<size_t>(k)] = 1;
+      for (const auto& e : model.bars)
+        if (member(e.part)) in[static_cast<size_t>(e.n1)] = in[static_cast<size_t>(e.n2)] = 1;
+      body_load_parts_mass_.assign(n, 0.0);
+      for (size_t i = 0; i < n; ++i)
+        if (in[i]) body_load_parts_mass_[i] = body_load_mass_[i];
+    }
   }
   // A body moves as one: its nodes start with v_c + ω × r.
   bodies_.initial_velocities(v_);
@@ -414,7 +430,8 @@ void Solver::body_loads() {
     const double a = l.sf * m_.curves.at(id).value(t_);
     if (a == 0.0) continue;
     const int d = l.dof;
-    for_each_node(ext_nodes_, [&](size_t i) { f_ext_[i][d] -= body_load_mass_[i] * a; });
+    const std::vector<double>& mass = l.parts.empty() ? body_load_mass_ : body_load_parts_mass_;
+    for_each_node(ext_nodes_, [&](size_t i) { f_ext_[i][d] -= mass[i] * a; });
   }
 }
 

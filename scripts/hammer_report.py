@@ -83,6 +83,43 @@ def piston_peak(fe, impact_times):
     return float(np.mean(peaks)) if peaks else None
 
 
+HOUSING_SECTION = "151"                 # elastic rig: the cylinder wall at y = 0.435 m
+A_HOUSING = np.pi * (0.08**2 - 0.0329**2)
+
+
+def lowpass(x, dt, cutoff=500.0):
+    """Gaussian low-pass with a -3 dB point at `cutoff` (the host's report
+    filter, tlm_host/src/percussion_report.cpp)."""
+    sigma = np.sqrt(np.log(2.0) / (4.0 * np.pi**2)) / cutoff / dt
+    if sigma < 0.5:
+        return x
+    half = int(np.ceil(3.0 * sigma))
+    k = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
+    k /= k.sum()
+    return np.convolve(np.pad(x, half, mode="edge"), k, mode="valid")
+
+
+def housing(fe, impact_times):
+    """The rig scene's housing over whole cycles (first to last evaluated
+    impact), all low-passed at 500 Hz: displacement range [mm], peak
+    acceleration [m/s²] and the range of the cylinder wall's mean axial
+    stress [MPa]. None without a housing port."""
+    if "ports/housing.x" not in fe or len(impact_times) < 2:
+        return None
+    t = fe["time"][:]
+    dt = t[1] - t[0]
+    s = (t >= impact_times[0]) & (t <= impact_times[-1])
+    x = lowpass(fe["ports/housing.x"][:], dt)
+    a = np.gradient(lowpass(fe["ports/housing.v"][:], dt), dt)
+    out = {"h_x": 1e3 * (x[s].max() - x[s].min()), "h_a": float(np.abs(a[s]).max())}
+    if "sections" in fe and HOUSING_SECTION in fe["sections"]:
+        te = fe["time_elements"][:]
+        sig = lowpass(fe[f"sections/{HOUSING_SECTION}/fy"][:] / A_HOUSING, te[1] - te[0])
+        se = (te >= impact_times[0]) & (te <= impact_times[-1])
+        out["h_sigma"] = 1e-6 * (sig[se].max() - sig[se].min())
+    return out
+
+
 def primary_pulses(fe, impact_times):
     """Per blow: W from the down-going stress of the primary pulse, the peak
     compressive stress, and the pulse's plateau (mean over its middle half)
@@ -155,6 +192,8 @@ ROWS = [("W_kin", "blow energy ½mv² [J]", "{:.0f}"), ("W_stress", "W from tool
         ("p_B", "peak p_B [bar abs]", "{:.1f}"), ("p_control", "peak p_control [bar abs]", "{:.1f}"),
         ("sigma", "peak tool stress [MPa]", "{:.0f}"), ("plateau", "tool pulse plateau [MPa]", "{:.1f}"),
         ("length", "tool pulse length [us]", "{:.0f}"), ("sigma_p", "peak piston stress [MPa]", "{:.0f}"),
+        ("h_x", "housing displacement range [mm]", "{:.3f}"), ("h_a", "housing peak acceleration [m/s²]", "{:.0f}"),
+        ("h_sigma", "housing wall stress range [MPa]", "{:.2f}"),
         ("shift", "time shift vs reference [us]", "{:.0f}"), ("wall", "wall time per simulated s [s]", "{:.1f}")]
 
 
@@ -201,6 +240,7 @@ def evaluate(cond):
                     peak_p = piston_peak(fe, js["impact_times_s"])
                     col["sigma_p"] = 1e-6 * peak_p if peak_p is not None else None
                 col["shift"] = 1e6 * time_shift(ref, host)
+                col.update(housing(fe, js["impact_times_s"]) or {})
                 t_end = host["time"][-1]
             col["wall"] = float((d / "wall_seconds").read_text()) / t_end
             col["balance"] = energy_balance((d / "fe_server.log").read_text()) if (d / "fe_server.log").exists() \
@@ -316,13 +356,14 @@ def main():
         sys.exit(f"hammer_report.py: no runs under {out}")
     results = [(cond, evaluate(cond)) for cond in conds]
     is_elastic = any(col.get("elastic") for _, cols in results for col in cols.values())
-    scene = ("the elastic piston and tool (axisymmetric), the rigid spool and the rock in fe_server"
-             if is_elastic else "the rigid piston and spool, the 1D-bar tool and the rock in fe_server")
+    scene = ("the elastic piston, tool, housing and anvil (axisymmetric) on the test rig, preloaded, with the "
+             "rigid spool in its bore, in fe_server" if is_elastic
+             else "the rigid piston and spool, the 1D-bar tool and the rock in fe_server")
     md = ["# Hydraulic hammer: co-simulation against the monolithic reference", "",
           f"Written by scripts/run_hammer.sh (scripts/hammer_report.py). Co-simulation: {scene};",
           "the hydraulics in tlm_host. Reference: the monolithic TLM model (rigid piston, lumped tool).",
           "In brackets: difference to the reference. Whole cycles after 0.3 s; pressures low-pass",
-          "filtered at 500 Hz. W from tool stress: the down-going primary pulse 200 mm below the tool's",
+          "filtered at 500 Hz, the housing's quantities too. W from tool stress: the down-going primary pulse 200 mm below the tool's",
           "top, W = (A·c0/E)·∫σ² dt. Time shift: lag of the piston lift's cross-correlation, positive",
           "when the co-simulation is later.", ""]
     failed = []

@@ -45,8 +45,10 @@ while [ $# -gt 0 ]; do
 done
 case "$scene_name" in
   elastic) scene_dir=hammer_elastic; modes=${modes:-tlm10}; stop=${stop:-0.56}
-           ref_log=(--set simulation.log_every=20) ;;  # the reference's rows every 20 us too
-  rigid) scene_dir=hammer; modes=${modes:-"pressure tlm tlm10"}; stop=${stop:-0.6}; ref_log=() ;;
+           ref_log=(--set simulation.log_every=20)  # the reference's rows every 20 us too
+           host_model=$root/scenes/hammer_elastic/model.tlm ;;
+  rigid) scene_dir=hammer; modes=${modes:-"pressure tlm tlm10"}; stop=${stop:-0.6}; ref_log=()
+         host_model=$root/scenes/hammer/model.tlm ;;
   *) echo "run_hammer.sh: --scene '$scene_name': expected elastic or rigid" >&2; exit 2 ;;
 esac
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "run_hammer.sh: --jobs '$jobs': a positive integer" >&2; exit 2; }
@@ -92,7 +94,7 @@ run_mode() {  # condition directory, mode, common --set arguments...
   [ -s "$run/port" ] || { cat "$run/fe_server.log" >&2; return 1; }
   local start wall
   start=$(date +%s.%N)
-  "$build/tlm_host/tlm_host" "$root/scenes/hammer/model.tlm" --fmu "$scene/$fmu" \
+  "$build/tlm_host/tlm_host" "$host_model" --fmu "$scene/$fmu" \
     --server "127.0.0.1:$(cat "$run/port")" "$@" "${host_step[@]}" \
     --out "$run/host.h5" --report "$run/host.json" > "$run/tlm_host.log"
   wall=$(echo "$(date +%s.%N) - $start" | bc)

@@ -2,13 +2,15 @@
 //
 //   fe_mesh --sections "L,ro[,ri]; L,ro[,ri]; ..." [--size h] [--part PID] [--z0 Z]
 //           [--node-offset N] [--element-offset E] [--set-offset S] [--title T]
-//           [--gauge Z ...] [--axisymmetric [--radial-growth G] [--gauge-cut-only]] -o mesh.k
+//           [--gauge Z ...] [--axisymmetric [--radial-growth G] [--gauge-cut-only] [--radius R ...]] -o mesh.k
 // Include the result from a deck (*INCLUDE) that defines the part's *PART,
 // *SECTION_SOLID (hex8) or *SECTION_SHELL ELFORM 15 (--axisymmetric: quads
 // in the x–y plane, y the axis; --z0 and --gauge are then along y) and material.
 // An axisymmetric gauge writes its layer's stresses and a cross section
 // through it (force and mean velocity); --gauge-cut-only keeps the section
-// alone (a long run's output).
+// alone (a long run's output). --radius adds a radial cell boundary (to put
+// a node where another body's edge rests, e.g. a tool's top face under a
+// piston and a stop ring).
 #include <fstream>
 #include <iostream>
 
@@ -35,6 +37,7 @@ int main(int argc, char** argv) {
       else if (args.is("--axisymmetric")) axisymmetric = true;
       else if (args.is("--radial-growth")) opt.radial_growth = args.real(1.0, 10.0);
       else if (args.is("--gauge-cut-only")) opt.gauge_cut_only = true;
+      else if (args.is("--radius")) opt.radii.push_back(args.real());
       else if (args.is("-o")) out = args.value();
       else args.unknown();
     }

@@ -323,6 +323,11 @@ RevolutionMesh mesh_axisymmetric(const std::vector<RevolutionSection>& sections,
     rset.insert(s.r_out);
     rset.insert(s.r_in);
   }
+  const double r_max = *rset.rbegin();
+  for (double r : opt.radii) {
+    if (!(r > 0.0 && r < r_max)) throw std::invalid_argument("extra radius " + std::to_string(r) + " is outside the body");
+    rset.insert(r);
+  }
   // Radial stations: every radius of the table, cells of about h between them.
   std::vector<double> r = {0.0};
   for (auto it = std::next(rset.begin()); it != rset.end(); ++it) {

@@ -35,6 +35,7 @@ struct RevolutionMeshOptions {
   std::vector<double> gauges;  // z of strain-gauge layers: their elements go to *DATABASE_HISTORY_SOLID
   double radial_growth = 1.0;  // mesh_axisymmetric: ratio of neighbouring radial cells (1: uniform)
   bool gauge_cut_only = false; // mesh_axisymmetric: a gauge writes its cross section only, not its elements' stresses
+  std::vector<double> radii;   // mesh_axisymmetric: extra radial cell boundaries (to meet another body's nodes)
 };
 
 struct FaceSet {

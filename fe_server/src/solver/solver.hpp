@@ -98,7 +98,9 @@ class Solver {
     double kinetic = 0.0, peak = 0.0;  // kinetic energy at the end and its peak, J
     // The residual: the largest out-of-balance force summed over one part
     // (its free DOFs), and the largest force a prescribed motion or support
-    // takes (the feed, a reaction) to compare it with, N.
+    // takes (the feed, a reaction) to compare it with, N. Converged: the
+    // kinetic energy below DRTOL of its peak and the residual below DRTOL
+    // of that force.
     double resultant = 0.0, load = 0.0;
     std::string worst;  // that part
   };
@@ -149,6 +151,7 @@ class Solver {
   void implicit_loads();
   void prescribed_motions();
   void body_loads();
+  void relaxation_residual(RelaxationReport& rep) const;
   bool curve_acts(int curve_id) const;  // in this phase (transient or relaxation)
   bool relaxing_ = false;
   std::vector<double> body_load_mass_;  // per node: the mass a body load accelerates

@@ -9,7 +9,8 @@ Table 3 quantities for the monolithic reference and each co-simulation:
   W_stress     energy of the primary stress pulse in the tool,
                W = (A·c0/E)·∫σ_d² dt, σ_d the down-going stress at the gauge
                (co-simulation only: the reference's tool is a lumped mass),
-  frequency, impact velocity, stroke, Q_in, p_in, peak p_A, p_B, p_control,
+  frequency, impact velocity, stroke, Q_in, p_in, p_out (mean at the return
+  node T), peak p_A, p_B, p_control,
   peak tool stress (most compressive gauge stress of each blow, mean),
   peak piston stress (elastic scene: its gauge 165 mm above the striking face),
   time shift of the piston lift against the reference (cross-correlation),
@@ -176,6 +177,14 @@ def time_shift(ref, host):
     return (lags[k] + frac) * dt
 
 
+def outlet_pressure(h5, impact_times):
+    """p_out: the mean pressure at the hammer's return node T over whole
+    cycles (first to last evaluated impact), bar abs."""
+    t = h5["time"][:]
+    s = (t >= impact_times[0]) & (t <= impact_times[-1])
+    return 1e-5 * float(np.mean(h5["nodes/nodeT.P1/p"][s]))
+
+
 def figures(js):
     pk = js["peak_pressure_Pa"]
     return {
@@ -188,7 +197,8 @@ def figures(js):
 ROWS = [("W_kin", "blow energy ½mv² [J]", "{:.0f}"), ("W_stress", "W from tool stress [J]", "{:.0f}"),
         ("f", "impact frequency [Hz]", "{:.2f}"), ("v", "impact velocity [m/s]", "{:.3f}"),
         ("stroke", "piston stroke [mm]", "{:.1f}"), ("Q_in", "inlet flow Q_in [l/min]", "{:.1f}"),
-        ("p_in", "inlet pressure p_in [bar abs]", "{:.1f}"), ("p_A", "peak p_A [bar abs]", "{:.1f}"),
+        ("p_in", "inlet pressure p_in [bar abs]", "{:.1f}"), ("p_out", "outlet pressure p_out [bar abs]", "{:.2f}"),
+        ("p_A", "peak p_A [bar abs]", "{:.1f}"),
         ("p_B", "peak p_B [bar abs]", "{:.1f}"), ("p_control", "peak p_control [bar abs]", "{:.1f}"),
         ("sigma", "peak tool stress [MPa]", "{:.0f}"), ("plateau", "tool pulse plateau [MPa]", "{:.1f}"),
         ("length", "tool pulse length [us]", "{:.0f}"), ("sigma_p", "peak piston stress [MPa]", "{:.0f}"),
@@ -223,6 +233,7 @@ def evaluate(cond):
     cols["reference"]["P_in"] = ref_js["input_power_W"]
     cols["reference"]["P_out"] = ref_js["output_power_W"]
     with h5py.File(cond / "reference.h5") as ref:
+        cols["reference"]["p_out"] = outlet_pressure(ref, ref_js["impact_times_s"])
         for m in MODES:
             d = cond / m
             if not (d / "host.json").exists():
@@ -240,6 +251,7 @@ def evaluate(cond):
                     peak_p = piston_peak(fe, js["impact_times_s"])
                     col["sigma_p"] = 1e-6 * peak_p if peak_p is not None else None
                 col["shift"] = 1e6 * time_shift(ref, host)
+                col["p_out"] = outlet_pressure(host, js["impact_times_s"])
                 col.update(housing(fe, js["impact_times_s"]) or {})
                 t_end = host["time"][-1]
             col["wall"] = float((d / "wall_seconds").read_text()) / t_end

@@ -18,8 +18,8 @@
 # each), pressure10 (pressure coupling every 10 us, 10 FE steps each: what
 # sub-cycling costs in pressure mode).
 # Conditions: supply relief setting in bar, restrictor diameter in mm.
-# Stop: simulated seconds per run (default 0.56 elastic: start-up to 0.3 s,
-# then at least 5 whole cycles at the slowest condition's ~21 Hz; 0.6 rigid).
+# Stop: simulated seconds per run (default 0.6: start-up to 0.3 s, then at
+# least 5 whole cycles, 6 blows, at the slowest condition's 20.3 Hz).
 # Jobs: conditions run side by side (default 2: each co-simulation's
 # fe_server computes on one core while its tlm_host waits on the socket).
 # Each run gets its own fe_server with a fresh token on an ephemeral port.
@@ -44,7 +44,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 case "$scene_name" in
-  elastic) scene_dir=hammer_elastic; modes=${modes:-tlm10}; stop=${stop:-0.56}
+  elastic) scene_dir=hammer_elastic; modes=${modes:-tlm10}; stop=${stop:-0.6}
            ref_log=(--set simulation.log_every=20)  # the reference's rows every 20 us too
            host_model=$root/scenes/hammer_elastic/model.tlm ;;
   rigid) scene_dir=hammer; modes=${modes:-"pressure tlm tlm10"}; stop=${stop:-0.6}; ref_log=()

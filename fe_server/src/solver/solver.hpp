@@ -4,7 +4,8 @@
 //   1 internal_forces      f_int(x_n, v_{n-1/2}): the force loop of each element type
 //                          (elements/: springs and dampers, 1D bars, hex8,
 //                          axisymmetric quads)
-//   2 user_loads           f_ext(x_n, v_{n-1/2})  ← the UserLoad hook
+//   2 user_loads           f_ext(x_n, v_{n-1/2})  ← the UserLoad hook, and the
+//                          deck's body loads (−m·a on every node of their parts)
 //   3 contact              penalty contact forces
 //   4 accelerations        a rigid body's force and moment from its live nodes
 //                          (rigid_body.hpp)
@@ -13,11 +14,15 @@
 //                          pass; rigid bodies: v_c, L, ω
 //   6 implicit_loads       forces that depend on v_{n+1/2} (TLM ports), solved with the
 //                          corrected velocity and added to f_ext and v_{n+1/2}
+//   6b prescribed_motions  prescribed DOFs get their curve's v_{n+1/2}; the
+//                          force that takes joins f_ext (its work is the loads')
 //   7 external_work        the user loads' work over the last step
 //   8 positions            x_{n+1} = x_n + Δt·v_{n+1/2} and, in the same pass, the
 //                          kinetic energy at t_n; rigid bodies rotate and move
 //   9 energy_account       kinetic + internal + spring + hourglass + contact + damping − external work
-// The stable step is checked once at construction (fixed Δt).
+// The stable step is checked once at construction (fixed Δt). A deck with
+// a dynamic relaxation settles first (relax(), velocities × DRFCTR every
+// step, the curves of that phase), then begin_transient() restarts at t = 0.
 //
 // Per-node passes run over the active nodes only: every node outside rigid
 // bodies, and the live nodes of the bodies (those something loads or

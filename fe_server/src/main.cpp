@@ -125,10 +125,34 @@ fe::ExitCode energy_verdict(const std::string& energy, bool drift, bool failed) 
 
 // The deck's dynamic relaxation, if any, then the transient's start at
 // t = 0 from the settled state; its report on stdout (a relaxation that did
-// not converge is a warning on stderr: the transient starts anyway).
-void relax(fe::Solver& solver, const fe::Model& model, bool quiet) {
-  const fe::Solver::RelaxationReport r = solver.relax();
-  if (!r.ran) return;
+// not converge is a warning on stderr: the transient starts anyway), its
+// progress every 5 s. A stop signal ends it (128 + N, nothing written yet);
+// a blow-up in it is exit 8.
+fe::ExitCode relax(fe::Solver& solver, const fe::Model& model, bool quiet) {
+  auto last = std::chrono::steady_clock::now();
+  auto keep_going = [&](const fe::Solver::RelaxationReport& r) {
+    if (config::stop_signal()) return false;
+    if (!quiet && std::chrono::steady_clock::now() - last > std::chrono::seconds(5)) {
+      last = std::chrono::steady_clock::now();
+      std::cout << "fe_server: dynamic relaxation, " << r.steps << " steps (" << r.time << " s), kinetic energy "
+                << r.kinetic / r.peak << " of its peak" << std::endl;
+    }
+    return true;
+  };
+  fe::Solver::RelaxationReport r;
+  try {
+    r = solver.relax(keep_going);
+  } catch (const std::exception& e) {
+    std::cerr << "fe_server: dynamic relaxation: " << e.what() << "\n";
+    return fe::kExitNumerical;
+  }
+  if (!r.ran) return fe::kExitOk;
+  if (r.stopped) {
+    const int signo = config::stop_signal();
+    std::cerr << "fe_server: stopped by " << config::signal_name(signo) << " during the dynamic relaxation, after "
+              << r.steps << " steps (" << r.time << " s); nothing written\n";
+    return fe::stopped_by(signo);
+  }
   solver.begin_transient();
   std::ostringstream s;
   s << r.steps << " steps (" << r.time << " s): kinetic energy " << r.kinetic << " J, " << r.kinetic / r.peak
@@ -141,6 +165,7 @@ void relax(fe::Solver& solver, const fe::Model& model, bool quiet) {
               << "; the transient starts from there\n";
   else if (!quiet)
     std::cout << "fe_server: dynamic relaxation converged after " << s.str() << std::endl;
+  return fe::kExitOk;
 }
 
 int run_standalone(fe::Model& model, const std::string& out, bool quiet, int threads) {
@@ -158,12 +183,7 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   prepare_step(model, dt, quiet);
   fe::Solver solver(model, dt);
   solver.set_threads(threads);
-  try {
-    relax(solver, model, quiet);
-  } catch (const std::exception& e) {
-    std::cerr << "fe_server: dynamic relaxation: " << e.what() << "\n";
-    return fe::kExitNumerical;
-  }
+  if (const fe::ExitCode code = relax(solver, model, quiet); code != fe::kExitOk) return code;
   // Without *DATABASE_ DT cards: 10000 rows over the run.
   fe::History history(out, model, nullptr, dt, model.end_time / 1e4);
   const long steps = static_cast<long>(std::ceil(model.end_time / dt));
@@ -298,7 +318,10 @@ int main(int argc, char** argv) {
       prepare_step(model, table.dt / table.subcycles, quiet);
       fe::Solver solver(model, table.dt / table.subcycles);
       solver.set_threads(threads);
-      relax(solver, model, quiet);  // before the host's loads: they start with the transient
+      // Before the host's loads: they start with the transient. A host that
+      // connected meanwhile waits (its handshake deadline is the port
+      // table's timeout).
+      if (const fe::ExitCode code = relax(solver, model, quiet); code != fe::kExitOk) return code;
       solver.set_user_load(&loads);
       const std::string path = session_path(out, session, sessions);
       // Without *DATABASE_ DT cards: a row per coupling step.

@@ -10,6 +10,8 @@
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <thread>
 
 #include "h5io/timeseries.hpp"
@@ -172,4 +174,37 @@ TEST(Signals, EachStopSignalEndsAServerWaitingForItsHost) {
     EXPECT_EQ(server.child->wait(2.0), 128 + sig) << server.child->output();
     EXPECT_NE(server.child->output().find("while waiting for the host"), std::string::npos) << server.child->output();
   }
+}
+
+// A dynamic relaxation is a loop of its own before the run (before the host
+// is served): a stop signal ends it too, within one check (NRCYCK steps, a
+// fraction of a second here), with 128 + N and what it had done; a long one
+// reports its progress. The deck: a 2D steel block of 16 000 quads on its
+// base under gravity, relaxed with almost no damping (DRFCTR 0.999999) so
+// that it would take minutes.
+TEST(Signals, AStopSignalEndsADynamicRelaxation) {
+  TempDir dir;
+  std::ostringstream d;
+  const int nr = 40, ny = 400;
+  d << "*KEYWORD\n*NODE\n";
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nr; ++i) d << 1 + j * (nr + 1) + i << "," << 0.001 * i << "," << 0.001 * j << ",0\n";
+  d << "*ELEMENT_SHELL\n";
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nr; ++i) {
+      const int n = 1 + j * (nr + 1) + i;
+      d << 1 + j * nr + i << ",1," << n << "," << n + 1 << "," << n + nr + 2 << "," << n + nr + 1 << "\n";
+    }
+  d << "*PART\nblock\n1,1,1\n*SECTION_SHELL\n1,15\n0\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n*SET_NODE_LIST\n1\n";
+  for (int i = 0; i <= nr; ++i) d << i + 1 << (i % 8 == 7 || i == nr ? "\n" : ",");
+  d << "*BOUNDARY_SPC_SET\n1,0,1,1,1\n*DEFINE_CURVE\n1,2\n0,9.81\n1,9.81\n*LOAD_BODY_Y\n1\n"
+       "*CONTROL_DYNAMIC_RELAXATION\n250,1e-9,0.999999\n*CONTROL_TERMINATION\n1e-3\n";
+  std::ofstream(dir.file("block.k")) << d.str();
+  ChildProcess server({PCS_FE_SERVER_EXE, "--model", dir.file("block.k"), "--out", dir.file("fe.h5"), "--threads", "1"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  kill(server.pid(), SIGTERM);
+  // 2 s: the check comes every 250 steps, about 0.1 s here.
+  EXPECT_EQ(server.wait(2.0), 128 + SIGTERM) << server.output();
+  EXPECT_NE(server.output().find("stopped by SIGTERM during the dynamic relaxation, after "), std::string::npos)
+      << server.output();
 }

@@ -497,7 +497,7 @@ void Solver::relaxation_residual(RelaxationReport& rep) const {
       rep.resultant = f.norm(), rep.worst = "part " + std::to_string(part) + " (" + m_.parts.at(part).title + ")";
 }
 
-Solver::RelaxationReport Solver::relax() {
+Solver::RelaxationReport Solver::relax(const std::function<bool(const RelaxationReport&)>& keep_going) {
   RelaxationReport rep;
   if (!m_.relaxes()) return rep;
   if (n_ > 0) throw std::logic_error("Solver::relax after the first step");
@@ -513,12 +513,18 @@ Solver::RelaxationReport Solver::relax() {
     step();
     ++rep.steps;
     rep.peak = std::max(rep.peak, energies_.kinetic);
-    if (rep.steps % r.nrcyck == 0 && rep.peak > 0.0 && energies_.kinetic < r.drtol * rep.peak) {
+    if (rep.steps % r.nrcyck != 0) continue;
+    if (rep.peak > 0.0 && energies_.kinetic < r.drtol * rep.peak) {
       relaxation_residual(rep);
       if (rep.resultant <= r.drtol * rep.load) {
         rep.converged = true;
         break;
       }
+    }
+    rep.time = t_, rep.kinetic = energies_.kinetic;
+    if (keep_going && !keep_going(rep)) {
+      rep.stopped = true;
+      break;
     }
     if (t_ >= r.drterm || rep.steps >= kMaxSteps) break;
   }

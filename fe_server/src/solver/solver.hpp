@@ -29,6 +29,7 @@
 // reads: rigid_body.hpp). A body's other nodes cost nothing per step.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -108,8 +109,11 @@ class Solver {
     // of that force.
     double resultant = 0.0, load = 0.0;
     std::string worst;  // that part
+    bool stopped = false;  // keep_going said no
   };
-  RelaxationReport relax();
+  // keep_going(report so far) is asked at every check (every NRCYCK steps):
+  // false ends the relaxation there (a stop signal; it may also print progress).
+  RelaxationReport relax(const std::function<bool(const RelaxationReport&)>& keep_going = {});
   void begin_transient();
 
   double time() const { return t_; }

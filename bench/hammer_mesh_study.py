@@ -23,6 +23,8 @@ import h5py
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "scripts"))
+from hammer_report import plateau_and_length  # noqa: E402
 BUILD = Path(os.environ.get("PCS_BUILD_DIR", ROOT / "build"))
 FE_MESH = BUILD / "fe_server" / "fe_mesh"
 FE_SERVER = BUILD / "fe_server" / "fe_server"
@@ -115,19 +117,12 @@ def gauge_stress(dirpath, h5):
 
 
 def pulse(t, s):
-    """Plateau (mean over the middle half of the pulse), length between the
-    half-plateau crossings, W and peak of the first compressive pulse."""
-    peak = s.min()
-    i0 = np.argmax(s < 0.5 * peak)
-    t_rise = np.interp(0.5 * peak, [s[i0], s[i0 - 1]], [t[i0], t[i0 - 1]])
-    plateau_guess = np.median(s[(t > t_rise + 30e-6) & (t < t_rise + 200e-6)])
-    i1 = i0 + np.argmax(s[i0:] > 0.5 * plateau_guess)
-    t_fall = np.interp(0.5 * plateau_guess, [s[i1 - 1], s[i1]], [t[i1 - 1], t[i1]])
-    length = t_fall - t_rise
-    mid = (t > t_rise + 0.25 * length) & (t < t_fall - 0.25 * length)
+    """Plateau and length of the first compressive pulse (the report's own
+    definition, scripts/hammer_report.py), W over the whole record (nothing
+    comes back within it) and the peak."""
+    plateau, length = plateau_and_length(t, s)
     W = A_TOOL * C0 / E * np.trapz(np.minimum(s, 0.0) ** 2, t)
-    return {"plateau_MPa": float(np.mean(s[mid]) / 1e6), "length_us": float(length * 1e6),
-            "W_J": float(W), "peak_MPa": float(peak / 1e6)}
+    return {"plateau_MPa": plateau / 1e6, "length_us": length * 1e6, "W_J": float(W), "peak_MPa": float(s.min() / 1e6)}
 
 
 def study(out, quick=False):

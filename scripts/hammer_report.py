@@ -121,6 +121,25 @@ def housing(fe, impact_times):
     return out
 
 
+def plateau_and_length(ts, s):
+    """A compressive stress pulse's plateau and length: the plateau guessed as
+    the median after the front's ringing (30–200 µs after it passes half the
+    peak), its length between the crossings of half that plateau, and the
+    plateau then the mean over the pulse's middle half. (nan, nan) if the
+    record ends inside the pulse. Shared with bench/hammer_mesh_study.py."""
+    k = int(np.argmin(s))
+    first = int(np.argmax(s < 0.5 * s[k]))
+    guess = np.median(s[(ts > ts[first] + 30e-6) & (ts < ts[first] + 200e-6)])
+    rise = np.interp(0.5 * guess, [s[first], s[max(first - 1, 0)]], [ts[first], ts[max(first - 1, 0)]])
+    after = first + int(np.argmax(s[first:] > 0.5 * guess))
+    if after == first or after >= len(s):
+        return float("nan"), float("nan")
+    fall = np.interp(0.5 * guess, [s[after - 1], s[after]], [ts[after - 1], ts[after]])
+    length = fall - rise
+    mid = (ts > rise + 0.25 * length) & (ts < fall - 0.25 * length)
+    return (float(np.mean(s[mid])) if mid.any() else float("nan")), float(length)
+
+
 def primary_pulses(fe, impact_times):
     """Per blow: W from the down-going stress of the primary pulse, the peak
     compressive stress, and the pulse's plateau (mean over its middle half)
@@ -142,16 +161,8 @@ def primary_pulses(fe, impact_times):
         end = k + (tail[0] if len(tail) else len(s) - k)
         out["W"].append(AREA * C0 / E * np.trapz(s[:end] ** 2, ts[:end]))
         out["peak"].append(sigma[i0:i1].min())
-        # Plateau: the median after the front's ringing, then refined over the
-        # middle half between the half-plateau crossings.
-        first = int(np.argmax(s < 0.5 * s[k]))
-        guess = np.median(s[(ts > ts[first] + 30e-6) & (ts < ts[first] + 200e-6)])
-        rise = np.interp(0.5 * guess, [s[first], s[max(first - 1, 0)]], [ts[first], ts[max(first - 1, 0)]])
-        after = first + int(np.argmax(s[first:] > 0.5 * guess))
-        fall = np.interp(0.5 * guess, [s[after - 1], s[after]], [ts[after - 1], ts[after]])
-        length = fall - rise
-        mid = (ts > rise + 0.25 * length) & (ts < fall - 0.25 * length)
-        out["plateau"].append(float(np.mean(s[mid])) if mid.any() else float("nan"))
+        plateau, length = plateau_and_length(ts, s)
+        out["plateau"].append(plateau)
         out["length"].append(length)
     return {k: (float(np.mean(v)) if v else float("nan")) for k, v in out.items()}
 

@@ -551,7 +551,8 @@ struct Reader {
       const long psid = body_parts_card.integer(0, "PSID");
       auto it = m.part_sets.find(static_cast<int>(psid));
       if (it == m.part_sets.end()) body_parts_card.fail("part set " + std::to_string(psid) + " is not defined");
-      for (BodyLoad& l : m.body_loads) l.parts = it->second;
+      const std::vector<int> nodes = nodes_of_parts({it->second.begin(), it->second.end()});
+      for (BodyLoad& l : m.body_loads) l.all_nodes = false, l.nodes = nodes;
     }
     for (const BodyLoad& l : m.body_loads)
       for (int id : {l.curve_id, l.curve_dr_id})
@@ -770,12 +771,12 @@ struct Reader {
     }
   }
 
-  // Nodes of axisymmetric elements move in the x–y plane only; those on the
-  // axis (x = 0) do not move radially.
   // A 2D node on the axis of symmetry: r = 0 exactly, as LS-DYNA's 2D decks
-  // place it (its radial motion is then held).
+  // place it.
   static bool on_axis(const Vec3& p) { return p.x() == 0.0; }
 
+  // Nodes of axisymmetric elements move in the x–y plane only; those on the
+  // axis do not move radially.
   void constrain_axisymmetric_nodes() {
     for (const auto& e : m.axis)
       for (int k = 0; k < 4; ++k) {

@@ -174,11 +174,13 @@ struct PrescribedMotion {
 
 // *LOAD_BODY_X/Y/Z: a base acceleration a(t) = SF·curve(t) along an axis;
 // every node feels the inertia force −m·a (gravity along −y: *LOAD_BODY_Y
-// with +9.81); with *LOAD_BODY_PARTS only the nodes of those parts. LCIDDR: the curve during dynamic relaxation (0: LCID, if
-// that curve acts there, SIDR ≥ 1).
+// with +9.81); with *LOAD_BODY_PARTS only the nodes of those parts' elements.
+// LCIDDR: the curve during dynamic relaxation (0: LCID, if that curve acts
+// there, SIDR ≥ 1).
 struct BodyLoad {
   int dof = 2;
-  std::vector<int> parts;  // *LOAD_BODY_PARTS: only these parts' nodes (empty: every node)
+  bool all_nodes = true;   // false: *LOAD_BODY_PARTS, `nodes` only
+  std::vector<int> nodes;  // node indices of the parts' elements (*LOAD_BODY_PARTS)
   int curve_id = 0, curve_dr_id = 0;
   double sf = 1.0;
   config::SourceLocation where;
@@ -186,8 +188,10 @@ struct BodyLoad {
 
 // *CONTROL_DYNAMIC_RELAXATION: before the transient, the model settles
 // under the loads whose curves act in that phase (SIDR 1 or 2), its
-// velocities scaled by DRFCTR every step, until the kinetic energy, checked
-// every NRCYCK steps, falls below DRTOL of its peak (or DRTERM passes). The
+// velocities scaled by DRFCTR every step, until, at a check every NRCYCK
+// steps, the kinetic energy is below DRTOL of its peak and the largest
+// out-of-balance force on a part below DRTOL of the largest support force
+// (or DRTERM passes). The
 // transient then starts at t = 0 from that state, every node at rest. Runs
 // when a curve has SIDR ≥ 1 or IDRFLG = 1, as in LS-DYNA.
 struct DynamicRelaxation {

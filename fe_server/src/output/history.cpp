@@ -19,7 +19,10 @@ long steps_per_row(double interval, double fe_dt) {
 
 History::History(const std::string& path, const Model& model, const config::PortTable* table, double fe_dt,
                  double default_interval)
-    : writer_(path), model_(model) {
+    : writer_(path),
+      model_(model),
+      // 2D axisymmetric: a section's components along the axis only
+      section_components_(model.symmetry_axis == 1 ? std::vector<int>{1} : std::vector<int>{0, 1, 2}) {
   writer_.set_attribute("producer", "fe_server");
   writer_.set_attribute("deck", model.source);
   writer_.set_attribute("title", model.title);
@@ -76,7 +79,7 @@ History::History(const std::string& path, const Model& model, const config::Port
     // the waves running each way through the cut (σ = ∓ρc·v). In a 2D
     // axisymmetric deck only the axial components exist: a full ring's
     // radial forces and velocities cancel around it.
-    for (int c : section_components()) {
+    for (int c : section_components_) {
       writer_.add_series("sections/" + std::to_string(cs.id) + "/f" + "xyz"[c], "N", stream_[2]);
       writer_.add_series("sections/" + std::to_string(cs.id) + "/v" + "xyz"[c], "m/s", stream_[2]);
     }
@@ -97,11 +100,6 @@ History::History(const std::string& path, const Model& model, const config::Port
 }
 
 History::~History() = default;
-
-std::vector<int> History::section_components() const {
-  if (model_.symmetry_axis == 1) return {1};  // 2D axisymmetric: along the axis only
-  return {0, 1, 2};
-}
 
 size_t History::snapshots() const { return fields_ ? fields_->snapshots() : 0; }
 
@@ -171,7 +169,7 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
       Vec3 v = Vec3::Zero();
       const auto& nodes = model_.cross_sections[cs].nodes;
       for (size_t i = 0; i < nodes.size(); ++i) v += section_weights_[cs][i] * s.v_live()[static_cast<size_t>(nodes[i])];
-      for (int c : section_components()) row_[k++] = f[c], row_[k++] = v[c];
+      for (int c : section_components_) row_[k++] = f[c], row_[k++] = v[c];
     }
     writer_.append(row_, stream_[2]);
   }

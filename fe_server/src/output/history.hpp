@@ -20,8 +20,8 @@ namespace fe {
 //   time,  ports/*, contact/*, energy/*   *DATABASE_GLSTAT / RCFORC DT
 //   time_nodes,    nodes/*                *DATABASE_NODOUT DT
 //   time_elements, solids/*, bars/* (stress and axial velocity),
-//                  axisymmetric/*, sections/<id>/{fx,fy,fz}
-//                                         *DATABASE_ELOUT / SECFORC DT
+//                  axisymmetric/*, sections/<id>/{fx,fy,fz,vx,vy,vz}
+//                  (2D: fy, vy)           *DATABASE_ELOUT / SECFORC DT
 // A row every round(DT/Δt) FE steps (at least every step): a decimated
 // history holds exactly the values an every-step history has at its times.
 // Without a DT the stream uses the default interval given to the
@@ -58,8 +58,8 @@ class History {
   h5io::TimeSeriesWriter writer_;
   const Model& model_;
   std::vector<double> row_;
+  std::vector<int> section_components_;                // the components a section writes (2D: y only)
   std::vector<std::vector<double>> section_weights_;  // per cross section: its nodes' mass shares
-  std::vector<int> section_components() const;        // the components a section writes (2D: y only)
   long every_[3] = {1, 1, 1};
   size_t stream_[3] = {0, 0, 0};
   std::unique_ptr<class FieldWriter> fields_;

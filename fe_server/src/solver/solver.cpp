@@ -1,5 +1,7 @@
 #include "solver/solver.hpp"
 
+#include "elements/element_blocks.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -76,7 +78,10 @@ NodeReach node_reach(const Model& m) {
   }
   for (const auto& p : m.prescribed)  // their reaction joins the loads
     for (int i : p.nodes) r.loading[static_cast<size_t>(i)] = 1;
-  if (!m.body_loads.empty()) r.loading.assign(n, 1);  // gravity loads every node
+  for (const auto& l : m.body_loads) {  // gravity loads every node (of its parts)
+    if (l.all_nodes) r.loading.assign(n, 1);
+    for (int i : l.nodes) r.loading[static_cast<size_t>(i)] = 1;
+  }
   for (int i : m.history_nodes) r.history[static_cast<size_t>(i)] = 1;
   return r;
 }
@@ -186,22 +191,6 @@ Solver::Solver(const Model& model, double dt)
         body_load_mass_[static_cast<size_t>(i)] =
             sum > 0.0 ? model.mass[static_cast<size_t>(i)] * rb.mass / sum : rb.mass / static_cast<double>(rb.nodes.size());
     }
-    // *LOAD_BODY_PARTS (one set for every body load): the parts' element
-    // nodes keep their mass, every other node none.
-    if (!model.body_loads.front().parts.empty()) {
-      std::vector<char> in(n, 0);
-      const auto& parts = model.body_loads.front().parts;
-      auto member = [&](int pid) { return std::find(parts.begin(), parts.end(), pid) != parts.end(); };
-      for (const auto& e : model.solids)
-        if (member(e.part)) for (int k : e.n) in[static_cast<size_t>(k)] = 1;
-      for (const auto& e : model.axis)
-        if (member(e.part)) for (int k : e.n) in[static_cast<size_t>(k)] = 1;
-      for (const auto& e : model.bars)
-        if (member(e.part)) in[static_cast<size_t>(e.n1)] = in[static_cast<size_t>(e.n2)] = 1;
-      body_load_parts_mass_.assign(n, 0.0);
-      for (size_t i = 0; i < n; ++i)
-        if (in[i]) body_load_parts_mass_[i] = body_load_mass_[i];
-    }
   }
   // A body moves as one: its nodes start with v_c + ω × r.
   bodies_.initial_velocities(v_);
@@ -301,10 +290,7 @@ void Solver::for_each_node(const std::vector<int>& nodes, F&& f) {
     const size_t end = std::min(n, (b + 1) * kNodeBlock);
     for (size_t k = b * kNodeBlock; k < end; ++k) f(static_cast<size_t>(nodes[k]));
   };
-  if (pool_ && blocks > 1)
-    pool_->run(blocks, block);
-  else
-    for (size_t b = 0; b < blocks; ++b) block(b);
+  run_blocks(blocks, blocks > 1 ? pool_.get() : nullptr, block);
 }
 
 template <class G>
@@ -317,10 +303,7 @@ double Solver::sum_over(const std::vector<int>& nodes, G&& g) {
     for (size_t k = b * kNodeBlock; k < end; ++k) sum += g(static_cast<size_t>(nodes[k]));
     partial_[b] = sum;
   };
-  if (pool_ && blocks > 1)
-    pool_->run(blocks, block);
-  else
-    for (size_t b = 0; b < blocks; ++b) block(b);
+  run_blocks(blocks, blocks > 1 ? pool_.get() : nullptr, block);
   double total = 0.0;
   for (size_t b = 0; b < blocks; ++b) total += partial_[b];
   return total;
@@ -424,14 +407,14 @@ bool Solver::curve_acts(int curve_id) const {
 
 void Solver::body_loads() {
   for (const BodyLoad& l : m_.body_loads) {
-    // In the relaxation LCIDDR if given, else LCID if its curve acts there.
-    const int id = relaxing_ && l.curve_dr_id != 0 ? l.curve_dr_id : l.curve_id;
-    if (!(relaxing_ && l.curve_dr_id != 0) && !curve_acts(id)) continue;
+    // In the relaxation LCIDDR if given (whatever its SIDR), else LCID if its curve acts there.
+    const bool own_dr_curve = relaxing_ && l.curve_dr_id != 0;
+    const int id = own_dr_curve ? l.curve_dr_id : l.curve_id;
+    if (!own_dr_curve && !curve_acts(id)) continue;
     const double a = l.sf * m_.curves.at(id).value(t_);
     if (a == 0.0) continue;
     const int d = l.dof;
-    const std::vector<double>& mass = l.parts.empty() ? body_load_mass_ : body_load_parts_mass_;
-    for_each_node(ext_nodes_, [&](size_t i) { f_ext_[i][d] -= mass[i] * a; });
+    for_each_node(l.all_nodes ? ext_nodes_ : l.nodes, [&](size_t i) { f_ext_[i][d] -= body_load_mass_[i] * a; });
   }
 }
 

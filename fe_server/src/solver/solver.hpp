@@ -164,7 +164,6 @@ class Solver {
   bool curve_acts(int curve_id) const;  // in this phase (transient or relaxation)
   bool relaxing_ = false;
   std::vector<double> body_load_mass_;  // per node: the mass a body load accelerates
-  std::vector<double> body_load_parts_mass_;  // the same, zero outside *LOAD_BODY_PARTS
   void external_work();
   void positions();
   void energy_account();

@@ -487,6 +487,7 @@ Solver::RelaxationReport Solver::relax(const std::function<bool(const Relaxation
   rep.ran = true;
   const DynamicRelaxation& r = m_.relaxation;
   constexpr long kMaxSteps = 4000000;
+  constexpr long kAskEvery = 64;  // keep_going: a stop signal is seen within 64 steps, whatever NRCYCK
   relaxing_ = true;
   // Converged when, at a check every NRCYCK steps, the kinetic energy is
   // below DRTOL of its peak (LS-DYNA's criterion) and the residual below
@@ -496,6 +497,13 @@ Solver::RelaxationReport Solver::relax(const std::function<bool(const Relaxation
     step();
     ++rep.steps;
     rep.peak = std::max(rep.peak, energies_.kinetic);
+    if (rep.steps % kAskEvery == 0 && keep_going) {
+      rep.time = t_, rep.kinetic = energies_.kinetic;
+      if (!keep_going(rep)) {
+        rep.stopped = true;
+        break;
+      }
+    }
     if (rep.steps % r.nrcyck != 0) continue;
     if (rep.peak > 0.0 && energies_.kinetic < r.drtol * rep.peak) {
       relaxation_residual(rep);
@@ -503,11 +511,6 @@ Solver::RelaxationReport Solver::relax(const std::function<bool(const Relaxation
         rep.converged = true;
         break;
       }
-    }
-    rep.time = t_, rep.kinetic = energies_.kinetic;
-    if (keep_going && !keep_going(rep)) {
-      rep.stopped = true;
-      break;
     }
     if (t_ >= r.drterm || rep.steps >= kMaxSteps) break;
   }

@@ -111,8 +111,8 @@ class Solver {
     std::string worst;  // that part
     bool stopped = false;  // keep_going said no
   };
-  // keep_going(report so far) is asked at every check (every NRCYCK steps):
-  // false ends the relaxation there (a stop signal; it may also print progress).
+  // keep_going(report so far) is asked every 64 steps: false ends the
+  // relaxation there (a stop signal; it may also print progress).
   RelaxationReport relax(const std::function<bool(const RelaxationReport&)>& keep_going = {});
   void begin_transient();
 

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "loads/cavity_load.hpp"
+#include "loads/squeeze_film.hpp"
 #include "config/cli.hpp"
 #include "config/port_table.hpp"
 #include "config/stop_signal.hpp"
@@ -183,7 +184,15 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   prepare_step(model, dt, quiet);
   fe::Solver solver(model, dt);
   solver.set_threads(threads);
+  std::unique_ptr<fe::SqueezeFilmLoad> films;
+  try {
+    films = std::make_unique<fe::SqueezeFilmLoad>(model);
+  } catch (const std::exception& e) {
+    std::cerr << "fe_server: " << e.what() << "\n";
+    return fe::kExitInput;
+  }
   if (const fe::ExitCode code = relax(solver, model, quiet); code != fe::kExitOk) return code;
+  if (!films->empty()) solver.set_user_load(films.get());  // with the transient, as the host's loads
   // Without *DATABASE_ DT cards: 10000 rows over the run.
   fe::History history(out, model, nullptr, dt, model.end_time / 1e4);
   const long steps = static_cast<long>(std::ceil(model.end_time / dt));
@@ -308,9 +317,11 @@ int main(int argc, char** argv) {
       model = pristine;
       fe::CavityPressureLoad load(model, table);
       fe::MechanicalLoad mech(model, table);
+      fe::SqueezeFilmLoad films(model);
       fe::UserLoads loads;
       loads.add(&load);
       loads.add(&mech);
+      if (!films.empty()) loads.add(&films);
       fe::PortMap ports(table, load, mech);
       const bool quiet = opt.quiet || session > 1;  // the model's report once
       // Printed before mass scaling: the estimate is about the physical piston.

@@ -329,6 +329,28 @@ struct Reader {
         ls.where = c.where;
         m.loading_sets.push_back(ls);
       }
+    } else if (kw == "*USER_LOADING_SQUEEZE_FILM") {
+      // NSID1 NSID2 DIR H0 RO RI MU HMIN, one film per card.
+      for (const Card& raw : b.cards) {
+        Card c = fields_of(raw, kW10);
+        SqueezeFilmDef f;
+        f.where = c.where;
+        f.set1 = static_cast<int>(c.integer(0, "NSID1"));
+        f.set2 = static_cast<int>(c.integer(1, "NSID2"));
+        f.direction = c.real(2, "DIR");
+        if (f.direction != 1.0 && f.direction != -1.0)
+          c.fail("DIR must be 1 (the gap grows as NSID1 moves along +axis relative to NSID2) or -1");
+        f.h0 = c.real(3, "H0");
+        f.r_out = c.real(4, "RO");
+        f.r_in = c.real_or(5, "RI", 0.0);
+        f.viscosity = c.real(6, "MU");
+        f.h_min = c.real_or(7, "HMIN", 5e-6);
+        if (!(f.r_out > 0.0) || !(f.r_in >= 0.0) || !(f.r_in < f.r_out)) c.fail("the film needs 0 <= RI < RO");
+        if (!(f.viscosity > 0.0)) c.fail("MU (the oil's dynamic viscosity, Pa s) must be positive");
+        if (!(f.h_min > 0.0)) c.fail("HMIN must be positive (the gap below which the film's coefficient is held)");
+        if (f.set1 == f.set2) c.fail("NSID1 and NSID2 are the same set: the film needs two faces");
+        m.squeeze_films.push_back(f);
+      }
     } else if (kw == "*DEFINE_CURVE") {
       // LCID SIDR SFA SFO OFFA OFFO DATTYP, then one point (A, O) per card (2 fields of 20).
       if (b.cards.empty()) b.fail("*DEFINE_CURVE needs a card with LCID");

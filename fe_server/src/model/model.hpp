@@ -136,6 +136,17 @@ struct LoadingSet {
   config::SourceLocation where;
 };
 
+// *USER_LOADING_SQUEEZE_FILM (fe_server's own member of the user-load
+// family; loads/squeeze_film.hpp): the oil film between a face on the node
+// set NSID1 and one on NSID2, gap h = H0 + DIR·(u1 − u2) along the axis (u:
+// the sets' mass-weighted mean displacements), annulus RO/RI, viscosity MU,
+// coefficient held below HMIN.
+struct SqueezeFilmDef {
+  int set1 = 0, set2 = 0;
+  double direction = 1.0, h0 = 0.0, r_out = 0.0, r_in = 0.0, viscosity = 0.0, h_min = 5e-6;
+  config::SourceLocation where;
+};
+
 // *DATABASE_CROSS_SECTION_SET: the force through a cut, the sum of the
 // internal forces that the elements of the sets (those on one side of the
 // cut) exert on the cut's nodes, as LS-DYNA's SECFORC output defines it.
@@ -240,6 +251,7 @@ struct Model {
   std::map<int, std::vector<Segment>> segment_sets;
   std::map<int, std::vector<int>> node_sets;
   std::vector<LoadingSet> loading_sets;
+  std::vector<SqueezeFilmDef> squeeze_films;
   std::vector<int> history_nodes;  // node indices
   std::map<int, Curve> curves;
   std::vector<PrescribedMotion> prescribed;

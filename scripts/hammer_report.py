@@ -164,7 +164,12 @@ def primary_pulses(fe, impact_times):
         plateau, length = plateau_and_length(ts, s)
         out["plateau"].append(plateau)
         out["length"].append(length)
-    return {k: (float(np.mean(v)) if v else float("nan")) for k, v in out.items()}
+    means = {k: (float(np.mean(v)) if v else float("nan")) for k, v in out.items()}
+    # The blows differ: each new pulse meets what is still ringing in the
+    # piston, tool and anvil from the last (nothing but the contacts and
+    # bulk viscosity damps the steel), so the spread is reported with the mean.
+    means["plateau_sd"] = float(np.std(out["plateau"])) if len(out["plateau"]) > 1 else 0.0
+    return means
 
 
 def time_shift(ref, host):
@@ -231,7 +236,9 @@ def checks(col):
     dp = 100.0 * (col["plateau"] / plateau_1d - 1.0)
     dl = 100.0 * (col["length"] / length_1d - 1.0)
     err, bound = col["balance"]
-    return [("tool pulse plateau vs 1D impedance estimate", f"{col['plateau']:.1f} vs {plateau_1d:.1f} MPa ({dp:+.1f} %)",
+    spread = f" (sd {col['plateau_sd']:.1f} over the blows)" if col.get("plateau_sd") else ""
+    return [("tool pulse plateau (mean of the blows) vs 1D impedance estimate",
+             f"{col['plateau']:.1f}{spread} vs {plateau_1d:.1f} MPa ({dp:+.1f} %)",
              "≤ 5 %", abs(dp) <= 5.0),
             ("tool pulse length vs 2·L_piston/c0", f"{col['length']:.0f} vs {length_1d:.0f} us ({dl:+.1f} %)", "≤ 10 %",
              abs(dl) <= 10.0),
@@ -258,6 +265,7 @@ def evaluate(cond):
                 col["elastic"] = elastic(fe)
                 if col["elastic"]:
                     col["plateau"] = 1e-6 * pulses["plateau"]
+                    col["plateau_sd"] = 1e-6 * pulses["plateau_sd"]
                     col["length"] = 1e6 * pulses["length"]
                     peak_p = piston_peak(fe, js["impact_times_s"])
                     col["sigma_p"] = 1e-6 * peak_p if peak_p is not None else None

@@ -14,13 +14,13 @@ namespace {
 // A 0.2 kg mass (node 2) runs at v0 towards a fixed node (1) across a disc
 // film of radius 8.74 mm in oil of 0.02784 Pa s (a valve spool's end face,
 // shared/scenes/hammer.md's oil) from a gap h0 = 1 mm.
-std::string film_deck(double v0, double h_min) {
+std::string film_deck(double v0, double h_min, double h0 = 0.001) {
   std::ostringstream d;
   d << "*KEYWORD\n*NODE\n1, 0, 0, 0\n2, 0, 0, 0.001\n*ELEMENT_MASS\n1, 1, 1.0\n2, 2, 0.2\n"
        "*BOUNDARY_SPC_NODE\n1, 0, 1, 1, 1\n2, 0, 1, 1, 0\n*SET_NODE_LIST\n11\n2\n*SET_NODE_LIST\n12\n1\n"
        "*INITIAL_VELOCITY_NODE\n2, 0, 0, "
     << -v0
-    << "\n*USER_LOADING_SQUEEZE_FILM\n$ nsid1, nsid2, dir, h0, ro, ri, mu, hmin\n11, 12, 1, 0.001, 0.00874, 0, 0.02784, "
+    << "\n*USER_LOADING_SQUEEZE_FILM\n$ nsid1, nsid2, dir, h0, ro, ri, mu, hmin\n11, 12, 1, " << h0 << ", 0.00874, 0, 0.02784, "
     << h_min << "\n*END\n";
   return d.str();
 }
@@ -96,12 +96,16 @@ TEST(SqueezeFilm, SeparatingFacesFeelNoForce) {
 }
 
 // Below HMIN the coefficient is held: a film reaching it stops the mass
-// later than the closed form, but stays stable and dissipative.
+// later than the closed form, but stays stable and dissipative; at h ≤ 0
+// the faces touch and the film carries nothing.
 TEST(SqueezeFilm, BelowHminTheCoefficientIsHeld) {
   const FilmRun r = run(film_deck(5.0, 30e-6), 1e-7, 2e-3);
   EXPECT_LT(r.gap, 30e-6);
   EXPECT_GT(r.gap, 0.0) << "held at HMIN's value the film still stops the mass before contact here";
   EXPECT_LT(std::fabs(r.velocity), 1e-6 * 5.0);
+  // Faces already touching (h ≤ 0): the film has broken down, nothing acts.
+  const FilmRun touching = run(film_deck(5.0, 30e-6, -1e-6), 1e-7, 1e-4);
+  EXPECT_EQ(touching.velocity, -5.0);
 }
 
 TEST(SqueezeFilm, BadCardsAreRefusedWithTheirLine) {

@@ -89,6 +89,7 @@ void SqueezeFilmLoad::apply_implicit(const Mobility& mob, const std::vector<Vec3
     const double w = (1.0 - th) * (mean_axial(f.one, v_old) - mean_axial(f.two, v_old)) +
                      th * (mean_axial(f.one, v_pred) - mean_axial(f.two, v_pred));
     if (f.direction * w >= 0.0) continue;  // opening: the film cavitates, no push
+    if (f.h <= 0.0) continue;              // the faces touch: the stop's contact carries
     const double h = std::max(f.h, f.h_min);
     const double C = f.K / (h * h * h);
     // F = −C·w_n with w_n = w + θ·h_step·S·F. On the first step (θ = 0, v_0

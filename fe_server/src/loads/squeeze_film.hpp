@@ -12,8 +12,9 @@
 // only pushes: while the faces separate its pressure would fall below the
 // surrounding oil's, it cavitates, and the chamber's own pressure (a
 // co-simulation port) is all that acts (the half-Sommerfeld condition).
-// Below h_min (the faces' roughness: the film breaks down, the stop's own
-// contact takes over) the coefficient is held at its h_min value.
+// Below h_min (the faces' roughness) the coefficient is held at its h_min
+// value, and at h ≤ 0 the faces touch: the film has broken down and the
+// stop's own contact (the host's stop spring, a contact) carries alone.
 //
 // The coefficient grows as 1/h³, far beyond what an explicit damper can
 // carry at the FE step (a 0.2 kg spool 14 µm from its stop needs ~3e5 N·s/m),

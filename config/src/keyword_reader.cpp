@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -44,6 +45,16 @@ double parse_real(const std::string& text, const SourceLocation& where, const st
   // Fortran-style exponents ("1.0d-6") appear in decks written by older tools.
   for (char& c : t)
     if (c == 'd' || c == 'D') c = 'e';
+  // E-less exponent: a plain decimal mantissa, then a sign and digits only.
+  const size_t sign = t.find_last_of("+-");
+  if (sign != std::string::npos && sign > 0 && t.find_first_of("eE") == std::string::npos) {
+    const std::string mantissa = t.substr(0, sign), exponent = t.substr(sign + 1);
+    const size_t inner_sign = mantissa.find_last_of("+-");
+    if (!exponent.empty() && exponent.find_first_not_of("0123456789") == std::string::npos &&
+        mantissa.find_first_not_of("+-.0123456789") == std::string::npos &&
+        mantissa.find_first_of("0123456789") != std::string::npos && (inner_sign == std::string::npos || inner_sign == 0))
+      t = mantissa + "e" + t.substr(sign);
+  }
   errno = 0;
   char* end = nullptr;
   double v = std::strtod(t.c_str(), &end);
@@ -129,11 +140,16 @@ static std::string directory_of(const std::string& path) {
   return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
 }
 
-static std::vector<Block> parse_impl(const std::string& text, const std::string& name,
-                                     bool follow_includes, int depth);
+namespace {
+struct ParseState {
+  bool follow_includes = false, blank_cards = false;
+  std::vector<std::string> include_paths;  // from *INCLUDE_PATH, in the order read
+};
+}  // namespace
 
-static std::vector<Block> read_impl(const std::string& path, bool follow_includes, int depth,
-                                    const SourceLocation* from) {
+static std::vector<Block> parse_impl(const std::string& text, const std::string& name, ParseState& st, int depth);
+
+static std::vector<Block> read_impl(const std::string& path, ParseState& st, int depth, const SourceLocation* from) {
   std::string text;
   try {
     text = read_text_file(path, "include file");
@@ -141,11 +157,10 @@ static std::vector<Block> read_impl(const std::string& path, bool follow_include
     if (from) throw InputError(*from, e.what());
     throw;
   }
-  return parse_impl(text, path, follow_includes, depth);
+  return parse_impl(text, path, st, depth);
 }
 
-static std::vector<Block> parse_impl(const std::string& text, const std::string& name,
-                                     bool follow_includes, int depth) {
+static std::vector<Block> parse_impl(const std::string& text, const std::string& name, ParseState& st, int depth) {
   constexpr int kMaxIncludeDepth = 16;
   std::vector<Block> blocks;
   std::istringstream in(text);
@@ -156,12 +171,16 @@ static std::vector<Block> parse_impl(const std::string& text, const std::string&
     if (!raw.empty() && raw.back() == '\r') raw.pop_back();
     SourceLocation where{name, line_no};
     std::string t = trim(raw);
-    if (t.empty()) continue;
+    if (t.empty()) {
+      if (st.blank_cards && !blocks.empty()) blocks.back().cards.push_back(Card{where, std::string(), {}, false});
+      continue;
+    }
     if (is_block_header(t)) {
       Block b;
       b.where = where;
-      std::string kw = t.substr(0, t.find_first_of(" \t,"));
-      b.keyword = to_upper(kw);
+      const size_t end = std::min(t.size(), t.find_first_of(" \t,"));
+      b.keyword = to_upper(t.substr(0, end));
+      b.options = trim(t.substr(end));
       blocks.push_back(std::move(b));
       continue;
     }
@@ -176,32 +195,51 @@ static std::vector<Block> parse_impl(const std::string& text, const std::string&
     c.fields = c.comma_separated ? split_commas(raw) : std::vector<std::string>{t};
     blocks.back().cards.push_back(std::move(c));
   }
-  if (!follow_includes) return blocks;
+  if (!st.follow_includes) return blocks;
 
   std::vector<Block> out;
   for (auto& b : blocks) {
+    if (b.keyword == "*INCLUDE_PATH" || b.keyword == "*INCLUDE_PATH_RELATIVE") {
+      for (const auto& c : b.cards) {
+        std::string dir = trim(c.text);
+        if (dir.empty()) continue;
+        if (dir.back() != '/') dir += '/';
+        st.include_paths.push_back(dir[0] == '/' ? dir : directory_of(name) + dir);
+      }
+      continue;
+    }
     if (b.keyword != "*INCLUDE") {
       out.push_back(std::move(b));
       continue;
     }
     if (depth >= kMaxIncludeDepth) b.fail("*INCLUDE nested deeper than 16 levels (a cycle?)");
     for (const auto& c : b.cards) {
-      std::string file = trim(c.text);
-      std::string path = (!file.empty() && file[0] == '/') ? file : directory_of(name) + file;
-      auto inc = read_impl(path, true, depth + 1, &c.where);
+      const std::string file = trim(c.text);
+      if (file.empty()) continue;
+      std::string path = file[0] == '/' ? file : directory_of(name) + file;
+      std::error_code ec;
+      if (file[0] != '/' && !std::filesystem::exists(path, ec))
+        for (const std::string& dir : st.include_paths)
+          if (std::filesystem::exists(dir + file, ec)) {
+            path = dir + file;
+            break;
+          }
+      auto inc = read_impl(path, st, depth + 1, &c.where);
       for (auto& ib : inc) out.push_back(std::move(ib));
     }
   }
   return out;
 }
 
-std::vector<Block> parse_keyword_text(const std::string& text, const std::string& name,
-                                      bool follow_includes) {
-  return parse_impl(text, name, follow_includes, 0);
+std::vector<Block> parse_keyword_text(const std::string& text, const std::string& name, bool follow_includes,
+                                      bool blank_cards) {
+  ParseState st{follow_includes, blank_cards, {}};
+  return parse_impl(text, name, st, 0);
 }
 
 std::vector<Block> read_keyword_file(const std::string& path, bool follow_includes) {
-  return read_impl(path, follow_includes, 0, nullptr);
+  ParseState st{follow_includes, false, {}};
+  return read_impl(path, st, 0, nullptr);
 }
 
 }  // namespace config

@@ -49,3 +49,32 @@ TEST(KeywordReader, NumbersAcceptFortranExponents) {
   EXPECT_THROW(config::parse_real("1.5.3", {"x", 1}, "v"), InputError);
   EXPECT_THROW(config::parse_integer("2.5", {"x", 1}, "v"), InputError);
 }
+
+// LS-DYNA's fixed-width decks drop the exponent's letter to save a column.
+TEST(KeywordReader, NumbersAcceptExponentsWithoutTheirLetter) {
+  EXPECT_DOUBLE_EQ(config::parse_real("2.00000-3", {"x", 1}, "v"), 2e-3);
+  EXPECT_DOUBLE_EQ(config::parse_real("-1.5+2", {"x", 1}, "v"), -150.0);
+  EXPECT_DOUBLE_EQ(config::parse_real("7-1", {"x", 1}, "v"), 0.7);
+  EXPECT_DOUBLE_EQ(config::parse_real("-3", {"x", 1}, "v"), -3.0);
+  EXPECT_THROW(config::parse_real("1-2-3", {"x", 1}, "v"), InputError);
+  EXPECT_THROW(config::parse_real("1.0e-3-2", {"x", 1}, "v"), InputError);
+  EXPECT_THROW(config::parse_real("a-3", {"x", 1}, "v"), InputError);
+}
+
+// A keyword's header keeps what follows the name (LS-DYNA's "+" long-format
+// switch, "LONG=Y"); with blank cards on, a blank line in a block is a card
+// of defaults (no fields), before the first keyword it is nothing.
+TEST(KeywordReader, HeaderOptionsAndBlankCards) {
+  const std::string text = "\n*KEYWORD LONG=Y\n*PART +\n\n1, 2, 3\n\n*END\n";
+  auto plain = parse_keyword_text(text, "d.k");
+  ASSERT_EQ(plain.size(), 3u);
+  EXPECT_EQ(plain[0].options, "LONG=Y");
+  EXPECT_EQ(plain[1].keyword, "*PART");
+  EXPECT_EQ(plain[1].options, "+");
+  EXPECT_EQ(plain[1].cards.size(), 1u);
+  auto blanks = parse_keyword_text(text, "d.k", false, true);
+  ASSERT_EQ(blanks[1].cards.size(), 3u);
+  EXPECT_TRUE(blanks[1].cards[0].fields.empty());
+  EXPECT_EQ(blanks[1].cards[0].where.line, 4);
+  EXPECT_EQ(blanks[1].cards[1].fields.size(), 3u);
+}

@@ -82,7 +82,15 @@ TEST(DeckReader, ErrorsAndWarningsNameTheLine) {
   std::string bad = kOscillator;
   bad.replace(bad.find("1, 1, 2, 1\n"), 11, "1, 1, 7, 1\n");
   EXPECT_NE(deck_error(bad).find("deck.k:17: node 7 is not defined"), std::string::npos) << deck_error(bad);
-  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n*LOAD_SEGMENT_SET\n1,1,1.0\n").find("change the physics"),
+  // A keyword that is not read is an error unless it provably changes no
+  // result (output requests; *CONTROL_ cards of defaults only).
+  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n*HOURGLASS\n1,4\n").find("deck.k:4: keyword *HOURGLASS is not supported"),
+            std::string::npos);
+  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n*CONTROL_IMPLICIT_GENERAL\n1,1e-3\n")
+                .find("deck.k:5: *CONTROL_IMPLICIT_GENERAL is not supported by this fe_server version and field 1 ('1')"),
+            std::string::npos);
+  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n*CASE_BEGIN_1\n*INITIAL_VELOCITY_NODE\n1,0,0,0\n*CASE_END_1\n")
+                .find("deck.k:4: *CASE_BEGIN_1: load cases (*CASE) are not supported"),
             std::string::npos);
   // A shell is an axisymmetric solid only: its part must say so.
   EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n*ELEMENT_SHELL\n1,1,1,2,3,4\n"
@@ -102,10 +110,14 @@ TEST(DeckReader, ErrorsAndWarningsNameTheLine) {
   fe::DeckWarnings w;
   std::string unknown = std::string(kOscillator);
   unknown.insert(unknown.find("*END"), "*DATABASE_MATSUM\n1e-4\n");
+  unknown.insert(unknown.find("*END"), "*CONTROL_SOLID\n0, 0,\n\n");  // defaults only
   fe::parse_deck(unknown, "deck.k", &w);
-  ASSERT_EQ(w.messages.size(), 1u);
-  EXPECT_NE(w.messages[0].find("deck.k:22: warning: keyword *DATABASE_MATSUM"), std::string::npos)
+  ASSERT_EQ(w.messages.size(), 2u);
+  EXPECT_NE(w.messages[0].find("deck.k:22: warning: *DATABASE_MATSUM asks for LS-DYNA's output"), std::string::npos)
       << w.messages[0];
+  EXPECT_NE(w.messages[1].find("deck.k:24: warning: *CONTROL_SOLID is not supported; its cards hold only"),
+            std::string::npos)
+      << w.messages[1];
 }
 
 TEST(Solver, SpringMassFollowsTheAnalyticSolution) {

@@ -51,22 +51,29 @@ struct Card {
 struct Block {
   SourceLocation where;
   std::string keyword;  // upper case, with its leading '*' or '$'
+  std::string options;  // the rest of the header line, trimmed (LS-DYNA: "+", "-", "LONG=Y")
   std::vector<Card> cards;
   [[noreturn]] void fail(const std::string& message) const { throw InputError(where, message); }
 };
 
 // Parse text that came from `name` (used in messages). If `follow_includes`
 // is set, `*INCLUDE` blocks are replaced by the blocks of the named files,
-// resolved relative to the including file.
+// resolved relative to the including file, else in the directories of the
+// `*INCLUDE_PATH` blocks read so far (LS-DYNA's search order). With
+// `blank_cards` a blank line inside a block is a card (LS-DYNA reads it as a
+// card of defaults: its text is empty and it has no fields); otherwise blank
+// lines are skipped.
 std::vector<Block> parse_keyword_text(const std::string& text, const std::string& name,
-                                      bool follow_includes = false);
+                                      bool follow_includes = false, bool blank_cards = false);
 std::vector<Block> read_keyword_file(const std::string& path, bool follow_includes = false);
 
 // Split a fixed-width card into fields of the given widths, trimmed; the last
 // width repeats until the line ends.
 std::vector<std::string> split_fixed(const std::string& line, const std::vector<int>& widths);
 
-// Number parsing with a message that names what was expected.
+// Number parsing with a message that names what was expected. Reals take
+// Fortran's forms too: "1.5d-3", and the exponent without its letter that
+// fixed-width decks use to save a column ("2.00000-3" = 2e-3, "1.5+2" = 150).
 double parse_real(const std::string& text, const SourceLocation& where, const std::string& what);
 long parse_integer(const std::string& text, const SourceLocation& where, const std::string& what);
 

@@ -1,4 +1,5 @@
 #include "input/deck_reader.hpp"
+#include "input/deck_grammar.hpp"
 
 #include "elements/element_axi4.hpp"
 #include "elements/element_hex8.hpp"
@@ -74,7 +75,8 @@ struct Reader {
   Model& m;
   DeckWarnings* warnings;
   std::map<int, std::pair<double, double>> spring_mats;  // mid → (k, c)
-  std::vector<std::pair<Card, bool>> motion_cards;  // *BOUNDARY_PRESCRIBED_MOTION card, and whether _SET
+  std::vector<std::pair<Card, bool>> motion_cards;
+  std::vector<std::pair<Card, bool>> pressure_cards;  // *LOAD_SEGMENT card, and whether _SET  // *BOUNDARY_PRESCRIBED_MOTION card, and whether _SET
   Card body_parts_card;  // *LOAD_BODY_PARTS PSID
   bool has_body_parts = false;
   std::map<int, std::pair<int, double>> sections;         // secid → (elform, bar area)
@@ -90,6 +92,43 @@ struct Reader {
   std::map<int, std::vector<int>> solid_sets, shell_sets, beam_sets;  // element ids
   std::vector<Card> section_cards;
   std::map<int, std::pair<int, config::SourceLocation>> inertia_com_node;  // part id → NODEID
+  struct SetUnion {
+    bool parts = false;
+    int id = 0;
+    std::vector<int> members;
+    config::SourceLocation where;
+  };
+  std::vector<SetUnion> set_unions;  // *SET_NODE_ADD, *SET_PART_ADD
+
+  // Unions of sets, in deck order; a union of unions resolves once its members have.
+  void resolve_set_unions() {
+    std::vector<bool> done(set_unions.size(), false);
+    for (size_t pass = 0; pass < set_unions.size(); ++pass)
+      for (size_t i = 0; i < set_unions.size(); ++i) {
+        if (done[i]) continue;
+        const SetUnion& u = set_unions[i];
+        auto& sets = u.parts ? m.part_sets : m.node_sets;
+        bool ready = true;
+        for (int id : u.members)
+          for (size_t j = 0; j < set_unions.size(); ++j)
+            if (!done[j] && j != i && set_unions[j].id == id && set_unions[j].parts == u.parts) ready = false;
+        if (!ready) continue;
+        std::vector<int> all;
+        for (int id : u.members) {
+          if (id == u.id) throw InputError(u.where, "set " + std::to_string(id) + " adds itself");
+          auto it = sets.find(id);
+          if (it == sets.end())
+            throw InputError(u.where, std::string(u.parts ? "part" : "node") + " set " + std::to_string(id) + " is not defined");
+          all.insert(all.end(), it->second.begin(), it->second.end());
+        }
+        std::sort(all.begin(), all.end());
+        all.erase(std::unique(all.begin(), all.end()), all.end());
+        sets[u.id] = all;
+        done[i] = true;
+      }
+    for (size_t i = 0; i < set_unions.size(); ++i)
+      if (!done[i]) throw InputError(set_unions[i].where, "set " + std::to_string(set_unions[i].id) + " is part of a cycle of *SET_..._ADD");
+  }
 
   void warn(const config::SourceLocation& w, const std::string& msg) {
     if (warnings) warnings->messages.push_back(w.str() + ": warning: " + msg);
@@ -108,9 +147,9 @@ struct Reader {
         m.node_index[id] = static_cast<int>(m.node_ids.size());
         m.node_ids.push_back(id);
         m.x0.emplace_back(c.real_or(1, "X", 0), c.real_or(2, "Y", 0), c.real_or(3, "Z", 0));
-        long tc = c.integer_or(4, "TC", 0);
-        m.fixed.emplace_back(tc == 1 || tc == 4 || tc == 5 || tc == 7, tc == 2 || tc == 4 || tc == 6 || tc == 7,
-                             tc == 3 || tc == 5 || tc == 6 || tc == 7);
+        // TC as LS-DYNA numbers it (the CON1 code of rigid bodies too): 4 x
+        // and y, 5 y and z, 6 z and x.
+        m.fixed.push_back(constraint_code(c, 4, "TC"));
       }
     } else if (kw == "*PART") {
       if (b.cards.size() % 2) b.fail("*PART needs a title card and a PID card per part");
@@ -198,7 +237,20 @@ struct Reader {
         spring_mats[static_cast<int>(c.integer(0, "MID"))].second = c.real(1, "DC");
       }
     } else if (kw == "*ELEMENT_SOLID") {
-      for (const Card& raw : b.cards) solid_cards.push_back(fields_of(raw, kW8));
+      // One card (EID PID N1..N8), or LS-DYNA's two-card form: EID PID, then
+      // the nodes on the next card (N1..N8, or N1..N10 for a 10-node tet).
+      for (size_t i = 0; i < b.cards.size(); ++i) {
+        Card c = fields_of(b.cards[i], kW8);
+        const auto filled = std::count_if(c.fields.begin(), c.fields.end(), [](const std::string& f) { return !f.empty(); });
+        if (filled <= 2) {
+          if (i + 1 == b.cards.size()) c.fail("element " + (c.fields.empty() ? std::string("card") : c.fields[0]) +
+                                              ": the two-card form needs the nodes on the next card");
+          const Card nodes = fields_of(b.cards[++i], kW8);
+          c.fields.resize(2);
+          c.fields.insert(c.fields.end(), nodes.fields.begin(), nodes.fields.end());
+        }
+        solid_cards.push_back(c);
+      }
     } else if (kw == "*ELEMENT_BEAM") {
       for (const Card& raw : b.cards) beam_cards.push_back(fields_of(raw, kW8));
     } else if (kw == "*ELEMENT_SHELL") {
@@ -211,6 +263,30 @@ struct Reader {
       if (b.cards.empty()) b.fail("*SET_NODE_LIST needs a header card with SID");
       auto& list = m.node_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
       for (int id : id_list(b, 1, "NID")) list.push_back(id);
+    } else if (kw == "*SET_NODE_GENERATE") {
+      // SID, then ranges B1 E1 B2 E2 ...: every defined node with an id in a range.
+      if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
+      auto& list = m.node_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
+      for (size_t i = 1; i < b.cards.size(); ++i) {
+        Card c = fields_of(b.cards[i], kW10);
+        for (size_t k = 0; k + 1 < c.fields.size(); k += 2) {
+          if (c.fields[k].empty() && c.fields[k + 1].empty()) continue;
+          const long lo = c.integer(k, "B"), hi = c.integer(k + 1, "E");
+          if (hi < lo) c.fail("range " + std::to_string(lo) + " to " + std::to_string(hi) + " is empty");
+          for (auto it = m.node_index.lower_bound(static_cast<int>(lo)); it != m.node_index.end() && it->first <= hi; ++it)
+            list.push_back(it->first);
+        }
+      }
+    } else if (kw == "*SET_NODE_ADD" || kw == "*SET_PART_ADD") {
+      // SID, then the ids of the sets it joins (resolved after the deck is read).
+      if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
+      SetUnion u;
+      u.parts = kw == "*SET_PART_ADD";
+      u.id = static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"));
+      u.members = id_list(b, 1, "DSID");
+      u.where = b.where;
+      set_unions.push_back(u);
+      (u.parts ? m.part_sets : m.node_sets)[u.id];  // defined from here on
     } else if (kw == "*SET_PART_LIST" || kw == "*SET_PART") {
       if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
       auto& list = m.part_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
@@ -392,6 +468,8 @@ struct Reader {
       if (c.integer_or(6, "CID", 0) != 0) c.fail("CID (a local coordinate system) is not supported");
       l.where = c.where;
       m.body_loads.push_back(l);
+    } else if (kw == "*LOAD_SEGMENT" || kw == "*LOAD_SEGMENT_SET") {
+      for (const Card& raw : b.cards) pressure_cards.push_back({fields_of(raw, kW10), kw == "*LOAD_SEGMENT_SET"});
     } else if (kw == "*LOAD_BODY_PARTS") {
       if (b.cards.empty()) b.fail("*LOAD_BODY_PARTS needs a card with PSID");
       body_parts_card = fields_of(b.cards[0], kW10);
@@ -483,12 +561,77 @@ struct Reader {
       if (d.friction != 0.0) warn(c1.where, "contact friction FS is not modelled yet (frictionless contact)");
       if (b.cards.size() > 2) d.damping = fields_of(b.cards[2], kW10).real_or(1, "VDC", 20.0) / 100.0;
       m.contacts.push_back(d);
-    } else if (kw == "*LOAD_SEGMENT_SET" || kw == "*LOAD_NODE_SET" ||
-               kw.rfind("*CONTACT_", 0) == 0 || kw.rfind("*MAT_", 0) == 0 || kw.rfind("*CONSTRAINED_", 0) == 0) {
-      b.fail(kw + " is not supported by this fe_server version; ignoring it would change the physics");
+    } else if (kw == "*COMMENT") {
     } else {
-      warn(b.where, "keyword " + kw + " is not supported and was ignored");
+      unsupported(b);
     }
+  }
+
+  // A keyword this reader does not read is ignored only where that provably
+  // changes no result: output requests (fe_server writes its own HDF5), and
+  // *CONTROL_ cards that hold nothing but blanks and zeros (LS-DYNA's
+  // defaults). Anything else is an error with its line.
+  void unsupported(const Block& b) {
+    const std::string& kw = b.keyword;
+    if (kw.rfind("*DATABASE_", 0) == 0 || kw == "*CONTROL_OUTPUT" || kw == "*CONTROL_ENERGY" || kw == "*CONTROL_CPU") {
+      warn(b.where, kw + " asks for LS-DYNA's output files or limits: fe_server writes its own results (HDF5), ignored");
+      return;
+    }
+    if (kw.rfind("*CASE", 0) == 0)
+      b.fail(kw + ": load cases (*CASE) are not supported; their contents would apply to every case: run each case as "
+                  "its own deck");
+    if (kw.rfind("*CONTROL_", 0) == 0) {
+      for (const Card& raw : b.cards) {
+        const Card c = fields_of(raw, kW10);
+        for (size_t k = 0; k < c.fields.size(); ++k) {
+          if (c.fields[k].empty()) continue;
+          double v = 1.0;
+          try {
+            v = config::parse_real(c.fields[k], c.where, "");
+          } catch (const InputError&) {
+          }
+          if (v != 0.0)
+            c.fail(kw + " is not supported by this fe_server version and field " + std::to_string(k + 1) + " ('" +
+                   c.fields[k] + "') is not LS-DYNA's default: ignoring it would change the result");
+        }
+      }
+      warn(b.where, kw + " is not supported; its cards hold only LS-DYNA's defaults (blanks and zeros), ignored");
+      return;
+    }
+    b.fail("keyword " + kw + " is not supported by this fe_server version; ignoring it could change the result");
+  }
+
+  // *LOAD_SEGMENT: LCID SF AT N1 N2 N3 N4; *LOAD_SEGMENT_SET: SSID LCID SF AT.
+  void segment_pressure(const Card& c, bool is_set) {
+    SegmentPressure p;
+    p.where = c.where;
+    const size_t f = is_set ? 1 : 0;  // LCID's field
+    p.curve_id = static_cast<int>(c.integer(f, "LCID"));
+    if (!m.curves.count(p.curve_id)) c.fail("LCID " + std::to_string(p.curve_id) + " is not defined by a *DEFINE_CURVE");
+    p.sf = c.real_or(f + 1, "SF", 1.0);
+    p.at = c.real_or(f + 2, "AT", 0.0);
+    if (is_set) {
+      const long sid = c.integer(0, "SSID");
+      auto it = m.segment_sets.find(static_cast<int>(sid));
+      if (it == m.segment_sets.end()) c.fail("segment set " + std::to_string(sid) + " is not defined in *SET_SEGMENT");
+      p.segments = it->second;
+    } else {
+      Segment s;
+      const long n3 = c.integer_or(5, "N3", 0), n4 = c.integer_or(6, "N4", 0);
+      s.n[0] = m.index_of(static_cast<int>(c.integer(3, "N1")), c.where);
+      s.n[1] = m.index_of(static_cast<int>(c.integer(4, "N2")), c.where);
+      if (n3 == 0) {
+        if (n4 != 0) c.fail("N3 is blank but N4 is not");
+        s.n[2] = s.n[3] = -1;  // a 2D line
+      } else {
+        s.n[2] = m.index_of(static_cast<int>(n3), c.where);
+        s.n[3] = n4 == 0 ? s.n[2] : m.index_of(static_cast<int>(n4), c.where);
+      }
+      p.segments.push_back(s);
+    }
+    for (const Segment& s : p.segments)
+      if (s.line() && m.axis.empty()) c.fail("a 2-node segment is a 2D line: only an axisymmetric deck has those");
+    m.segment_pressures.push_back(p);
   }
 
   std::vector<int> nodes_of_set(int sid, const Card& c) {
@@ -549,6 +692,7 @@ struct Reader {
     if (m.node_ids.empty()) throw InputError({name, 1}, "the deck defines no nodes (*NODE)");
     const size_t n = m.node_ids.size();
     m.v0.assign(n, Vec3::Zero());
+    resolve_set_unions();
     elements();
     constrain_axisymmetric_nodes();
     if (!m.axis.empty()) {
@@ -568,6 +712,7 @@ struct Reader {
     for (const Card& c : spc_cards) spc(c, {m.index_of(static_cast<int>(c.integer(0, "NID")), c.where)});
     for (const Card& c : spc_set_cards) spc(c, nodes_of_set(static_cast<int>(c.integer(0, "NSID")), c));
     for (const auto& [c, is_set] : motion_cards) prescribed_motion(c, is_set);
+    for (const auto& [c, is_set] : pressure_cards) segment_pressure(c, is_set);
     if (has_body_parts) {
       // LS-DYNA: the body loads act on the parts of this set only.
       const long psid = body_parts_card.integer(0, "PSID");
@@ -731,8 +876,11 @@ struct Reader {
       e.part = static_cast<int>(c.integer(1, "PID"));
       material_of(e.part, c);
       std::vector<int> ids;
-      for (size_t k = 2; k < c.fields.size() && ids.size() < 8; ++k)
+      for (size_t k = 2; k < c.fields.size(); ++k)
         if (!c.fields[k].empty() && c.integer(k, "N") != 0) ids.push_back(static_cast<int>(c.integer(k, "N")));
+      if (ids.size() > 8)
+        c.fail("solid element " + std::to_string(e.id) + " has " + std::to_string(ids.size()) +
+               " nodes: higher-order solids (10-node tetrahedra, 20-node hexahedra) are not supported");
       if (ids.size() == 4) ids = {ids[0], ids[1], ids[2], ids[2], ids[3], ids[3], ids[3], ids[3]};  // tet4
       if (ids.size() == 6) ids = {ids[0], ids[1], ids[2], ids[2], ids[3], ids[4], ids[5], ids[5]};  // wedge
       if (ids.size() != 8) c.fail("a solid element needs 4, 6 or 8 nodes, got " + std::to_string(ids.size()));
@@ -1017,13 +1165,14 @@ Model parse_deck(const std::string& text, const std::string& name, DeckWarnings*
   Model m;
   m.source = name;
   Reader r(m, warnings);
-  auto blocks = config::parse_keyword_text(text, name, true);
+  auto blocks = config::parse_keyword_text(text, name, true, true);
   if (!blocks.empty() && blocks.front().keyword != "*KEYWORD" && warnings)
     warnings->messages.push_back(name + ":1: warning: the deck does not start with *KEYWORD");
-  for (const Block& b : blocks) {
-    if (b.keyword == "*END") break;
-    r.block(b);
-  }
+  // LS-DYNA stops reading at *END.
+  if (const auto end = std::find_if(blocks.begin(), blocks.end(), [](const Block& b) { return b.keyword == "*END"; });
+      end != blocks.end())
+    blocks.erase(end, blocks.end());
+  for (const Block& b : normalise_blocks(std::move(blocks))) r.block(b);
   r.finish(name);
   return m;
 }

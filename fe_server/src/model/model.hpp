@@ -197,6 +197,19 @@ struct BodyLoad {
   config::SourceLocation where;
 };
 
+// *LOAD_SEGMENT / *LOAD_SEGMENT_SET: a pressure p(t) = SF·curve(t − AT)
+// (nothing before AT) on segments, positive pushing against the segment's
+// normal (the right-hand rule of N1..N4, LS-DYNA's convention: a positive
+// pressure on a face numbered counter-clockwise seen from outside pushes
+// into the body), following the surface as it moves. A 2-node segment of an
+// axisymmetric deck loads its ring.
+struct SegmentPressure {
+  std::vector<Segment> segments;
+  int curve_id = 0;
+  double sf = 1.0, at = 0.0;
+  config::SourceLocation where;
+};
+
 // *CONTROL_DYNAMIC_RELAXATION: before the transient, the model settles
 // under the loads whose curves act in that phase (SIDR 1 or 2), its
 // velocities scaled by DRFCTR every step, until, at a check every NRCYCK
@@ -256,6 +269,7 @@ struct Model {
   std::map<int, Curve> curves;
   std::vector<PrescribedMotion> prescribed;
   std::vector<BodyLoad> body_loads;
+  std::vector<SegmentPressure> segment_pressures;
   DynamicRelaxation relaxation;
   bool relaxes() const;  // a dynamic relaxation phase runs before the transient
   double end_time = 0.0;           // *CONTROL_TERMINATION (0: not given)

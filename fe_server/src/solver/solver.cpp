@@ -1,6 +1,7 @@
 #include "solver/solver.hpp"
 
 #include "elements/element_blocks.hpp"
+#include "loads/cavity_load.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -78,6 +79,9 @@ NodeReach node_reach(const Model& m) {
   }
   for (const auto& p : m.prescribed)  // their reaction joins the loads
     for (int i : p.nodes) r.loading[static_cast<size_t>(i)] = 1;
+  for (const auto& p : m.segment_pressures)
+    for (const Segment& seg : p.segments)
+      for (int k = 0; k < seg.corners(); ++k) r.loading[static_cast<size_t>(seg.n[k])] = 1;
   for (const auto& l : m.body_loads) {  // gravity loads every node (of its parts)
     if (l.all_nodes) r.loading.assign(n, 1);
     for (int i : l.nodes) r.loading[static_cast<size_t>(i)] = 1;
@@ -272,7 +276,9 @@ void Solver::build_node_lists() {
   }
   int_nodes_ = listed(r.internal);
   con_nodes_ = listed(r.contact);
-  ext_nodes_ = user_load_ || !m_.prescribed.empty() || !m_.body_loads.empty() ? listed(r.loading) : std::vector<int>();
+  ext_nodes_ = user_load_ || !m_.prescribed.empty() || !m_.body_loads.empty() || !m_.segment_pressures.empty()
+                   ? listed(r.loading)
+                   : std::vector<int>();
   std::vector<char> live(n, 0), active(n, 0);
   for (size_t i = 0; i < n; ++i) {
     live[i] = r.internal[i] || r.contact[i] || r.loading[i] || r.history[i];
@@ -396,6 +402,7 @@ void Solver::user_loads() {
   for_each_node(ext_nodes_, [&](size_t i) { f_ext_[i].setZero(); });
   if (user_load_) user_load_->apply(t_, x_, v_, f_ext_);
   body_loads();
+  segment_pressures();
   // Their work is accounted in external_work, once stage 6 has added the
   // forces that depend on v_{n+1/2}.
 }
@@ -415,6 +422,20 @@ void Solver::body_loads() {
     if (a == 0.0) continue;
     const int d = l.dof;
     for_each_node(l.all_nodes ? ext_nodes_ : l.nodes, [&](size_t i) { f_ext_[i][d] -= body_load_mass_[i] * a; });
+  }
+}
+
+void Solver::segment_pressures() {
+  for (const SegmentPressure& p : m_.segment_pressures) {
+    if (t_ < p.at || !curve_acts(p.curve_id)) continue;
+    const double pressure = p.sf * m_.curves.at(p.curve_id).value(t_ - p.at);
+    if (pressure == 0.0) continue;
+    for (const Segment& seg : p.segments) {
+      const Vec3 f = -pressure * segment_area_vector(seg, x_);
+      double w[4];
+      segment_corner_weights(seg, x_, w);
+      for (int k = 0; k < seg.corners(); ++k) f_ext_[static_cast<size_t>(seg.n[k])] += w[k] * f;
+    }
   }
 }
 

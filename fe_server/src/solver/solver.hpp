@@ -160,6 +160,7 @@ class Solver {
   void implicit_loads();
   void prescribed_motions();
   void body_loads();
+  void segment_pressures();  // *LOAD_SEGMENT(_SET)
   void relaxation_residual(RelaxationReport& rep) const;
   bool curve_acts(int curve_id) const;  // in this phase (transient or relaxation)
   bool relaxing_ = false;

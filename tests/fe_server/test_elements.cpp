@@ -347,3 +347,48 @@ TEST(MassScaling, OnlyTheElementsBelowTheStepGainMassAndTheStepThenRuns) {
   fe::Solver s(m, dt);  // now accepted
   for (int k = 0; k < 10; ++k) s.step();
 }
+
+// A chain of 1D bars at Courant number 1 (Δt = L_e/c): the lumped central-
+// difference chain then carries d'Alembert's solution exactly, so a striker
+// (the first 40 elements, moving at v0; the node it shares with the tool at
+// v0/2, the momentum of its two halves) sends the tool a rectangular pulse
+// of −E·v0/(2c) lasting 2·L_p/c, with no ringing: the stress history of an
+// element far into the tool holds only 0 and the plateau, to round-off.
+// (With the shared node at v0 the grid's two sublattices start out of step
+// and the pulse is a checkerboard of 0 and twice the plateau: that is the
+// initial data, not the scheme.)
+TEST(Waves, BarsAtCourantNumberOneCarryTheExactRectangularPulse) {
+  const int n = 200, striker = 40;
+  const double L = 0.01, v0 = 5.0, c = std::sqrt(kE / kRho), A = 1e-4;
+  std::ostringstream d;
+  d << "*KEYWORD\n*NODE\n";
+  for (int i = 0; i <= n; ++i) d << i + 1 << ", 0, 0, " << L * i << "\n";
+  d << "*PART\nbar\n1, 1, 1\n*SECTION_BEAM\n1, 3\n" << A << "\n*MAT_ELASTIC\n1, " << kRho << ", " << kE
+    << ", 0.0\n*ELEMENT_BEAM\n";
+  for (int e = 1; e <= n; ++e) d << e << ", 1, " << e << ", " << e + 1 << "\n";
+  d << "*INITIAL_VELOCITY_NODE\n";
+  for (int i = 1; i <= striker; ++i) d << i << ", 0, 0, " << v0 << "\n";
+  d << striker + 1 << ", 0, 0, " << 0.5 * v0 << "\n";
+  d << "*CONTROL_TIMESTEP\n$ dtinit, tssfac: the whole stable step\n0.0, 1.0\n*END\n";
+  fe::Model m = fe::parse_deck(d.str(), "chain.k");
+  fe::Solver s(m, L / c);
+  const size_t gauge = 120;  // element 121, 80 elements into the tool
+  const double plateau = -kE * v0 / (2.0 * c);
+  int at_plateau = 0, between = 0;
+  double worst = 0.0;
+  // Until the reflection from the tool's far end comes back (step ~240).
+  while (s.time() < (gauge + 2 * striker + 20) * L / c) {
+    s.step();
+    const double sg = s.bar_stress(gauge);
+    worst = std::max(worst, std::fabs(sg) / std::fabs(plateau));
+    if (std::fabs(sg - plateau) < 1e-9 * std::fabs(plateau)) ++at_plateau;
+    else if (std::fabs(sg) > 1e-9 * std::fabs(plateau)) ++between;
+  }
+  EXPECT_LT(worst, 1.0 + 1e-9) << "no overshoot";
+  EXPECT_EQ(at_plateau, 2 * striker) << "2·L_p/c on the plateau, in steps";
+  EXPECT_EQ(between, 0) << "no sample between 0 and the plateau";
+  // The energy account: central differences conserve a discrete energy that
+  // differs from ½·m·v²(n+½) + internal(x_n) by O((ω·Δt)²) of the highest
+  // modes, all of them at ω·Δt = 2 here; measured 0.3 %, the solver's 1 %.
+  EXPECT_LT(std::fabs(s.energies().balance_error), 0.01 * 0.5 * kRho * A * L * striker * v0 * v0);
+}

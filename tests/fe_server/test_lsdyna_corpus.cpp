@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "config/keyword_reader.hpp"
 #include "input/deck_reader.hpp"
 #include "solver/solver.hpp"
 
@@ -96,4 +97,21 @@ TEST(DeckCorpus, ACurveDrivenSegmentPressureGivesTheUniaxialStress) {
   EXPECT_NEAR(strain, -p / E, 0.01 * p / E);
   const double lateral = (s.x()[top].x() - m.x0[top].x()) / 0.01;
   EXPECT_NEAR(lateral, 0.3 * p / E, 0.01 * 0.3 * p / E) << "Poisson's expansion";
+}
+
+// A contact stiffness factor above the stable cap is said at start-up, with
+// its line, not capped silently (contact.hpp explains the cap).
+TEST(DeckCorpus, AContactStiffnessAboveTheCapIsSaid) {
+  std::string deck = config::read_text_file(kCorpus + "/column_clean.k");
+  deck.insert(deck.find("*END"), "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n2, 2, 0, 0\n0.0, 0.0, 0.0, 0.0, 20.0\n10.0\n");
+  fe::DeckWarnings w;
+  fe::parse_deck(deck, "sfs.k", &w);
+  ASSERT_EQ(w.messages.size(), 1u);
+  EXPECT_NE(w.messages[0].find("sfs.k:66: warning: SFS 10 asks for a stiffer contact"), std::string::npos)
+      << w.messages[0];
+  EXPECT_NE(w.messages[0].find("capped at SFS 2"), std::string::npos);
+  deck.replace(deck.find("\n10.0\n"), 6, "\n2.0\n");
+  fe::DeckWarnings quiet;
+  fe::parse_deck(deck, "sfs.k", &quiet);
+  EXPECT_TRUE(quiet.messages.empty());
 }

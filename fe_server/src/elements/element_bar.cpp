@@ -2,18 +2,22 @@
 
 namespace fe {
 
-BarState::BarState(const Model& m) : force(m.bars.size(), 0.0), area(m.bars.size(), 0.0), EA(m.bars.size(), 0.0) {
+BarState::BarState(const Model& m)
+    : force(m.bars.size(), 0.0), area(m.bars.size(), 0.0), EA(m.bars.size(), 0.0), length0(m.bars.size(), 0.0),
+      length(m.bars.size(), 0.0) {
   for (size_t e = 0; e < m.bars.size(); ++e) {
-    const Part& part = m.parts.at(m.bars[e].part);
+    const BarElement& b = m.bars[e];
+    const Part& part = m.parts.at(b.part);
     const Material& mat = m.materials.at(part.material);
     area[e] = part.bar_area;
+    length0[e] = length[e] = (m.x0[static_cast<size_t>(b.n2)] - m.x0[static_cast<size_t>(b.n1)]).norm();
     if (mat.rigid) continue;
     elements.push_back(static_cast<int>(e));
     EA[e] = mat.E * part.bar_area;
   }
 }
 
-void bar_forces(const Model& m, BarState& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
+void bar_forces(const Model& m, BarState& s, const std::vector<Vec3>& x, const std::vector<Vec3>&, double,
                 std::vector<Vec3>& f, ElementWork& w) {
   for (int ei : s.elements) {
     const size_t e = static_cast<size_t>(ei);
@@ -22,13 +26,12 @@ void bar_forces(const Model& m, BarState& s, const std::vector<Vec3>& x, const s
     Vec3 axis = x[j] - x[i];
     const double len = axis.norm();
     axis /= len;
-    // Axial stress rate from the elongation rate (hypoelastic, like the solids).
-    const double rate = (v[j] - v[i]).dot(axis) / len;
     const double old = s.force[e];
-    s.force[e] += dt * s.EA[e] * rate;
+    s.force[e] = s.EA[e] * (len - s.length0[e]) / s.length0[e];
     f[i] += s.force[e] * axis;
     f[j] -= s.force[e] * axis;
-    w.internal += 0.5 * (old + s.force[e]) * rate * len * dt;
+    w.internal += 0.5 * (old + s.force[e]) * (len - s.length[e]);
+    s.length[e] = len;
   }
 }
 

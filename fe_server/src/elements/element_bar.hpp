@@ -1,5 +1,11 @@
-// Two-node 1D bar (truss, *SECTION_BEAM ELFORM 3): axial force only, from a
-// hypoelastic update of the axial force with the elongation rate.
+// Two-node 1D bar (truss, *SECTION_BEAM ELFORM 3): axial force only,
+// N = E·A·(ℓ − L0)/L0 along the current axis, from the positions x_n alone.
+// (An update with the elongation rate over the current length, as the
+// solids' hypoelastic rate form does, is not the linear spring the wave
+// equation assumes: at Courant number 1, where the lumped chain carries a
+// rectangular pulse exactly, the compressed bars stiffen and the chain
+// diverged; and the rate of v_0 on the first step added a force before
+// anything had moved.)
 #pragma once
 
 #include <vector>
@@ -16,10 +22,12 @@ struct BarState {
   std::vector<double> force;
   std::vector<int> elements;
   std::vector<double> area, EA;
+  std::vector<double> length0, length;  // reference and last length, m
   explicit BarState(const Model& m);
 };
 
-// Updates the axial forces over a step dt and adds them to f; internal work to w.
+// The axial forces at positions x, added to f; the internal work since the
+// last call to w (the trapezoidal rule over the change of length).
 void bar_forces(const Model& m, BarState& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
                 std::vector<Vec3>& f, ElementWork& w);
 

@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
 
 namespace fe {
@@ -132,6 +133,18 @@ struct Reader {
 
   void warn(const config::SourceLocation& w, const std::string& msg) {
     if (warnings) warnings->messages.push_back(w.str() + ": warning: " + msg);
+  }
+
+  // The penalty is capped at twice the default stiffness (contact.hpp says
+  // why: beyond it central differences go unstable beside the elements' own
+  // frequency). Said at start-up, not applied silently.
+  void warn_stiffness_cap(const ContactDef& d, const char* name) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", d.stiffness_factor);
+    if (d.stiffness_factor > 2.0)
+      warn(d.where, std::string(name) + " " + value +
+                        " asks for a stiffer contact than central differences keep stable beside the elements' own "
+                        "frequency: the penalty is capped at " + name + " 2 (0.2·m/Δt²)");
   }
 
   void block(const Block& b) {
@@ -378,6 +391,7 @@ struct Reader {
       }
       if (b.cards.size() > 2) d.stiffness_factor = fields_of(b.cards[2], kW10).real_or(0, "SFS", 1.0);
       if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
+      warn_stiffness_cap(d, "SFS");
       m.contacts.push_back(d);
     } else if (kw == "*USER_LOADING_SET") {
       // Co-simulation port on a segment set: SID, LTYPE (PRESSS), PORT, and
@@ -557,6 +571,7 @@ struct Reader {
         c1.fail("SIDS and SIDM must be part sets (> 0); node sets (< 0) are not supported");
       d.stiffness_factor = c1.real_or(2, "SFACT", 1.0);
       if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
+      warn_stiffness_cap(d, "SFACT");
       d.friction = c1.real_or(4, "FS", 0.0);
       if (d.friction != 0.0) warn(c1.where, "contact friction FS is not modelled yet (frictionless contact)");
       if (b.cards.size() > 2) d.damping = fields_of(b.cards[2], kW10).real_or(1, "VDC", 20.0) / 100.0;

@@ -151,8 +151,10 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
     writer_.append(row_, stream_[1]);
   }
   if (stream_[2] != 0 && n % every_[2] == 0) {
+    // Stresses and section forces are those of x_n, the state at the step's
+    // start: the row carries that time, and the velocities of that time.
     size_t k = 0;
-    row_[k++] = s.time();
+    row_[k++] = s.stress_time();
     for (int el : model_.history_solids)
       for (int c = 0; c < 6; ++c) row_[k++] = s.stress(static_cast<size_t>(el))(c);
     for (int el : model_.history_axis) {
@@ -168,7 +170,7 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
       const Vec3 f = s.section_force(cs);
       Vec3 v = Vec3::Zero();
       const auto& nodes = model_.cross_sections[cs].nodes;
-      for (size_t i = 0; i < nodes.size(); ++i) v += section_weights_[cs][i] * s.v_live()[static_cast<size_t>(nodes[i])];
+      for (size_t i = 0; i < nodes.size(); ++i) v += section_weights_[cs][i] * s.velocity_at_stress_time(static_cast<size_t>(nodes[i]));
       for (int c : section_components_) row_[k++] = f[c], row_[k++] = v[c];
     }
     writer_.append(row_, stream_[2]);

@@ -22,6 +22,9 @@ namespace fe {
 //   time_elements, solids/*, bars/* (stress and axial velocity),
 //                  axisymmetric/*, sections/<id>/{fx,fy,fz,vx,vy,vz}
 //                  (2D: fy, vy)           *DATABASE_ELOUT / SECFORC DT
+// time_elements is the time of the state the row's stresses belong to: a
+// step computes them from x_n, so after the step to t_{n+1} the row says
+// t_n, with the velocities of t_n (½(v_{n−1/2} + v_{n+1/2})).
 // A row every round(DT/Δt) FE steps (at least every step): a decimated
 // history holds exactly the values an every-step history has at its times.
 // Without a DT the stream uses the default interval given to the

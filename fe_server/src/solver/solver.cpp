@@ -366,8 +366,8 @@ Vec3 Solver::section_force(size_t k) const {
 
 double Solver::bar_axial_velocity(size_t e) const {
   const size_t i = static_cast<size_t>(m_.bars[e].n1), j = static_cast<size_t>(m_.bars[e].n2);
-  const Vec3 axis = (x_[j] - x_[i]).normalized();
-  return 0.5 * (v_[i] + v_[j]).dot(axis);
+  const Vec3 axis = (x_prev_[j] - x_prev_[i]).normalized();
+  return 0.5 * (velocity_at_stress_time(i) + velocity_at_stress_time(j)).dot(axis);
 }
 
 void Solver::internal_forces() {

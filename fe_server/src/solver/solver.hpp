@@ -144,7 +144,14 @@ class Solver {
   // in the last step: the internal forces its elements exert on the cut's
   // nodes, N (global x, y, z; in 2D x is radial, y axial).
   Vec3 section_force(size_t k) const;
-  // Mean velocity of 1D bar element e's two nodes along its axis (n1 → n2), m/s.
+  // The state the element stresses (and section forces, contact forces and
+  // energies) of the last step belong to: positions x_n at t_n = time() − dt(),
+  // the step's start; and a live node's velocity there, ½(v_{n−1/2} + v_{n+1/2})
+  // (v_0 on the first step).
+  double stress_time() const { return t_ - dt_; }
+  Vec3 velocity_at_stress_time(size_t i) const { return n_ == 1 ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i])); }
+  // Mean velocity of 1D bar element e's two nodes along its axis (n1 → n2)
+  // at stress_time(), m/s.
   double bar_axial_velocity(size_t e) const;
   double contact_force() const { return contact_force_; }  // total normal force of the last step, N
   double max_penetration() const;

@@ -115,3 +115,111 @@ TEST(DeckCorpus, AContactStiffnessAboveTheCapIsSaid) {
   fe::parse_deck(deck, "sfs.k", &quiet);
   EXPECT_TRUE(quiet.messages.empty());
 }
+
+// Mass damping: a free node's velocity decays by (1 − D·Δt) per step (the
+// first step half that: v_{1/2} = v_0 − Δt/2·D·v_0), exactly; the damped
+// energy is the loads' work, so the account closes.
+TEST(DeckCorpus, MassDampingDecaysVelocitiesAsItsFactorSays) {
+  const std::string base = "*KEYWORD\n*NODE\n1,0,0,0\n*ELEMENT_MASS\n1,1,2.0\n*INITIAL_VELOCITY_NODE\n1,3.0,0,4.0\n";
+  const double dt = 1e-4, D = 50.0;
+  const int steps = 400;
+  {
+    fe::Model m = fe::parse_deck(base + "*DAMPING_GLOBAL\n$ lcid, valdmp\n0, 50.0\n", "g.k");
+    fe::Solver s(m, dt);
+    for (int k = 0; k < steps; ++k) s.step();
+    const double f = (1.0 - 0.5 * D * dt) * std::pow(1.0 - D * dt, steps - 1);
+    EXPECT_NEAR(s.v()[0].x(), 3.0 * f, 1e-12);
+    EXPECT_NEAR(s.v()[0].z(), 4.0 * f, 1e-12);
+    // Work of the damping against the kinetic energy lost: central
+    // differences book it to O(D·Δt) = 0.5 % of the 25 J; measured below 1 %.
+    EXPECT_LT(std::fabs(s.energies().balance_error), 0.01 * 25.0);
+  }
+  {
+    // Per part, on a curve, z only (FLAG 1: STX STY STZ); the node is a
+    // part's through a bar to a fixed node.
+    fe::Model m = fe::parse_deck(
+        "*KEYWORD\n*NODE\n1,0,0,0\n2,0,0,0.1,7\n*PART\nbar\n1,1,1\n*SECTION_BEAM\n1,3\n1e-6\n*MAT_ELASTIC\n1,7850,1.0,0\n"
+        "*ELEMENT_BEAM\n1,1,1,2\n*ELEMENT_MASS\n1,1,2.0\n*INITIAL_VELOCITY_NODE\n1,3.0,0,4.0\n"
+        "*DEFINE_CURVE\n5\n0,25\n1,25\n*DAMPING_PART_MASS\n$ pid, lcid, sf, flag\n1, 5, 2.0, 1\n0, 0, 1.0\n",
+        "p.k");
+    fe::Solver s(m, dt);
+    for (int k = 0; k < steps; ++k) s.step();
+    // The 1e-6 N/m bar turns a little with the node: 1e-9 m/s over the run.
+    EXPECT_NEAR(s.v()[0].x(), 3.0, 1e-8) << "x is not damped (STX 0 beside STZ 1)";
+    EXPECT_NEAR(s.v()[0].z(), 4.0 * (1.0 - 0.5 * D * dt) * std::pow(1.0 - D * dt, steps - 1), 1e-8)
+        << "SF 2 × curve 25 = 50 1/s (the bar's 1 N/m is negligible)";
+  }
+  auto error = [&](const std::string& card) {
+    try {
+      fe::Model m = fe::parse_deck(base + card, "e.k");
+      fe::Solver s(m, dt);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("*DAMPING_GLOBAL\n0, 1.0e4\n").find("e.k:9: mass damping D = 10000 1/s with the FE step"),
+            std::string::npos);
+  EXPECT_NE(error("*DAMPING_PART_MASS\n7, 0\n").find("e.k:9: PID 7 is not a *PART"), std::string::npos);
+}
+
+// *CONSTRAINED_RIGID_BODIES merges a rigid part into its lead's body and
+// *CONSTRAINED_EXTRA_NODES adds nodes to one: all move as one body whose
+// momentum is the sum of its parts'.
+TEST(DeckCorpus, MergedRigidPartsAndExtraNodesMoveAsOneBody) {
+  std::ostringstream d;
+  d << "*KEYWORD\n*NODE\n";
+  for (int b = 0; b < 2; ++b)
+    for (int k = 0; k < 8; ++k)
+      d << 8 * b + k + 1 << ", " << 0.01 * ((k == 1 || k == 2 || k == 5 || k == 6) ? 1 : 0) << ", "
+        << 0.01 * ((k == 2 || k == 3 || k == 6 || k == 7) ? 1 : 0) << ", " << 0.01 * (k >= 4 ? 1 : 0) + 0.05 * b << "\n";
+  d << "17, 0.005, 0.005, 0.2\n*ELEMENT_MASS\n1, 17, 1.0\n"  // on the blocks' axis: no moment
+       "*PART\nlead\n1,1,1\n*PART\nfollower\n2,1,1\n*SECTION_SOLID\n1,1\n*MAT_RIGID\n1,7850,2.1e11,0.3\n"
+       "*ELEMENT_SOLID\n1,1,1,2,3,4,5,6,7,8\n2,2,9,10,11,12,13,14,15,16\n"
+       "*CONSTRAINED_RIGID_BODIES\n$ pidl, pidc\n1, 2\n*CONSTRAINED_EXTRA_NODES_NODE\n$ pid, nid\n1, 17\n"
+       "*INITIAL_VELOCITY_GENERATION\n2, 2, 0, 0, 0, 2.0\n\n*END\n";
+  const fe::Model m = fe::parse_deck(d.str(), "merge.k");
+  ASSERT_EQ(m.rigid_bodies.size(), 1u);
+  EXPECT_EQ(m.rigid_bodies[0].nodes.size(), 17u);
+  const double m_block = 7850.0 * 1e-6;
+  EXPECT_NEAR(m.rigid_bodies[0].mass, 2 * m_block + 1.0, 1e-12);
+  fe::Solver s(m, 1e-6);
+  for (int k = 0; k < 100; ++k) s.step();
+  // Momentum: the follower's m_block·2 m/s shared by the whole body.
+  const double v = m_block * 2.0 / (2 * m_block + 1.0);
+  for (int id : {1, 9, 16, 17}) {
+    const size_t i = static_cast<size_t>(m.node_index.at(id));
+    EXPECT_NEAR(s.v()[i].z(), v, 1e-12) << "node " << id;
+    EXPECT_NEAR(s.x()[i].z() - m.x0[i].z(), v * s.time(), 1e-12) << "node " << id;
+  }
+  try {
+    std::string bad = d.str();
+    bad.replace(bad.find("1, 2\n*CONSTRAINED_EXTRA"), 4, "1, 3");
+    fe::parse_deck(bad, "merge.k");
+    FAIL() << "a missing part must be refused";
+  } catch (const config::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("PIDC 3 is not a *PART"), std::string::npos) << e.what();
+  }
+}
+
+// *CONTACT_NODES_TO_SURFACE is the one-sided node-set contact (its SSTYP
+// defaults to a node set); a force transducer measures only: a warning.
+TEST(DeckCorpus, NodesToSurfaceContactAndTheForceTransducer) {
+  std::string deck = config::read_text_file(kCorpus + "/column_clean.k");
+  deck.insert(deck.find("*END"), "*CONTACT_NODES_TO_SURFACE\n1, 2\n*CONTACT_FORCE_TRANSDUCER_PENALTY\n2, 0, 0, 0\n");
+  fe::DeckWarnings w;
+  const fe::Model m = fe::parse_deck(deck, "n2s.k", &w);
+  ASSERT_EQ(m.contacts.size(), 1u);
+  EXPECT_TRUE(m.contacts[0].slave_nodes);
+  EXPECT_EQ(m.contacts[0].slave_set, 1);
+  ASSERT_EQ(w.messages.size(), 1u);
+  EXPECT_NE(w.messages[0].find("n2s.k:67: warning: *CONTACT_FORCE_TRANSDUCER_PENALTY only measures"), std::string::npos)
+      << w.messages[0];
+  deck.replace(deck.find("*CONTACT_NODES_TO_SURFACE\n1, 2\n"), 31, "*CONTACT_NODES_TO_SURFACE\n1, 2, 0\n");
+  try {
+    fe::parse_deck(deck, "n2s.k");
+    FAIL() << "a segment set on the slave side of a nodes-to-surface contact must be refused";
+  } catch (const config::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("n2s.k:66:"), std::string::npos) << e.what();
+  }
+}

@@ -77,7 +77,14 @@ struct Reader {
   DeckWarnings* warnings;
   std::map<int, std::pair<double, double>> spring_mats;  // mid → (k, c)
   std::vector<std::pair<Card, bool>> motion_cards;
-  std::vector<std::pair<Card, bool>> pressure_cards;  // *LOAD_SEGMENT card, and whether _SET  // *BOUNDARY_PRESCRIBED_MOTION card, and whether _SET
+  std::vector<std::pair<Card, bool>> pressure_cards;  // *LOAD_SEGMENT card, and whether _SET
+  std::vector<std::pair<Card, bool>> extra_node_cards;  // *CONSTRAINED_EXTRA_NODES card, and whether _SET
+  std::vector<Card> merge_cards;                        // *CONSTRAINED_RIGID_BODIES
+  struct DampingCards {
+    Card c1, c2;  // c2: *DAMPING_PART_MASS's scale factors (FLAG = 1), else empty
+    bool part = false;
+  };
+  std::vector<DampingCards> damping_cards;  // *BOUNDARY_PRESCRIBED_MOTION card, and whether _SET
   Card body_parts_card;  // *LOAD_BODY_PARTS PSID
   bool has_body_parts = false;
   std::map<int, std::pair<int, double>> sections;         // secid → (elform, bar area)
@@ -358,6 +365,12 @@ struct Reader {
         }
         rigid_cards.push_back(r);
       }
+    } else if (kw == "*CONSTRAINED_EXTRA_NODES_NODE" || kw == "*CONSTRAINED_EXTRA_NODES_SET") {
+      // PID, NID (or NSID): the nodes move with the rigid part PID.
+      for (const Card& raw : b.cards) extra_node_cards.push_back({fields_of(raw, kW10), kw == "*CONSTRAINED_EXTRA_NODES_SET"});
+    } else if (kw == "*CONSTRAINED_RIGID_BODIES") {
+      // PIDL, PIDC, IFLAG: rigid part PIDC joins the lead part PIDL's body.
+      for (const Card& raw : b.cards) merge_cards.push_back(fields_of(raw, kW10));
     } else if (kw == "*BOUNDARY_SPC_NODE") {
       for (const Card& raw : b.cards) spc_cards.push_back(fields_of(raw, kW10));
     } else if (kw == "*BOUNDARY_SPC_SET") {
@@ -372,16 +385,25 @@ struct Reader {
       for (size_t i = 0; i + 1 < b.cards.size(); i += 2)
         vel_gen_cards.push_back({fields_of(b.cards[i], kW10), fields_of(b.cards[i + 1], kW10)});
       if (b.cards.size() % 2) b.fail("*INITIAL_VELOCITY_GENERATION needs two cards per entry");
-    } else if (kw == "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE") {
+    } else if (kw == "*CONTACT_FORCE_TRANSDUCER_PENALTY") {
+      // Measures the contact force on its surfaces and applies none: output only.
+      warn(b.where, kw + " only measures contact forces for LS-DYNA's rcforc file: ignored (fe_server writes the "
+                         "contacts' total force in contact/force)");
+    } else if (kw == "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE" || kw == "*CONTACT_NODES_TO_SURFACE" ||
+               kw == "*CONTACT_AUTOMATIC_NODES_TO_SURFACE") {
+      // _NODES_TO_SURFACE: the slave side is a node set unless SSTYP says
+      // otherwise, checked against the master's segments only (one-sided).
+      const bool nodes_to_surface = kw != "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE";
       if (b.cards.empty()) b.fail(kw + " needs at least card 1 (SSID, MSID, SSTYP, MSTYP)");
       Card c1 = fields_of(b.cards[0], kW10);
       ContactDef d;
       d.where = c1.where;
       d.slave_set = static_cast<int>(c1.integer(0, "SSID"));
       d.master_set = static_cast<int>(c1.integer(1, "MSID"));
-      const long sstyp = c1.integer_or(2, "SSTYP", 0);
+      const long sstyp = c1.integer_or(2, "SSTYP", nodes_to_surface ? 4 : 0);
       if ((sstyp != 0 && sstyp != 4) || c1.integer_or(3, "MSTYP", 0) != 0)
         c1.fail("SSTYP must be 0 (segment set) or 4 (node set) and MSTYP 0 (segment set) in this version");
+      if (nodes_to_surface && sstyp != 4) c1.fail(kw + ": the slave side must be a node set (SSTYP 4)");
       d.slave_nodes = sstyp == 4;
       if (b.cards.size() > 1) {
         Card c2 = fields_of(b.cards[1], kW10);
@@ -482,6 +504,21 @@ struct Reader {
       if (c.integer_or(6, "CID", 0) != 0) c.fail("CID (a local coordinate system) is not supported");
       l.where = c.where;
       m.body_loads.push_back(l);
+    } else if (kw == "*DAMPING_GLOBAL") {
+      // LCID VALDMP STX STY STZ SRX SRY SRZ
+      if (b.cards.empty()) return;  // LS-DYNA's defaults: no damping
+      damping_cards.push_back({fields_of(b.cards[0], kW10), Card{}, false});
+    } else if (kw == "*DAMPING_PART_MASS") {
+      // PID LCID SF FLAG, and with FLAG = 1 a card STX STY STZ SRX SRY SRZ.
+      for (size_t i = 0; i < b.cards.size(); ++i) {
+        Card c1 = fields_of(b.cards[i], kW10);
+        Card c2;
+        if (c1.integer_or(3, "FLAG", 0) == 1) {
+          if (i + 1 == b.cards.size()) c1.fail("FLAG = 1 needs the card of scale factors STX ... SRZ");
+          c2 = fields_of(b.cards[++i], kW10);
+        }
+        damping_cards.push_back({c1, c2, true});
+      }
     } else if (kw == "*LOAD_SEGMENT" || kw == "*LOAD_SEGMENT_SET") {
       for (const Card& raw : b.cards) pressure_cards.push_back({fields_of(raw, kW10), kw == "*LOAD_SEGMENT_SET"});
     } else if (kw == "*LOAD_BODY_PARTS") {
@@ -616,6 +653,39 @@ struct Reader {
     b.fail("keyword " + kw + " is not supported by this fe_server version; ignoring it could change the result");
   }
 
+  void mass_damping(const DampingCards& d) {
+    const Card& c = d.c1;
+    MassDamping md;
+    md.where = c.where;
+    // The translational scale factors; all of them blank or 0 means 1 (LS-DYNA).
+    auto scales = [&](const Card& card, size_t first) {
+      Vec3 st(card.real_or(first, "STX", 0.0), card.real_or(first + 1, "STY", 0.0), card.real_or(first + 2, "STZ", 0.0));
+      return st.isZero() ? Vec3(Vec3::Ones()) : st;
+    };
+    if (d.part) {
+      const long pid = c.integer(0, "PID");
+      auto part = m.parts.find(static_cast<int>(pid));
+      if (part == m.parts.end()) c.fail("PID " + std::to_string(pid) + " is not a *PART");
+      if (m.materials.at(part->second.material).rigid)
+        c.fail("part " + std::to_string(pid) + " is rigid: mass damping of rigid bodies is not supported");
+      md.all_nodes = false;
+      md.nodes = nodes_of_parts({static_cast<int>(pid)});
+      md.curve_id = static_cast<int>(c.integer(1, "LCID"));
+      md.sf = c.real_or(2, "SF", 1.0);
+      if (!d.c2.fields.empty()) md.scale = scales(d.c2, 0);
+    } else {
+      md.curve_id = static_cast<int>(c.integer_or(0, "LCID", 0));
+      md.value = c.real_or(1, "VALDMP", 0.0);
+      md.scale = scales(c, 2);
+      if (md.curve_id == 0 && md.value == 0.0) return;  // no damping
+      if (!m.rigid_bodies.empty() || std::any_of(m.materials.begin(), m.materials.end(), [](const auto& kv) { return kv.second.rigid; }))
+        warn(c.where, "*DAMPING_GLOBAL damps the deformable nodes only here: rigid bodies keep their motion");
+    }
+    if (md.curve_id != 0 && !m.curves.count(md.curve_id))
+      c.fail("LCID " + std::to_string(md.curve_id) + " is not defined by a *DEFINE_CURVE");
+    m.mass_damping.push_back(md);
+  }
+
   // *LOAD_SEGMENT: LCID SF AT N1 N2 N3 N4; *LOAD_SEGMENT_SET: SSID LCID SF AT.
   void segment_pressure(const Card& c, bool is_set) {
     SegmentPressure p;
@@ -728,6 +798,7 @@ struct Reader {
     for (const Card& c : spc_set_cards) spc(c, nodes_of_set(static_cast<int>(c.integer(0, "NSID")), c));
     for (const auto& [c, is_set] : motion_cards) prescribed_motion(c, is_set);
     for (const auto& [c, is_set] : pressure_cards) segment_pressure(c, is_set);
+    for (const DampingCards& d : damping_cards) mass_damping(d);
     if (has_body_parts) {
       // LS-DYNA: the body loads act on the parts of this set only.
       const long psid = body_parts_card.integer(0, "PSID");
@@ -1150,7 +1221,51 @@ struct Reader {
       rb.fixed_rotation = r.fixed_rotation;
       add_body(rb, nodes_of_set(static_cast<int>(c.integer(2, "NSID")), c), &c);
     }
-    // *MAT_RIGID parts: their element nodes move as one body.
+    auto rigid_part = [&](long pid, const Card& c, const char* name) {
+      auto part = m.parts.find(static_cast<int>(pid));
+      if (part == m.parts.end()) c.fail(std::string(name) + " " + std::to_string(pid) + " is not a *PART");
+      auto mat = m.materials.find(part->second.material);
+      if (mat == m.materials.end() || !mat->second.rigid)
+        c.fail(std::string(name) + " " + std::to_string(pid) + " is not of a *MAT_RIGID material");
+      return static_cast<int>(pid);
+    };
+    // *CONSTRAINED_RIGID_BODIES: each constrained part joins its lead's body
+    // (a lead that is itself constrained hands it on to its own lead).
+    std::map<int, int> lead_of;
+    for (const Card& c : merge_cards) {
+      const int lead = rigid_part(c.integer(0, "PIDL"), c, "PIDL");
+      const int follower = rigid_part(c.integer(1, "PIDC"), c, "PIDC");
+      if (c.integer_or(2, "IFLAG", 0) != 0) c.fail("IFLAG other than 0 (the merged body's inertia from all its parts) is not supported");
+      if (lead == follower || lead_of.count(follower)) c.fail("part " + std::to_string(follower) + " is constrained twice or to itself");
+      if (inertias.count(lead) || inertias.count(follower))
+        c.fail("a *PART_INERTIA part cannot be merged: its given inertia would not hold the other part's");
+      lead_of[follower] = lead;
+    }
+    auto final_lead = [&](int pid) {
+      for (size_t hops = 0; lead_of.count(pid); ++hops) {
+        if (hops > lead_of.size()) throw InputError(merge_cards.front().where, "*CONSTRAINED_RIGID_BODIES form a cycle");
+        pid = lead_of.at(pid);
+      }
+      return pid;
+    };
+    std::map<int, std::vector<int>> extra;  // lead part → nodes it gains
+    for (const auto& [follower, lead] : lead_of) {
+      const std::vector<int> nodes = nodes_of_parts({follower});
+      auto& to = extra[final_lead(follower)];
+      to.insert(to.end(), nodes.begin(), nodes.end());
+    }
+    for (const auto& [c, is_set] : extra_node_cards) {
+      const int pid = rigid_part(c.integer(0, "PID"), c, "PID");
+      if (lead_of.count(pid)) c.fail("part " + std::to_string(pid) + " is merged into another (*CONSTRAINED_RIGID_BODIES): name the lead part");
+      auto& to = extra[pid];
+      if (is_set) {
+        const std::vector<int> nodes = nodes_of_set(static_cast<int>(c.integer(1, "NSID")), c);
+        to.insert(to.end(), nodes.begin(), nodes.end());
+      } else {
+        to.push_back(m.index_of(static_cast<int>(c.integer(1, "NID")), c.where));
+      }
+    }
+    // *MAT_RIGID parts: their element nodes (and the nodes they gained) move as one body.
     for (const auto& [pid, part] : m.parts) {
       auto mat = m.materials.find(part.material);
       auto given = inertias.find(pid);
@@ -1159,6 +1274,7 @@ struct Reader {
           throw InputError(given->second.where, "*PART_INERTIA part " + std::to_string(pid) + " is not of a *MAT_RIGID material");
         continue;
       }
+      if (lead_of.count(pid)) continue;  // moves with its lead
       RigidBody rb = given != inertias.end() ? given->second : RigidBody();
       rb.id = pid;
       rb.where = part.where;
@@ -1168,7 +1284,13 @@ struct Reader {
         rb.com = m.x0[static_cast<size_t>(m.index_of(cn->second.first, cn->second.second))];
       const double given_mass = rb.mass;
       rb.mass = 0.0;
-      add_body(rb, nodes_of_parts({pid}), nullptr);
+      std::vector<int> nodes = nodes_of_parts({pid});
+      if (auto e = extra.find(pid); e != extra.end()) {
+        std::set<int> all(nodes.begin(), nodes.end());
+        all.insert(e->second.begin(), e->second.end());
+        nodes.assign(all.begin(), all.end());
+      }
+      add_body(rb, nodes, nullptr);
       if (rb.inertia_given) m.rigid_bodies.back().mass = given_mass;
     }
   }

@@ -210,6 +210,18 @@ struct SegmentPressure {
   config::SourceLocation where;
 };
 
+// *DAMPING_GLOBAL / *DAMPING_PART_MASS: mass-proportional damping, a force
+// −D(t)·m·v on every deformable node (of the part), D = SF·curve(t) (or
+// *DAMPING_GLOBAL's constant VALDMP), per direction times STX, STY, STZ.
+struct MassDamping {
+  bool all_nodes = true;
+  std::vector<int> nodes;  // node indices (*DAMPING_PART_MASS)
+  int curve_id = 0;        // 0: the constant `value`
+  double value = 0.0, sf = 1.0;
+  Vec3 scale = Vec3::Ones();
+  config::SourceLocation where;
+};
+
 // *CONTROL_DYNAMIC_RELAXATION: before the transient, the model settles
 // under the loads whose curves act in that phase (SIDR 1 or 2), its
 // velocities scaled by DRFCTR every step, until, at a check every NRCYCK
@@ -270,6 +282,7 @@ struct Model {
   std::vector<PrescribedMotion> prescribed;
   std::vector<BodyLoad> body_loads;
   std::vector<SegmentPressure> segment_pressures;
+  std::vector<MassDamping> mass_damping;
   DynamicRelaxation relaxation;
   bool relaxes() const;  // a dynamic relaxation phase runs before the transient
   double end_time = 0.0;           // *CONTROL_TERMINATION (0: not given)

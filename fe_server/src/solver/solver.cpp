@@ -79,6 +79,10 @@ NodeReach node_reach(const Model& m) {
   }
   for (const auto& p : m.prescribed)  // their reaction joins the loads
     for (int i : p.nodes) r.loading[static_cast<size_t>(i)] = 1;
+  for (const auto& d : m.mass_damping) {
+    if (d.all_nodes) r.loading.assign(n, 1);
+    for (int i : d.nodes) r.loading[static_cast<size_t>(i)] = 1;
+  }
   for (const auto& p : m.segment_pressures)
     for (const Segment& seg : p.segments)
       for (int k = 0; k < seg.corners(); ++k) r.loading[static_cast<size_t>(seg.n[k])] = 1;
@@ -167,6 +171,20 @@ Solver::Solver(const Model& model, double dt)
       << ": lower the coupling time step, raise the subcycles in the port configuration, or allow mass scaling "
          "(*CONTROL_TIMESTEP DT2MS < 0)";
     throw std::runtime_error(s.str());
+  }
+  for (const MassDamping& d : model.mass_damping) {
+    double D = std::fabs(d.value);
+    if (d.curve_id != 0)
+      for (double o : model.curves.at(d.curve_id).o) D = std::max(D, std::fabs(d.sf * o));
+    D *= d.scale.cwiseAbs().maxCoeff();
+    // The explicit damper −D·m·v decays a velocity by (1 − D·Δt) per step: at
+    // D·Δt ≥ 1 it would reverse it.
+    if (D * dt >= 1.0) {
+      std::ostringstream s;
+      s << d.where.str() << ": mass damping D = " << D << " 1/s with the FE step " << dt
+        << " s reverses velocities (D·Δt ≥ 1): lower D below " << 1.0 / dt << " 1/s";
+      throw std::runtime_error(s.str());
+    }
   }
   const size_t n = model.x0.size();
   x_ = model.x0;
@@ -276,7 +294,8 @@ void Solver::build_node_lists() {
   }
   int_nodes_ = listed(r.internal);
   con_nodes_ = listed(r.contact);
-  ext_nodes_ = user_load_ || !m_.prescribed.empty() || !m_.body_loads.empty() || !m_.segment_pressures.empty()
+  ext_nodes_ = user_load_ || !m_.prescribed.empty() || !m_.body_loads.empty() || !m_.segment_pressures.empty() ||
+                       !m_.mass_damping.empty()
                    ? listed(r.loading)
                    : std::vector<int>();
   std::vector<char> live(n, 0), active(n, 0);
@@ -403,6 +422,7 @@ void Solver::user_loads() {
   if (user_load_) user_load_->apply(t_, x_, v_, f_ext_);
   body_loads();
   segment_pressures();
+  damping();
   // Their work is accounted in external_work, once stage 6 has added the
   // forces that depend on v_{n+1/2}.
 }
@@ -422,6 +442,19 @@ void Solver::body_loads() {
     if (a == 0.0) continue;
     const int d = l.dof;
     for_each_node(l.all_nodes ? ext_nodes_ : l.nodes, [&](size_t i) { f_ext_[i][d] -= body_load_mass_[i] * a; });
+  }
+}
+
+void Solver::damping() {
+  // −D·m·v with v = v_{n−1/2}: explicit, stable while D·Δt < 2 (checked at
+  // construction against the curve's largest value).
+  for (const MassDamping& d : m_.mass_damping) {
+    if (d.curve_id != 0 && !curve_acts(d.curve_id)) continue;
+    const double D = d.curve_id != 0 ? d.sf * m_.curves.at(d.curve_id).value(t_) : d.value;
+    if (D == 0.0) continue;
+    for_each_node(d.all_nodes ? ext_nodes_ : d.nodes, [&](size_t i) {
+      if (body_of_[i] < 0) f_ext_[i] -= D * mass_[i] * d.scale.cwiseProduct(v_[i]);
+    });
   }
 }
 

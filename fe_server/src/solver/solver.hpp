@@ -168,6 +168,7 @@ class Solver {
   void prescribed_motions();
   void body_loads();
   void segment_pressures();  // *LOAD_SEGMENT(_SET)
+  void damping();            // *DAMPING_GLOBAL, *DAMPING_PART_MASS
   void relaxation_residual(RelaxationReport& rep) const;
   bool curve_acts(int curve_id) const;  // in this phase (transient or relaxation)
   bool relaxing_ = false;

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "config/keyword_reader.hpp"
 #include "input/deck_reader.hpp"
+#include "input/mesher.hpp"
 #include "solver/solver.hpp"
 
 namespace {
@@ -222,4 +224,118 @@ TEST(DeckCorpus, NodesToSurfaceContactAndTheForceTransducer) {
   } catch (const config::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("n2s.k:66:"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+
+// One 10 mm hexahedron on rollers (as cube_pressure.k), its top face driven
+// along z to ε = +5e-3 at 2 ms, to −5e-3 at 6 ms, held to 7 ms (slow against
+// the cube's 8 µs period: quasi-static uniaxial stress). σ_zz at 2 and 7 ms.
+struct Uniaxial {
+  double tension = 0, compression = 0, balance = 0, work = 0, plastic_strain = 0;
+};
+Uniaxial uniaxial(const std::string& material_cards) {
+  const std::string deck =
+      "*KEYWORD\n*NODE\n1,0,0,0,7\n2,0.01,0,0,5\n3,0.01,0.01,0,3\n4,0,0.01,0,6\n"
+      "5,0,0,0.01,4\n6,0.01,0,0.01,2\n7,0.01,0.01,0.01,0\n8,0,0.01,0.01,1\n"
+      "*PART\ncube\n1,1,1\n*SECTION_SOLID\n1,1\n" + material_cards +
+      "*ELEMENT_SOLID\n1,1,1,2,3,4,5,6,7,8\n*SET_NODE_LIST\n1\n5,6,7,8\n"
+      "*DEFINE_CURVE\n3\n0,0\n2e-3,5e-5\n6e-3,-5e-5\n7e-3,-5e-5\n"
+      "*BOUNDARY_PRESCRIBED_MOTION_SET\n1,3,2,3\n*END\n";
+  const fe::Model m = fe::parse_deck(deck, "uniaxial.k");
+  fe::Solver s(m, 5e-7);
+  Uniaxial r;
+  while (s.time() < 2e-3 - 1e-12) s.step();
+  r.tension = s.stress(0)(2);
+  while (s.time() < 7e-3 - 1e-12) s.step();
+  r.compression = s.stress(0)(2);
+  r.balance = s.energies().balance_error;
+  r.work = s.energies().external_work;
+  r.plastic_strain = s.plastic_strain(0);
+  return r;
+}
+
+}  // namespace
+
+// J2 plasticity against the uniaxial closed forms (E = 200 GPa, σ_y = 250
+// MPa, E_t = 2 GPa, H = E·E_t/(E − E_t)): in tension σ = σ_y + E_t·(ε − σ_y/E)
+// whatever the hardening; reversed to ε = −5e-3, isotropic hardening
+// (BETA 1) ends at −(σ_y + H·(ε_p1 + Δ)) = −272.3 MPa, kinematic (BETA 0)
+// at H·ε_ps − σ_y = −257.5 MPa (the Bauschinger effect). 1 %: the
+// quasi-static drive leaves ringing of ~p·T/(π·t_ramp) ≈ 0.1 %.
+TEST(DeckCorpus, PlasticityFollowsTheUniaxialClosedForms) {
+  const double E = 200e9, sy = 250e6, Et = 2e9, H = E * Et / (E - Et), eps = 5e-3;
+  const double tension = sy + Et * (eps - sy / E);
+  const double ep1 = eps - tension / E;  // plastic strain after the tension
+  // Isotropic: −eps = ep1 − Δ + σ/E, σ = −(sy + H·(ep1 + Δ)).
+  const double delta = (eps + ep1 - sy / E - H * ep1 / E) / (1.0 + H / E);
+  const double iso = -(sy + H * (ep1 + delta));
+  // Kinematic: σ = H·ε_ps − sy, −eps = ε_ps + σ/E.
+  const double eps_ps = (-eps + sy / E) / (1.0 + H / E);
+  const double kin = H * eps_ps - sy;
+  const std::string mat003 = "*MAT_PLASTIC_KINEMATIC\n$ mid, ro, e, pr, sigy, etan, beta\n1,7850,200e9,0.3,250e6,2e9,";
+  const Uniaxial isotropic = uniaxial(mat003 + "1.0\n");
+  const Uniaxial kinematic = uniaxial(mat003 + "0.0\n");
+  EXPECT_NEAR(isotropic.tension, tension, 0.01 * tension);
+  EXPECT_NEAR(kinematic.tension, tension, 0.01 * tension);
+  // Measured: 257.47 (257.52), −272.14 (−272.29), −257.34 (−257.52) MPa.
+  EXPECT_NEAR(isotropic.compression, iso, 0.01 * std::fabs(iso));
+  EXPECT_NEAR(kinematic.compression, kin, 0.01 * std::fabs(kin));
+  EXPECT_NEAR(isotropic.plastic_strain, ep1 + delta, 0.02 * (ep1 + delta)) << "effective plastic strain accumulates";
+  // The work of the drive is the elastic energy plus the plastic dissipation
+  // (the internal energy counts both): measured 4e-7 J of 3.07 J.
+  EXPECT_GT(isotropic.work, 0.0);
+  EXPECT_LT(std::fabs(isotropic.balance), 1e-4 * isotropic.work);
+  // *MAT_024 with a yield curve on its EPS/ES cards: (0, 250), (0.002, 260),
+  // (0.01, 270) MPa. At ε = 5e-3 the plastic strain is in the second
+  // segment: σ = 260 + 1.25 GPa·(ε − σ/E − 0.002), i.e. 262.11 MPa.
+  const Uniaxial curve = uniaxial("*MAT_PIECEWISE_LINEAR_PLASTICITY\n1,7850,200e9,0.3,999e6,0\n0,0,0,0,0\n"
+                                  "0,0.002,0.01\n250e6,260e6,270e6\n");
+  const double slope = 10e6 / 0.008, expected = (260e6 + slope * (eps - 0.002)) / (1.0 + slope / E);
+  EXPECT_NEAR(curve.tension, expected, 0.01 * expected);
+}
+
+// The Taylor bar (copper, L0 = 32.4 mm, r0 = 3.2 mm, 227 m/s onto a rigid
+// frictionless wall, E = 117 GPa, ν = 0.35, σ_y = 400 MPa, E_t = 100 MPa,
+// *MAT_024; the classic benchmark, e.g. in ANSYS's technology showcase
+// "metal bar impacting a rigid wall"): hex8 O-grid of 1.6 mm cells, the
+// wall as the impact face's nodes held along z (sliding freely). After
+// 80 µs the bar is at rest, shortened by about a third and mushroomed, and
+// its kinetic energy went into plastic work, elastic energy, hourglass and
+// bulk viscosity: the energy account closes.
+TEST(DeckCorpus, ATaylorBarComesToRestWithItsEnergyAccounted) {
+  fe::RevolutionMeshOptions o;
+  o.element_size = 0.0016;
+  const std::string deck = "*KEYWORD\n" + fe::mesh_revolution({{0.0324, 0.0032, 0.0}}, o).keyword_text +
+                           "*PART\ncopper\n1,1,1\n*SECTION_SOLID\n1,1\n"
+                           "*MAT_PIECEWISE_LINEAR_PLASTICITY\n1,8930,117e9,0.35,400e6,100e6\n"
+                           "*INITIAL_VELOCITY_GENERATION\n1,2,0,0,0,-227\n\n";
+  const fe::Model probe = fe::parse_deck(deck, "taylor.k");
+  std::ostringstream wall;
+  wall << "*SET_NODE_LIST\n99\n";
+  for (size_t i = 0; i < probe.x0.size(); ++i)
+    if (probe.x0[i].z() == 0.0) wall << probe.node_ids[i] << "\n";
+  wall << "*BOUNDARY_SPC_SET\n99,0,0,0,1\n";
+  const fe::Model m = fe::parse_deck(deck + wall.str(), "taylor.k");
+  // The step is fixed: the crushed cells at the wall shrink to a fraction of
+  // their height, so a tenth of the initial stable step (at 0.3 a cell
+  // inverted at 40 µs).
+  fe::Solver s(m, 0.1 * fe::Solver::stable_dt(m).dt);
+  double ke0 = 0.0;
+  for (size_t i = 0; i < m.x0.size(); ++i) ke0 += 0.5 * m.mass[i] * m.v0[i].squaredNorm();
+  while (s.time() < 80e-6) s.step();
+  double length = 0.0, radius = 0.0, ep = 0.0;
+  for (size_t i = 0; i < m.x0.size(); ++i) {
+    length = std::max(length, s.x()[i].z());
+    if (m.x0[i].z() == 0.0) radius = std::max(radius, std::hypot(s.x()[i].x(), s.x()[i].y()));
+  }
+  for (size_t e = 0; e < m.solids.size(); ++e) ep = std::max(ep, s.plastic_strain(e));
+  const auto& E = s.energies();
+  EXPECT_LT(E.kinetic, 0.01 * ke0) << "at rest";
+  EXPECT_LT(std::fabs(E.balance_error), 0.01 * ke0) << "measured 0.03 J of 235 J";
+  EXPECT_GT(E.internal, 0.85 * ke0) << "mostly plastic work (measured 91 %; hourglass 5 %)";
+  EXPECT_GT(length, 0.6 * 0.0324);
+  EXPECT_LT(length, 0.7 * 0.0324) << "measured 21.7 mm (21.5 mm with 0.8 mm cells)";
+  EXPECT_GT(radius, 2.0 * 0.0032) << "the mushroom: measured 6.6 mm (7.0 mm with 0.8 mm cells)";
+  EXPECT_GT(ep, 1.0) << "large plastic strain at the impact face";
 }

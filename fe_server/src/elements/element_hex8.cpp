@@ -1,4 +1,5 @@
 #include "elements/element_hex8.hpp"
+#include "elements/element_plasticity.hpp"
 
 #include <Eigen/Geometry>
 #include <Eigen/Cholesky>
@@ -90,7 +91,10 @@ Mat83 hex8_gather(const std::vector<Vec3>& a, const SolidElement& e) {
   return out;
 }
 
-Hex8State::Hex8State(const Model& m) : sigma(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()) {
+Hex8State::Hex8State(const Model& m)
+    : sigma(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()),
+      plastic_strain(m.solids.size(), 0.0),
+      back_stress(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()) {
   for (size_t e = 0; e < m.solids.size(); ++e) {
     const SolidElement& el = m.solids[e];
     const Material& mat = m.materials.at(m.parts.at(el.part).material);
@@ -104,6 +108,7 @@ Hex8State::Hex8State(const Model& m) : sigma(m.solids.size(), Eigen::Matrix<doub
     rho.push_back(mat.rho);
     wave_speed.push_back(mat.wave_speed());
     hourglass.push_back(m.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0);
+    plastic.push_back(mat.plastic ? &mat : nullptr);
   }
   force.assign(24 * elements.size(), 0.0);
   blocks.resize((elements.size() + kHex8Block - 1) / kHex8Block);
@@ -121,6 +126,10 @@ constexpr int W = static_cast<int>(kHex8Lanes);
 struct Hex8Batch {
   double x[8][3][W], v[8][3][W];
   double lambda[W], two_mu[W], rho[W], c[W], ch[W], sig[6][W];
+  // Plastic lanes: their material (nullptr: elastic), effective plastic
+  // strain and back stress, updated in place.
+  const Material* plastic[W];
+  double ep[W], alpha[6][W];
   // Out:
   double f[8][3][W], volume[W], internal[W], hourglass[W], damping_power[W];
 };
@@ -190,17 +199,45 @@ __attribute__((target_clones("avx2", "default"))) void hex8_kernel(Hex8Batch& B,
       const double a2 = cx * cx + cy * cy + cz * cz;
       a2max[l] = a2 > a2max[l] ? a2 : a2max[l];
     }
-  // Stress update, bulk viscosity, energies; s = σ − q·I into sig-like arrays.
+  // Stress update: σ + Δt·(C:D + W·σ − σ·W), the Jaumann rate (objective:
+  // a rigid rotation turns the stress with the body), W = ½(L − Lᵀ).
+  double nsig[6][W];
+  for (int l = 0; l < W; ++l) {
+    const double d0 = L[0][0][l], d1 = L[1][1][l], d2 = L[2][2][l];
+    const double d01 = 0.5 * (L[0][1][l] + L[1][0][l]), d12 = 0.5 * (L[1][2][l] + L[2][1][l]),
+                 d20 = 0.5 * (L[2][0][l] + L[0][2][l]);
+    const double w01 = 0.5 * (L[0][1][l] - L[1][0][l]), w12 = 0.5 * (L[1][2][l] - L[2][1][l]),
+                 w02 = 0.5 * (L[0][2][l] - L[2][0][l]);
+    double t[6] = {B.sig[0][l], B.sig[1][l], B.sig[2][l], B.sig[3][l], B.sig[4][l], B.sig[5][l]};
+    jaumann_rotate(t, w01, w12, w02, dt);
+    const double la = B.lambda[l] * (d0 + d1 + d2), tm = B.two_mu[l];
+    nsig[0][l] = t[0] + dt * (la + tm * d0);
+    nsig[1][l] = t[1] + dt * (la + tm * d1);
+    nsig[2][l] = t[2] + dt * (la + tm * d2);
+    nsig[3][l] = t[3] + dt * tm * d01;
+    nsig[4][l] = t[4] + dt * tm * d12;
+    nsig[5][l] = t[5] + dt * tm * d20;
+  }
+  // Plastic lanes: the back stress turns with the body too, then the
+  // radial return (element_plasticity.hpp).
+  for (int l = 0; l < W; ++l) {
+    if (!B.plastic[l]) continue;
+    const double w01 = 0.5 * (L[0][1][l] - L[1][0][l]), w12 = 0.5 * (L[1][2][l] - L[2][1][l]),
+                 w02 = 0.5 * (L[0][2][l] - L[2][0][l]);
+    double a[6], t[6];
+    for (int c = 0; c < 6; ++c) a[c] = B.alpha[c][l], t[c] = nsig[c][l];
+    jaumann_rotate(a, w01, w12, w02, dt);
+    radial_return(*B.plastic[l], 0.5 * B.two_mu[l], t, a, B.ep[l]);
+    for (int c = 0; c < 6; ++c) B.alpha[c][l] = a[c], nsig[c][l] = t[c];
+  }
+  // Bulk viscosity, energies; s = σ − q·I into sig-like arrays.
   double s[6][W];
   for (int l = 0; l < W; ++l) {
     const double d0 = L[0][0][l], d1 = L[1][1][l], d2 = L[2][2][l];
     const double d01 = 0.5 * (L[0][1][l] + L[1][0][l]), d12 = 0.5 * (L[1][2][l] + L[2][1][l]),
                  d20 = 0.5 * (L[2][0][l] + L[0][2][l]);
     const double trD = d0 + d1 + d2;
-    const double la = B.lambda[l] * trD, tm = B.two_mu[l];
-    const double n0 = B.sig[0][l] + dt * (la + tm * d0), n1 = B.sig[1][l] + dt * (la + tm * d1),
-                 n2 = B.sig[2][l] + dt * (la + tm * d2), n3 = B.sig[3][l] + dt * tm * d01,
-                 n4 = B.sig[4][l] + dt * tm * d12, n5 = B.sig[5][l] + dt * tm * d20;
+    const double n0 = nsig[0][l], n1 = nsig[1][l], n2 = nsig[2][l], n3 = nsig[3][l], n4 = nsig[4][l], n5 = nsig[5][l];
     const double sd = 0.5 * ((B.sig[0][l] + n0) * d0 + (B.sig[1][l] + n1) * d1 + (B.sig[2][l] + n2) * d2) +
                       (B.sig[3][l] + n3) * d01 + (B.sig[4][l] + n4) * d12 + (B.sig[5][l] + n5) * d20;
     const double V = B.volume[l];
@@ -271,11 +308,17 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
         B.lambda[l] = st.lambda[k], B.two_mu[l] = st.two_mu[k], B.rho[l] = st.rho[k], B.c[l] = st.wave_speed[k];
         B.ch[l] = st.hourglass[k];
         for (int c = 0; c < 6; ++c) B.sig[c][l] = st.sigma[e](c);
+        B.plastic[l] = st.plastic[k];
+        if (B.plastic[l]) {
+          B.ep[l] = st.plastic_strain[e];
+          for (int c = 0; c < 6; ++c) B.alpha[c][l] = st.back_stress[e](c);
+        }
       } else {  // an idle lane: a unit cube at rest
         for (int a = 0; a < 8; ++a)
           for (int i = 0; i < 3; ++i) B.x[a][i][l] = 0.5 * kXi[a][i], B.v[a][i][l] = 0.0;
         B.lambda[l] = B.two_mu[l] = B.rho[l] = B.c[l] = B.ch[l] = 0.0;
         for (int c = 0; c < 6; ++c) B.sig[c][l] = 0.0;
+        B.plastic[l] = nullptr;
       }
     }
     hex8_kernel(B, dt, m.bulk_q1, m.bulk_q2);
@@ -285,8 +328,12 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
         r.inverted = static_cast<long>(k);
         r.measure = B.volume[l];
       }
-      auto& sig = st.sigma[static_cast<size_t>(st.elements[k])];
-      for (int c = 0; c < 6; ++c) sig(c) = B.sig[c][l];
+      const size_t e = static_cast<size_t>(st.elements[k]);
+      for (int c = 0; c < 6; ++c) st.sigma[e](c) = B.sig[c][l];
+      if (B.plastic[l]) {
+        st.plastic_strain[e] = B.ep[l];
+        for (int c = 0; c < 6; ++c) st.back_stress[e](c) = B.alpha[c][l];
+      }
       double* out = &st.force[24 * k];
       for (int a = 0; a < 8; ++a)
         for (int i = 0; i < 3; ++i) out[3 * a + i] = B.f[a][i][l];

@@ -56,10 +56,13 @@ double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, do
 // and the gather (element_blocks.hpp).
 struct Hex8State {
   std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // Voigt: xx, yy, zz, xy, yz, zx; per solid
+  std::vector<double> plastic_strain;                    // effective plastic strain, per solid
+  std::vector<Eigen::Matrix<double, 6, 1>> back_stress;  // kinematic hardening's centre, per solid
   std::vector<int> elements;                       // the elements of deformable parts
   // Per deformable element k (index into `elements`):
   std::vector<double> lambda, two_mu, rho, wave_speed;
   std::vector<double> hourglass;  // Q_h·ρ·c·V0^(2/3)/4, fixed per element (V changes little)
+  std::vector<const Material*> plastic;  // the element's plastic material, nullptr if elastic
   std::vector<double> force;      // 24 per element: the nodal forces of the last step
   NodalGather gather;
   std::vector<BlockResult> blocks;
@@ -71,7 +74,8 @@ struct Hex8State {
 constexpr size_t kHex8Block = 256, kHex8Lanes = 8;
 
 // One step of every hex8: stress update over dt from the velocities v
-// (hypoelastic, bulk viscosity, FB hourglass), forces added to f, energy
+// (hypoelastic with the Jaumann rate, J2 plasticity where the material has
+// it, bulk viscosity, FB hourglass), forces added to f, energy
 // increments to w. Blocks of elements run on the pool's threads (nullptr:
 // this thread); the result does not depend on the thread count. Throws
 // InvertedElement.

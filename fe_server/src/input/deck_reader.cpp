@@ -35,6 +35,19 @@ bool Model::relaxes() const {
   return false;
 }
 
+double Material::yield_stress(double ep, double* slope) const {
+  if (hardening_strain.empty()) {
+    *slope = beta * plastic_modulus;
+    return yield + beta * plastic_modulus * ep;
+  }
+  const auto& a = hardening_strain;
+  const auto& o = hardening_stress;
+  size_t k = static_cast<size_t>(std::upper_bound(a.begin(), a.end(), ep) - a.begin());
+  k = std::clamp<size_t>(k, 1, a.size() - 1);  // the first or last segment beyond the ends
+  *slope = (o[k] - o[k - 1]) / (a[k] - a[k - 1]);
+  return o[k - 1] + *slope * (ep - a[k - 1]);
+}
+
 double Curve::value(double t) const {
   const double x = (t - offa) / sfa;
   if (x <= a.front()) return sfo * o.front() + offo;
@@ -80,6 +93,7 @@ struct Reader {
   std::vector<std::pair<Card, bool>> pressure_cards;  // *LOAD_SEGMENT card, and whether _SET
   std::vector<std::pair<Card, bool>> extra_node_cards;  // *CONSTRAINED_EXTRA_NODES card, and whether _SET
   std::vector<Card> merge_cards;                        // *CONSTRAINED_RIGID_BODIES
+  std::vector<std::pair<int, Card>> hardening_curves;   // *MAT_024 with LCSS: material id, card 2
   struct DampingCards {
     Card c1, c2;  // c2: *DAMPING_PART_MASS's scale factors (FLAG = 1), else empty
     bool part = false;
@@ -238,6 +252,53 @@ struct Reader {
       m.materials[mat.id] = mat;
     } else if (kw == "*PART_INERTIA") {
       part_inertia(b);
+    } else if (kw == "*MAT_PLASTIC_KINEMATIC" || kw == "*MAT_003") {
+      // MID RO E PR SIGY ETAN BETA; card 2: SRC SRP FS VP.
+      if (b.cards.empty()) b.fail(kw + " needs its material card");
+      Card c = fields_of(b.cards[0], kW10);
+      Material mat = elastic_constants(c);
+      plastic_constants(mat, c);
+      mat.beta = c.real_or(6, "BETA", 0.0);
+      if (mat.beta < 0.0 || mat.beta > 1.0) c.fail("BETA must be between 0 (kinematic) and 1 (isotropic)");
+      if (b.cards.size() > 1) {
+        Card c2 = fields_of(b.cards[1], kW10);
+        if (c2.real_or(0, "SRC", 0.0) != 0.0 || c2.real_or(1, "SRP", 0.0) != 0.0)
+          c2.fail("strain-rate effects (SRC, SRP) are not supported");
+        if (c2.real_or(2, "FS", 0.0) != 0.0) c2.fail("failure (FS, element erosion) is not supported");
+      }
+      if (b.cards.size() > 2) b.fail(kw + " has at most two cards; define each material under its own keyword");
+      if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
+      m.materials[mat.id] = mat;
+    } else if (kw == "*MAT_PIECEWISE_LINEAR_PLASTICITY" || kw == "*MAT_024") {
+      // MID RO E PR SIGY ETAN FAIL TDEL; C P LCSS LCSR VP; EPS1..8; ES1..8.
+      if (b.cards.empty()) b.fail(kw + " needs its material card");
+      Card c = fields_of(b.cards[0], kW10);
+      Material mat = elastic_constants(c);
+      plastic_constants(mat, c);
+      const double fail = c.real_or(6, "FAIL", 0.0);
+      if (fail != 0.0 && fail < 1e20) c.fail("failure (FAIL, element erosion) is not supported");
+      if (b.cards.size() > 1) {
+        Card c2 = fields_of(b.cards[1], kW10);
+        if (c2.real_or(0, "C", 0.0) != 0.0 || c2.real_or(1, "P", 0.0) != 0.0)
+          c2.fail("strain-rate effects (C, P) are not supported");
+        if (c2.integer_or(3, "LCSR", 0) != 0) c2.fail("LCSR (a strain-rate curve) is not supported");
+        if (const long lcss = c2.integer_or(2, "LCSS", 0); lcss != 0) hardening_curves.push_back({mat.id, c2});
+      }
+      if (b.cards.size() > 3) {
+        Card eps = fields_of(b.cards[2], kW10), es = fields_of(b.cards[3], kW10);
+        for (size_t k = 0; k < 8; ++k) {
+          const double e = eps.real_or(k, "EPS", 0.0), sy = es.real_or(k, "ES", 0.0);
+          if (sy == 0.0 && k > 0) break;
+          if (!mat.hardening_strain.empty() && !(e > mat.hardening_strain.back()))
+            eps.fail("EPS must increase");
+          mat.hardening_strain.push_back(e);
+          mat.hardening_stress.push_back(sy);
+        }
+        if (mat.hardening_strain.size() == 1) es.fail("EPS/ES need at least two points");
+      }
+      if (b.cards.size() > 4) b.fail(kw + " has at most four cards; define each material under its own keyword");
+      if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
+      m.materials[mat.id] = mat;
     } else if (kw == "*MAT_ELASTIC" || kw == "*MAT_001") {
       for (const Card& raw : b.cards) {
         Card c = fields_of(raw, kW10);
@@ -778,6 +839,19 @@ struct Reader {
     const size_t n = m.node_ids.size();
     m.v0.assign(n, Vec3::Zero());
     resolve_set_unions();
+    for (const auto& [mid, c] : hardening_curves) {
+      const long lcss = c.integer(2, "LCSS");
+      auto curve = m.curves.find(static_cast<int>(lcss));
+      if (curve == m.curves.end()) c.fail("LCSS " + std::to_string(lcss) + " is not defined by a *DEFINE_CURVE");
+      Material& mat = m.materials.at(mid);
+      mat.hardening_strain.clear();
+      mat.hardening_stress.clear();
+      for (size_t k = 0; k < curve->second.a.size(); ++k) {
+        mat.hardening_strain.push_back(curve->second.sfa * curve->second.a[k] + curve->second.offa);
+        mat.hardening_stress.push_back(curve->second.sfo * curve->second.o[k] + curve->second.offo);
+      }
+      if (mat.hardening_strain.size() < 2) c.fail("LCSS " + std::to_string(lcss) + " needs at least two points");
+    }
     elements();
     constrain_axisymmetric_nodes();
     if (!m.axis.empty()) {
@@ -950,7 +1024,7 @@ struct Reader {
     auto mat = m.materials.find(p->second.material);
     if (mat == m.materials.end())
       c.fail("part " + std::to_string(pid) + " has material " + std::to_string(p->second.material) +
-             ", which is not a *MAT_ELASTIC or *MAT_RIGID");
+             ", which is not defined by a *MAT_ keyword");
     return mat->second;
   }
 
@@ -995,6 +1069,8 @@ struct Reader {
       e.n2 = m.index_of(static_cast<int>(c.integer(3, "N2")), c.where);
       const double L = (m.x0[static_cast<size_t>(e.n2)] - m.x0[static_cast<size_t>(e.n1)]).norm();
       if (!(L > 0.0)) c.fail("bar element " + std::to_string(e.id) + " has zero length");
+      if (material_of(e.part, c).plastic)
+        c.fail("part " + std::to_string(e.part) + ": plasticity is in the 3D solids only in this version");
       const double half = 0.5 * material_of(e.part, c).rho * m.parts[e.part].bar_area * L;
       m.mass[static_cast<size_t>(e.n1)] += half;
       m.mass[static_cast<size_t>(e.n2)] += half;
@@ -1048,6 +1124,7 @@ struct Reader {
       e.id = static_cast<int>(c.integer(0, "EID"));
       e.part = static_cast<int>(c.integer(1, "PID"));
       const Material& mat = material_of(e.part, c);
+      if (mat.plastic) c.fail("part " + std::to_string(e.part) + ": plasticity is in the 3D solids only in this version");
       auto sec = sections.find(m.parts[e.part].section);
       if (sec == sections.end() || sec->second.first != 15)
         c.fail("part " + std::to_string(e.part) + " needs a *SECTION_SHELL with ELFORM 15 or 14 (axisymmetric solid)");
@@ -1144,6 +1221,16 @@ struct Reader {
     p.where = c.where;
     if (m.parts.count(p.id)) c.fail("part " + std::to_string(p.id) + " defined twice");
     return m.parts[p.id] = p;
+  }
+
+  // SIGY and ETAN of the plastic materials' first card.
+  static void plastic_constants(Material& mat, const Card& c) {
+    mat.plastic = true;
+    mat.yield = c.real(4, "SIGY");
+    const double etan = c.real_or(5, "ETAN", 0.0);
+    if (!(mat.yield > 0.0)) c.fail("SIGY must be positive");
+    if (etan < 0.0 || etan >= mat.E) c.fail("ETAN must be at least 0 and below E");
+    mat.plastic_modulus = mat.E * etan / (mat.E - etan);
   }
 
   // MID RO E PR of *MAT_ELASTIC and *MAT_RIGID's first card.

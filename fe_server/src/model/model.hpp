@@ -63,6 +63,17 @@ struct Material {
   // *MAT_RIGID CMO = 1: CON1 and CON2 as fixed global translations and rotations.
   Eigen::Matrix<bool, 3, 1> rigid_fixed_translation{false, false, false};
   Eigen::Matrix<bool, 3, 1> rigid_fixed_rotation{false, false, false};
+  // J2 plasticity (*MAT_PLASTIC_KINEMATIC, 003; *MAT_PIECEWISE_LINEAR_
+  // PLASTICITY, 024), radial return in the solids: initial yield stress
+  // SIGY, plastic modulus H = E·ETAN/(E − ETAN), BETA the isotropic share of
+  // the hardening (0 kinematic, 1 isotropic; 024 is isotropic), or 024's
+  // yield stress against effective plastic strain (LCSS or EPS/ES, the last
+  // segment's slope beyond its end).
+  bool plastic = false;
+  double yield = 0.0, plastic_modulus = 0.0, beta = 1.0;
+  std::vector<double> hardening_strain, hardening_stress;  // empty: SIGY and H
+  // The yield stress at effective plastic strain ep and its slope there.
+  double yield_stress(double ep, double* slope) const;
   // Derived: Lamé constants and the dilatational wave speed.
   double lambda() const { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
   double mu() const { return E / (2.0 * (1.0 + nu)); }

@@ -135,6 +135,8 @@ class Solver {
   const Energies& energies() const { return energies_; }
   // Stress (Voigt: xx, yy, zz, xy, yz, zx) of solid element e.
   const Eigen::Matrix<double, 6, 1>& stress(size_t e) const { return hex8_.sigma[e]; }
+  // Effective plastic strain of solid e (0 for an elastic material).
+  double plastic_strain(size_t e) const { return hex8_.plastic_strain[e]; }
   // Stress of axisymmetric element e (Voigt: rr, yy (axial), θθ (hoop), ry,
   // 0, 0), Pa: x is the radius and y the axis.
   const Eigen::Matrix<double, 6, 1>& axi_stress(size_t e) const { return axi4_.sigma[e]; }

@@ -1,4 +1,5 @@
 #include "elements/element_axi4.hpp"
+#include "elements/element_plasticity.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -106,7 +107,10 @@ double axi4_stable_step(const Mat42& x, double lambda, double mu, double rho, do
 }
 
 Axi4State::Axi4State(const Model& m)
-    : sigma(m.axis.size(), Eigen::Matrix<double, 6, 1>::Zero()), constants(m.axis.size()) {
+    : sigma(m.axis.size(), Eigen::Matrix<double, 6, 1>::Zero()),
+      plastic_strain(m.axis.size(), 0.0),
+      back_stress(m.axis.size(), Eigen::Matrix<double, 6, 1>::Zero()),
+      constants(m.axis.size()) {
   for (size_t e = 0; e < m.axis.size(); ++e) {
     const AxiElement& el = m.axis[e];
     const Material& mat = m.materials.at(m.parts.at(el.part).material);
@@ -114,7 +118,8 @@ Axi4State::Axi4State(const Model& m)
     Axi4Geometry g;
     axi4_geometry(axi4_gather(m.x0, el), g);
     constants[e] = {mat.lambda(), mat.mu(), mat.rho, mat.wave_speed(),
-                    axi4_hourglass_coefficient(g, m.hourglass_q, mat.rho, mat.wave_speed())};
+                    axi4_hourglass_coefficient(g, m.hourglass_q, mat.rho, mat.wave_speed()),
+                    mat.plastic ? &mat : nullptr};
   }
   force.assign(8 * elements.size(), 0.0);
   blocks.resize((elements.size() + kAxi4Block - 1) / kAxi4Block);
@@ -131,11 +136,19 @@ constexpr int W = static_cast<int>(kAxi4Lanes);
 struct Axi4Batch {
   double r[4][W], y[4][W], vr[4][W], vy[4][W];
   double lambda[W], two_mu[W], rho[W], c[W], ch[W], sig[4][W];
+  // Plastic lanes (the Plastic kernel only): material (nullptr: elastic),
+  // effective plastic strain and back stress (rr, yy, θθ, ry), in place.
+  const Material* plastic[W];
+  double ep[W], alpha[4][W];
   // Out:
   double fr[4][W], fy[4][W], det[W], r_c[W], internal[W], hourglass[W], damping_power[W];
 };
 
-__attribute__((target_clones("avx2", "default"))) void axi4_kernel(Axi4Batch& B, double dt, double q1, double q2) {
+// Plastic: the batch has plastic lanes, which take the radial return
+// between the trial stress and the forces (element_plasticity.hpp); the
+// elastic instantiation is the vectorised hot path.
+template <bool Plastic>
+__attribute__((always_inline)) inline void axi4_kernel_impl(Axi4Batch& B, double dt, double q1, double q2) {
   constexpr double kXi[4] = {-1, 1, 1, -1}, kEta[4] = {-1, -1, 1, 1}, kH[4] = {1, -1, 1, -1};
   constexpr double kTwoPi = 6.283185307179586;
   for (int l = 0; l < W; ++l) {
@@ -165,8 +178,20 @@ __attribute__((target_clones("avx2", "default"))) void axi4_kernel(Axi4Batch& B,
     const double trD = d_rr + d_yy + d_tt;
     const double o0 = B.sig[0][l], o1 = B.sig[1][l], o2 = B.sig[2][l], o3 = B.sig[3][l];
     const double lt = B.lambda[l] * trD, tm = B.two_mu[l];
-    const double n0 = o0 + dt * (lt + tm * d_rr), n1 = o1 + dt * (lt + tm * d_yy), n2 = o2 + dt * (lt + tm * d_tt),
-                 n3 = o3 + dt * tm * d_ry;
+    // The Jaumann rate's spin in the r–y plane (the hoop stress does not turn).
+    const double w = 0.5 * (l_ry - l_yr), turn = 2.0 * w * o3;
+    double n0 = o0 + dt * (lt + tm * d_rr + turn), n1 = o1 + dt * (lt + tm * d_yy - turn),
+           n2 = o2 + dt * (lt + tm * d_tt), n3 = o3 + dt * (tm * d_ry + w * (o1 - o0));
+    if constexpr (Plastic) {
+      if (B.plastic[l]) {
+        double t[6] = {n0, n1, n2, n3, 0.0, 0.0};
+        double a[6] = {B.alpha[0][l], B.alpha[1][l], B.alpha[2][l], B.alpha[3][l], 0.0, 0.0};
+        jaumann_rotate(a, w, 0.0, 0.0, dt);
+        radial_return(*B.plastic[l], 0.5 * tm, t, a, B.ep[l]);
+        n0 = t[0], n1 = t[1], n2 = t[2], n3 = t[3];
+        for (int c = 0; c < 4; ++c) B.alpha[c][l] = a[c];
+      }
+    }
     // Bulk viscosity in compression, as for the hex8 (length: area over the longer diagonal).
     const double dx1 = r2 - r0, dy1 = y2 - y0, dx2 = r3 - r1, dy2 = y3 - y1;
     const double diag2 = std::max(dx1 * dx1 + dy1 * dy1, dx2 * dx2 + dy2 * dy2);
@@ -192,12 +217,18 @@ __attribute__((target_clones("avx2", "default"))) void axi4_kernel(Axi4Batch& B,
   }
 }
 
+__attribute__((target_clones("avx2", "default"))) void axi4_kernel(Axi4Batch& B, double dt, double q1, double q2) {
+  axi4_kernel_impl<false>(B, dt, q1, q2);
+}
+void axi4_kernel_plastic(Axi4Batch& B, double dt, double q1, double q2) { axi4_kernel_impl<true>(B, dt, q1, q2); }
+
 void axi4_block(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
                 size_t first, size_t last, BlockResult& res) {
   res = BlockResult();
   Axi4Batch B;
   for (size_t k0 = first; k0 < last; k0 += kAxi4Lanes) {
     const int n = static_cast<int>(std::min(kAxi4Lanes, last - k0));
+    bool any_plastic = false;
     for (int l = 0; l < W; ++l) {
       if (l < n) {
         const size_t e = static_cast<size_t>(st.elements[k0 + static_cast<size_t>(l)]);
@@ -209,23 +240,37 @@ void axi4_block(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const
         const Axi4State::Constants& k = st.constants[e];
         B.lambda[l] = k.lambda, B.two_mu[l] = 2.0 * k.mu, B.rho[l] = k.rho, B.c[l] = k.wave_speed, B.ch[l] = k.hourglass;
         for (int c = 0; c < 4; ++c) B.sig[c][l] = st.sigma[e](c);
+        B.plastic[l] = k.plastic;
+        if (k.plastic) {
+          any_plastic = true;
+          B.ep[l] = st.plastic_strain[e];
+          for (int c = 0; c < 4; ++c) B.alpha[c][l] = st.back_stress[e](c);
+        }
       } else {
         for (int a = 0; a < 4; ++a) {
           B.r[a][l] = 1.5 + 0.5 * kXi[a], B.y[a][l] = 0.5 + 0.5 * kEta[a], B.vr[a][l] = B.vy[a][l] = 0.0;
         }
         B.lambda[l] = B.two_mu[l] = B.rho[l] = B.c[l] = B.ch[l] = 0.0;
         for (int c = 0; c < 4; ++c) B.sig[c][l] = 0.0;
+        B.plastic[l] = nullptr;
       }
     }
-    axi4_kernel(B, dt, m.bulk_q1, m.bulk_q2);
+    if (any_plastic)
+      axi4_kernel_plastic(B, dt, m.bulk_q1, m.bulk_q2);
+    else
+      axi4_kernel(B, dt, m.bulk_q1, m.bulk_q2);
     for (int l = 0; l < n; ++l) {
       const size_t k = k0 + static_cast<size_t>(l);
       if (!(B.det[l] > 0.0 && B.r_c[l] > 0.0) && res.inverted < 0) {
         res.inverted = static_cast<long>(k);
         res.measure = 4.0 * B.det[l];
       }
-      auto& sig = st.sigma[static_cast<size_t>(st.elements[k])];
-      for (int c = 0; c < 4; ++c) sig(c) = B.sig[c][l];
+      const size_t e = static_cast<size_t>(st.elements[k]);
+      for (int c = 0; c < 4; ++c) st.sigma[e](c) = B.sig[c][l];
+      if (B.plastic[l]) {
+        st.plastic_strain[e] = B.ep[l];
+        for (int c = 0; c < 4; ++c) st.back_stress[e](c) = B.alpha[c][l];
+      }
       double* out = &st.force[8 * k];
       for (int a = 0; a < 4; ++a) out[2 * a] = B.fr[a][l], out[2 * a + 1] = B.fy[a][l];
       res.internal += B.internal[l];

@@ -90,8 +90,11 @@ struct Axi4State {
   struct Constants {
     double lambda, mu, rho, wave_speed;
     double hourglass;  // axi4_hourglass_coefficient of the initial shape
+    const Material* plastic;  // the plastic material, nullptr if elastic
   };
   std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // rr, yy (axial), θθ (hoop), ry, 0, 0
+  std::vector<double> plastic_strain;                    // effective plastic strain per element
+  std::vector<Eigen::Matrix<double, 6, 1>> back_stress;  // kinematic hardening's centre, as sigma
   std::vector<int> elements;                       // the elements of deformable parts
   std::vector<Constants> constants;                // per element of the model
   std::vector<double> force;
@@ -103,7 +106,8 @@ struct Axi4State {
 // Elements per task, and per batch of the kernel (side by side in vector lanes).
 constexpr size_t kAxi4Block = 512, kAxi4Lanes = 8;
 
-// One step of every axisymmetric element: the formulas above in batches of
+// One step of every axisymmetric element: the formulas above (the stress on
+// the Jaumann rate, J2 plasticity where the material has it) in batches of
 // kAxi4Lanes elements (the 2×2 Jacobian's inverse and the centre gradients
 // in closed form; an AVX2-cloned kernel; measured: bench_fe, axi4). Forces
 // added to f, energy increments to w; blocks on the pool's threads, the

@@ -21,7 +21,7 @@ namespace fe {
 
 // a += Δt·(W·a − a·W) for a symmetric tensor a and the spin W (w01 = W_xy,
 // w12 = W_yz, w02 = W_xz): the Jaumann rate's rotation term.
-inline void jaumann_rotate(double a[6], double w01, double w12, double w02, double dt) {
+__attribute__((always_inline)) inline void jaumann_rotate(double a[6], double w01, double w12, double w02, double dt) {
   const double s00 = a[0], s11 = a[1], s22 = a[2], s01 = a[3], s12 = a[4], s02 = a[5];
   a[0] += dt * 2.0 * (w01 * s01 + w02 * s02);
   a[1] += dt * 2.0 * (-w01 * s01 + w12 * s12);

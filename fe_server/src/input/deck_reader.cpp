@@ -1070,7 +1070,7 @@ struct Reader {
       const double L = (m.x0[static_cast<size_t>(e.n2)] - m.x0[static_cast<size_t>(e.n1)]).norm();
       if (!(L > 0.0)) c.fail("bar element " + std::to_string(e.id) + " has zero length");
       if (material_of(e.part, c).plastic)
-        c.fail("part " + std::to_string(e.part) + ": plasticity is in the 3D solids only in this version");
+        c.fail("part " + std::to_string(e.part) + ": plasticity is in the solids (3D and axisymmetric), not in 1D bars");
       const double half = 0.5 * material_of(e.part, c).rho * m.parts[e.part].bar_area * L;
       m.mass[static_cast<size_t>(e.n1)] += half;
       m.mass[static_cast<size_t>(e.n2)] += half;
@@ -1124,7 +1124,6 @@ struct Reader {
       e.id = static_cast<int>(c.integer(0, "EID"));
       e.part = static_cast<int>(c.integer(1, "PID"));
       const Material& mat = material_of(e.part, c);
-      if (mat.plastic) c.fail("part " + std::to_string(e.part) + ": plasticity is in the 3D solids only in this version");
       auto sec = sections.find(m.parts[e.part].section);
       if (sec == sections.end() || sec->second.first != 15)
         c.fail("part " + std::to_string(e.part) + " needs a *SECTION_SHELL with ELFORM 15 or 14 (axisymmetric solid)");

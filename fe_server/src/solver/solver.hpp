@@ -140,6 +140,7 @@ class Solver {
   // Stress of axisymmetric element e (Voigt: rr, yy (axial), θθ (hoop), ry,
   // 0, 0), Pa: x is the radius and y the axis.
   const Eigen::Matrix<double, 6, 1>& axi_stress(size_t e) const { return axi4_.sigma[e]; }
+  double axi_plastic_strain(size_t e) const { return axi4_.plastic_strain[e]; }
   // Axial stress of 1D bar element e (tension positive), Pa.
   double bar_stress(size_t e) const;
   // Force through cross section k of the model (*DATABASE_CROSS_SECTION_SET)

@@ -182,6 +182,24 @@ TEST(HardCase, TheHourglassBoundIsTakenAgainstTheEnergyThatWentThroughTheElement
       << fe::hourglass_warning(e);
 }
 
+// Per part: a stiff part full of energy does not hide a hourglassing one,
+// and a part that took next to nothing is not judged by its ratio.
+TEST(HardCase, TheHourglassBoundIsPerPart) {
+  fe::Energies e;
+  e.scale = 500.0;
+  e.part_ids = {1, 2, 3};
+  e.part_loading = {480.0, 5.0, 3e-33};
+  e.part_hourglass = {1.0, 0.6, 3e-31};
+  e.hourglass = 1.6 + 3e-31;  // 0.3 % of the whole: the old rule saw nothing
+  e.peak_internal = 485.0;
+  const std::string w = fe::hourglass_warning(e);
+  EXPECT_NE(w.find("part 2: hourglass energy 0.6 J is 12 % of the internal work put into it, 5 J"), std::string::npos) << w;
+  EXPECT_EQ(w.find("part 1:"), std::string::npos) << w;
+  EXPECT_EQ(w.find("part 3:"), std::string::npos) << "1e-35 of the model's energy is not judged: " << w;
+  e.part_hourglass[1] = 0.4;
+  EXPECT_EQ(fe::hourglass_warning(e), "");
+}
+
 TEST(HardCase, InitialPenetrationInAContactIsRefusedWithTheNodeAndDepth) {
   // The piston starts 0.5 mm inside the tool instead of 0.1 mm above it.
   std::string deck = fe_test::bar_impact_deck(0.1, 0.2, 0.01, 0.005, 8.0, kE);

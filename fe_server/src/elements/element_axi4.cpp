@@ -114,7 +114,7 @@ Axi4State::Axi4State(const Model& m)
   for (size_t e = 0; e < m.axis.size(); ++e) {
     const AxiElement& el = m.axis[e];
     const Material& mat = m.materials.at(m.parts.at(el.part).material);
-    if (!mat.rigid) elements.push_back(static_cast<int>(e));
+    if (!mat.rigid) elements.push_back(static_cast<int>(e)), part_slot.push_back(fe::part_slot(m, el.part));
     Axi4Geometry g;
     axi4_geometry(axi4_gather(m.x0, el), g);
     constants[e] = {mat.lambda(), mat.mu(), mat.rho, mat.wave_speed(),
@@ -123,6 +123,7 @@ Axi4State::Axi4State(const Model& m)
   }
   force.assign(8 * elements.size(), 0.0);
   blocks.resize((elements.size() + kAxi4Block - 1) / kAxi4Block);
+  for (BlockResult& b : blocks) b.part_internal.assign(m.parts.size(), 0.0), b.part_hourglass.assign(m.parts.size(), 0.0);
   gather.build(m.x0.size(), elements.size(), 4, 2,
                [&](size_t k, int a) { return m.axis[static_cast<size_t>(elements[k])].n[a]; });
 }
@@ -224,7 +225,7 @@ void axi4_kernel_plastic(Axi4Batch& B, double dt, double q1, double q2) { axi4_k
 
 void axi4_block(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
                 size_t first, size_t last, BlockResult& res) {
-  res = BlockResult();
+  res.reset();
   Axi4Batch B;
   for (size_t k0 = first; k0 < last; k0 += kAxi4Lanes) {
     const int n = static_cast<int>(std::min(kAxi4Lanes, last - k0));
@@ -275,6 +276,8 @@ void axi4_block(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const
       for (int a = 0; a < 4; ++a) out[2 * a] = B.fr[a][l], out[2 * a + 1] = B.fy[a][l];
       res.internal += B.internal[l];
       res.hourglass += B.hourglass[l];
+      res.part_internal[static_cast<size_t>(st.part_slot[k])] += B.internal[l];
+      res.part_hourglass[static_cast<size_t>(st.part_slot[k])] += B.hourglass[l];
       res.damping_power += B.damping_power[l];
     }
   }

@@ -96,6 +96,7 @@ struct Axi4State {
   std::vector<double> plastic_strain;                    // effective plastic strain per element
   std::vector<Eigen::Matrix<double, 6, 1>> back_stress;  // kinematic hardening's centre, as sigma
   std::vector<int> elements;                       // the elements of deformable parts
+  std::vector<int> part_slot;                      // per deformable element: its part's dense index
   std::vector<Constants> constants;                // per element of the model
   std::vector<double> force;
   NodalGather gather;

@@ -13,8 +13,17 @@ long sum_blocks(const std::vector<BlockResult>& blocks, ElementWork& w, double* 
     w.internal += r.internal;
     w.hourglass += r.hourglass;
     w.damping_power += r.damping_power;
+    if (w.part_internal)
+      for (size_t p = 0; p < r.part_internal.size(); ++p) {
+        (*w.part_internal)[p] += r.part_internal[p];
+        (*w.part_hourglass)[p] += r.part_hourglass[p];
+      }
   }
   return -1;
+}
+
+int part_slot(const Model& m, int part_id) {
+  return static_cast<int>(std::distance(m.parts.begin(), m.parts.find(part_id)));
 }
 
 void NodalGather::build(size_t nodes, size_t elements, int corners, int width,

@@ -6,6 +6,7 @@
 // bit-identical for any thread count.
 #pragma once
 
+#include <algorithm>
 #include <functional>
 #include <vector>
 
@@ -20,7 +21,17 @@ struct BlockResult {
   double internal = 0.0, hourglass = 0.0, damping_power = 0.0;
   long inverted = -1;     // index into the loop's element list, -1 if none
   double measure = 0.0;   // its volume or area
+  std::vector<double> part_internal, part_hourglass;  // per part (sized once)
+  void reset() {
+    internal = hourglass = damping_power = measure = 0.0;
+    inverted = -1;
+    std::fill(part_internal.begin(), part_internal.end(), 0.0);
+    std::fill(part_hourglass.begin(), part_hourglass.end(), 0.0);
+  }
 };
+
+// The dense index of each part (Model::parts order).
+int part_slot(const Model& m, int part_id);
 
 // Runs task(b) for b in [0, blocks), on the pool when there is one.
 inline void run_blocks(size_t blocks, ThreadPool* pool, const std::function<void(size_t)>& task) {

@@ -109,9 +109,11 @@ Hex8State::Hex8State(const Model& m)
     wave_speed.push_back(mat.wave_speed());
     hourglass.push_back(m.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0);
     plastic.push_back(mat.plastic ? &mat : nullptr);
+    part_slot.push_back(fe::part_slot(m, el.part));
   }
   force.assign(24 * elements.size(), 0.0);
   blocks.resize((elements.size() + kHex8Block - 1) / kHex8Block);
+  for (BlockResult& b : blocks) b.part_internal.assign(m.parts.size(), 0.0), b.part_hourglass.assign(m.parts.size(), 0.0);
   gather.build(m.x0.size(), elements.size(), 8, 3,
                [&](size_t k, int a) { return m.solids[static_cast<size_t>(elements[k])].n[a]; });
 }
@@ -291,7 +293,7 @@ __attribute__((target_clones("avx2", "default"))) void hex8_kernel(Hex8Batch& B,
 // element into r.
 void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
                 size_t first, size_t last, BlockResult& r) {
-  r = BlockResult();
+  r.reset();
   Hex8Batch B;
   for (size_t k0 = first; k0 < last; k0 += kHex8Lanes) {
     const int n = static_cast<int>(std::min(kHex8Lanes, last - k0));
@@ -339,6 +341,8 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
         for (int i = 0; i < 3; ++i) out[3 * a + i] = B.f[a][i][l];
       r.internal += B.internal[l];
       r.hourglass += B.hourglass[l];
+      r.part_internal[static_cast<size_t>(st.part_slot[k])] += B.internal[l];
+      r.part_hourglass[static_cast<size_t>(st.part_slot[k])] += B.hourglass[l];
       r.damping_power += B.damping_power[l];
     }
   }

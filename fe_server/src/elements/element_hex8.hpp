@@ -63,6 +63,7 @@ struct Hex8State {
   std::vector<double> lambda, two_mu, rho, wave_speed;
   std::vector<double> hourglass;  // Q_h·ρ·c·V0^(2/3)/4, fixed per element (V changes little)
   std::vector<const Material*> plastic;  // the element's plastic material, nullptr if elastic
+  std::vector<int> part_slot;             // its part's dense index (element_blocks.hpp)
   std::vector<double> force;      // 24 per element: the nodal forces of the last step
   NodalGather gather;
   std::vector<BlockResult> blocks;

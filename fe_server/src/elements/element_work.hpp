@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace fe {
 
@@ -13,6 +14,10 @@ struct ElementWork {
   double hourglass = 0.0;      // dissipated by hourglass control this step, J
   double damping_power = 0.0;  // dampers and bulk viscosity, W (the solver integrates it)
   double spring_energy = 0.0;  // energy stored in the springs now, J
+  // Per part (Model::parts order), the solids' internal work and hourglass
+  // energy of this step, added to where the solver points these (or not kept).
+  std::vector<double>* part_internal = nullptr;
+  std::vector<double>* part_hourglass = nullptr;
 };
 
 // An element whose volume or area became non-positive: `what` names it (e.g.

@@ -104,6 +104,20 @@ std::vector<int> listed(const std::vector<char>& flags) {
 }  // namespace
 
 std::string hourglass_warning(const Energies& e) {
+  if (!e.part_ids.empty()) {
+    std::ostringstream s;
+    for (size_t p = 0; p < e.part_ids.size(); ++p) {
+      const double through = e.part_loading[p];
+      if (!(through > 1e-6 * e.scale) || !(e.part_hourglass[p] > 0.1 * through)) continue;
+      if (s.tellp() > 0) s << "; ";
+      s << "part " << e.part_ids[p] << ": hourglass energy " << e.part_hourglass[p] << " J is "
+        << 100.0 * e.part_hourglass[p] / through << " % of the internal work put into it, " << through << " J";
+    }
+    if (s.tellp() == 0) return "";
+    s << " (bound 10 %): zero-energy modes carry part of the deformation; refine the mesh where the load is "
+         "concentrated or spread the load over several nodes";
+    return s.str();
+  }
   const bool by_work = std::fabs(e.external_work) > e.peak_internal;
   const double through = by_work ? std::fabs(e.external_work) : e.peak_internal;
   if (!(e.hourglass > 0.1 * through)) return "";
@@ -185,6 +199,13 @@ Solver::Solver(const Model& model, double dt)
         << " s reverses velocities (D·Δt ≥ 1): lower D below " << 1.0 / dt << " 1/s";
       throw std::runtime_error(s.str());
     }
+  }
+  if (!hex8_.elements.empty() || !axi4_.elements.empty()) {
+    for (const auto& [pid, part] : model.parts) energies_.part_ids.push_back(pid);
+    energies_.part_hourglass.assign(model.parts.size(), 0.0);
+    energies_.part_loading.assign(model.parts.size(), 0.0);
+    part_internal_step_.assign(model.parts.size(), 0.0);
+    part_hourglass_step_.assign(model.parts.size(), 0.0);
   }
   const size_t n = model.x0.size();
   x_ = model.x0;
@@ -392,6 +413,10 @@ double Solver::bar_axial_velocity(size_t e) const {
 void Solver::internal_forces() {
   for_each_node(int_nodes_, [&](size_t i) { f_int_[i].setZero(); });
   ElementWork w;
+  std::fill(part_internal_step_.begin(), part_internal_step_.end(), 0.0);
+  std::fill(part_hourglass_step_.begin(), part_hourglass_step_.end(), 0.0);
+  w.part_internal = &part_internal_step_;
+  w.part_hourglass = &part_hourglass_step_;
   try {
     discrete_forces(m_, x_, v_, f_int_, w);
     bar_forces(m_, bars_, x_, v_, dt_, f_int_, w);
@@ -406,6 +431,10 @@ void Solver::internal_forces() {
   energies_.internal += w.internal;
   energies_.peak_internal = std::max(energies_.peak_internal, energies_.internal);
   energies_.hourglass += w.hourglass;
+  for (size_t p = 0; p < part_internal_step_.size(); ++p) {
+    energies_.part_hourglass[p] += part_hourglass_step_[p];
+    if (part_internal_step_[p] > 0.0) energies_.part_loading[p] += part_internal_step_[p];
+  }
   damping_power_ = w.damping_power;
   energies_.spring = w.spring_energy;
 }
@@ -586,6 +615,9 @@ void Solver::begin_transient() {
   // The transient's account starts here: what the relaxation dissipated or
   // the loads did is not the transient's (the stored energies stay).
   energies_.kinetic = energies_.hourglass = energies_.damping = energies_.contact = energies_.external_work = 0.0;
+  energies_.scale = 0.0;
+  std::fill(energies_.part_hourglass.begin(), energies_.part_hourglass.end(), 0.0);
+  std::fill(energies_.part_loading.begin(), energies_.part_loading.end(), 0.0);
 }
 
 void Solver::implicit_loads() {
@@ -685,6 +717,7 @@ void Solver::energy_account() {
   const double total = e.kinetic + e.internal + e.spring + e.hourglass + e.contact + e.damping - e.external_work;
   if (n_ == 0) energy0_ = total;
   energies_.balance_error = total - energy0_;
+  energies_.scale = std::max({energies_.scale, e.kinetic + e.internal + e.spring, std::fabs(e.external_work)});
   // A blow-up ends here with its step named, before a NaN reaches a history
   // row or the coupling partner.
   if (!std::isfinite(total)) {

@@ -3,13 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <sstream>
 #include <string>
 
 #include "config/keyword_reader.hpp"
+#include "h5io/timeseries.hpp"
 #include "input/deck_reader.hpp"
 #include "input/mesher.hpp"
+#include "output/history.hpp"
 #include "solver/solver.hpp"
 
 namespace {
@@ -423,4 +426,40 @@ TEST(DeckCorpus, AnAxisymmetricTaylorBarAgreesWithTheSolidOne) {
   EXPECT_LT(std::fabs(E.balance_error), 0.01 * r.ke0);
   EXPECT_NEAR(r.length, 0.0215, 0.02 * 0.0215) << "m";
   EXPECT_GT(r.radius, 2.0 * 0.0032) << "the mushroom";
+}
+
+// A plastic part's history elements carry their effective plastic strain;
+// an elastic part's do not.
+TEST(DeckCorpus, PlasticHistoryElementsWriteTheirPlasticStrain) {
+  std::string deck =
+      "*KEYWORD\n*NODE\n1,0,0,0,7\n2,0.01,0,0,5\n3,0.01,0.01,0,3\n4,0,0.01,0,6\n"
+      "5,0,0,0.01,4\n6,0.01,0,0.01,2\n7,0.01,0.01,0.01,0\n8,0,0.01,0.01,1\n"
+      "*PART\ncube\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_PLASTIC_KINEMATIC\n1,7850,200e9,0.3,250e6,2e9,1.0\n"
+      "*ELEMENT_SOLID\n1,1,1,2,3,4,5,6,7,8\n*SET_NODE_LIST\n1\n5,6,7,8\n" +
+      std::string(kUniaxialPath) + "*BOUNDARY_PRESCRIBED_MOTION_SET\n1,3,2,3\n*DATABASE_HISTORY_SOLID\n1\n*END\n";
+  const std::string file = ::testing::TempDir() + "/plastic_history.h5";
+  for (const bool plastic : {true, false}) {
+    if (!plastic) deck.replace(deck.find("*MAT_PLASTIC_KINEMATIC\n1,7850,200e9,0.3,250e6,2e9,1.0"), 52, "*MAT_ELASTIC\n1,7850,200e9,0.3");
+    const fe::Model m = fe::parse_deck(deck, "h.k");
+    double last = 0.0;
+    {
+      fe::Solver s(m, 5e-7);
+      fe::History h(file, m, nullptr, 5e-7, 1e-4);
+      while (s.time() < 2e-3 - 1e-12) {
+        s.step();
+        h.record(s, {}, {});
+      }
+      last = s.plastic_strain(0);
+    }
+    bool written = false;
+    for (const auto& [name, rows] : h5io::list_series(file)) written = written || name == "solids/1/plastic_strain";
+    EXPECT_EQ(written, plastic);
+    if (plastic) {
+      const auto ep = h5io::read_series(file, "solids/1/plastic_strain");
+      ASSERT_FALSE(ep.empty());
+      EXPECT_EQ(ep.back(), last);
+      EXPECT_GT(last, 3e-3) << "ε − σ/E after the tension";
+    }
+    std::remove(file.c_str());
+  }
 }

@@ -59,12 +59,16 @@ History::History(const std::string& path, const Model& model, const config::Port
   for (int e : model.history_solids) {
     std::string base = "solids/" + std::to_string(model.solids[static_cast<size_t>(e)].id) + "/";
     for (const char* c : {"sxx", "syy", "szz", "sxy", "syz", "szx"}) writer_.add_series(base + c, "Pa", stream_[2]);
+    solid_plastic_.push_back(plastic_part(model, model.solids[static_cast<size_t>(e)].part));
+    if (solid_plastic_.back()) writer_.add_series(base + "plastic_strain", "1", stream_[2]);
   }
   for (int e : model.history_axis) {
     // Axisymmetric: x is the radius, y the axis; von Mises for a quick look.
     std::string base = "axisymmetric/" + std::to_string(model.axis[static_cast<size_t>(e)].id) + "/";
     for (const char* c : {"radial", "axial", "hoop", "shear_ry", "von_mises"})
       writer_.add_series(base + c, "Pa", stream_[2]);
+    axis_plastic_.push_back(plastic_part(model, model.axis[static_cast<size_t>(e)].part));
+    if (axis_plastic_.back()) writer_.add_series(base + "plastic_strain", "1", stream_[2]);
   }
   for (int e : model.history_bars) {
     // The bar's stress and its particle velocity along the axis (n1 → n2):
@@ -121,6 +125,8 @@ void History::judge_energy(double error, double scale, bool* exceeded, bool* fai
   if (failed) *failed = held && (std::fabs(error) > kEnergyFailFactor * 0.01 * scale || !std::isfinite(error));
 }
 
+bool History::plastic_part(const Model& m, int part) { return m.materials.at(m.parts.at(part).material).plastic; }
+
 void History::record(const Solver& s, const std::vector<double>& inputs,
                      const std::vector<double>& outputs) {
   const Energies& e = s.energies();
@@ -155,12 +161,17 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
     // start: the row carries that time, and the velocities of that time.
     size_t k = 0;
     row_[k++] = s.stress_time();
-    for (int el : model_.history_solids)
-      for (int c = 0; c < 6; ++c) row_[k++] = s.stress(static_cast<size_t>(el))(c);
-    for (int el : model_.history_axis) {
-      const auto& sg = s.axi_stress(static_cast<size_t>(el));
+    for (size_t h = 0; h < model_.history_solids.size(); ++h) {
+      const size_t el = static_cast<size_t>(model_.history_solids[h]);
+      for (int c = 0; c < 6; ++c) row_[k++] = s.stress(el)(c);
+      if (solid_plastic_[h]) row_[k++] = s.plastic_strain(el);
+    }
+    for (size_t h = 0; h < model_.history_axis.size(); ++h) {
+      const size_t el = static_cast<size_t>(model_.history_axis[h]);
+      const auto& sg = s.axi_stress(el);
       for (int c = 0; c < 4; ++c) row_[k++] = sg(c);
       row_[k++] = von_mises(sg);
+      if (axis_plastic_[h]) row_[k++] = s.axi_plastic_strain(el);
     }
     for (int el : model_.history_bars) {
       row_[k++] = s.bar_stress(static_cast<size_t>(el));

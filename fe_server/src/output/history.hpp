@@ -19,7 +19,8 @@ namespace fe {
 // Three streams of rows, each with its own time series and interval:
 //   time,  ports/*, contact/*, energy/*   *DATABASE_GLSTAT / RCFORC DT
 //   time_nodes,    nodes/*                *DATABASE_NODOUT DT
-//   time_elements, solids/*, bars/* (stress and axial velocity),
+//   time_elements, solids/* (plastic_strain too on plastic parts),
+//                  bars/* (stress and axial velocity),
 //                  axisymmetric/*, sections/<id>/{fx,fy,fz,vx,vy,vz}
 //                  (2D: fy, vy)           *DATABASE_ELOUT / SECFORC DT
 // time_elements is the time of the state the row's stresses belong to: a
@@ -58,6 +59,8 @@ class History {
   static void judge_energy(double error, double scale, bool* exceeded, bool* failed);
 
  private:
+  static bool plastic_part(const Model& m, int part);
+  std::vector<char> solid_plastic_, axis_plastic_;  // per history element: it has a plastic_strain series
   h5io::TimeSeriesWriter writer_;
   const Model& model_;
   std::vector<double> row_;

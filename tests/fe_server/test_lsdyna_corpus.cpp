@@ -463,3 +463,30 @@ TEST(DeckCorpus, PlasticHistoryElementsWriteTheirPlasticStrain) {
     std::remove(file.c_str());
   }
 }
+
+// *LOAD_NODE_POINT and _SET: a force SF·curve(t) along a global axis on
+// each node. A constant force on free masses: central differences give
+// v_{n+1/2} = (F/m)·(t_n + Δt/2) exactly; the loads' work is booked.
+TEST(DeckCorpus, NodalLoadsOnACurvePushTheirNodes) {
+  const std::string deck =
+      "*KEYWORD\n*NODE\n1,0,0,0\n2,1,0,0\n3,2,0,0\n*ELEMENT_MASS\n1,1,2.0\n2,2,4.0\n3,3,4.0\n*SET_NODE_LIST\n7\n2,3\n"
+      "*DEFINE_CURVE\n5\n0,1.0\n1,1.0\n*LOAD_NODE_POINT\n$ nid, dof, lcid, sf\n1, 3, 5, 6.0\n"
+      "*LOAD_NODE_SET\n$ nsid, dof, lcid, sf\n7, 1, 5, -8.0\n*END\n";
+  const fe::Model m = fe::parse_deck(deck, "nodal.k");
+  const double dt = 1e-3;
+  fe::Solver s(m, dt);
+  for (int k = 0; k < 100; ++k) s.step();
+  const double t = s.time() - 0.5 * dt;
+  EXPECT_NEAR(s.v()[0].z(), 3.0 * t, 1e-12) << "6 N on 2 kg along z";
+  EXPECT_NEAR(s.v()[1].x(), -2.0 * t, 1e-12) << "−8 N on 4 kg along x, each node of the set";
+  EXPECT_NEAR(s.v()[2].x(), -2.0 * t, 1e-12);
+  EXPECT_EQ(s.v()[0].x(), 0.0);
+  EXPECT_LT(std::fabs(s.energies().balance_error), 1e-9 * s.energies().external_work);
+  try {
+    fe::parse_deck("*KEYWORD\n*NODE\n1,0,0,0\n*ELEMENT_MASS\n1,1,1.0\n*DEFINE_CURVE\n5\n0,1\n1,1\n*LOAD_NODE_POINT\n1,5,5\n",
+                   "moment.k");
+    FAIL() << "a moment must be refused";
+  } catch (const config::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("moment.k:11: DOF 5"), std::string::npos) << e.what();
+  }
+}

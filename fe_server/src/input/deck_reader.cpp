@@ -91,6 +91,7 @@ struct Reader {
   std::map<int, std::pair<double, double>> spring_mats;  // mid → (k, c)
   std::vector<std::pair<Card, bool>> motion_cards;
   std::vector<std::pair<Card, bool>> pressure_cards;  // *LOAD_SEGMENT card, and whether _SET
+  std::vector<std::pair<Card, bool>> nodal_load_cards;  // *LOAD_NODE card, and whether _SET
   std::vector<std::pair<Card, bool>> extra_node_cards;  // *CONSTRAINED_EXTRA_NODES card, and whether _SET
   std::vector<Card> merge_cards;                        // *CONSTRAINED_RIGID_BODIES
   std::vector<std::pair<int, Card>> hardening_curves;   // *MAT_024 with LCSS: material id, card 2
@@ -580,6 +581,9 @@ struct Reader {
         }
         damping_cards.push_back({c1, c2, true});
       }
+    } else if (kw == "*LOAD_NODE_POINT" || kw == "*LOAD_NODE_SET") {
+      // NID (or NSID), DOF, LCID, SF, CID, M1, M2, M3.
+      for (const Card& raw : b.cards) nodal_load_cards.push_back({fields_of(raw, kW10), kw == "*LOAD_NODE_SET"});
     } else if (kw == "*LOAD_SEGMENT" || kw == "*LOAD_SEGMENT_SET") {
       for (const Card& raw : b.cards) pressure_cards.push_back({fields_of(raw, kW10), kw == "*LOAD_SEGMENT_SET"});
     } else if (kw == "*LOAD_BODY_PARTS") {
@@ -872,6 +876,21 @@ struct Reader {
     for (const Card& c : spc_set_cards) spc(c, nodes_of_set(static_cast<int>(c.integer(0, "NSID")), c));
     for (const auto& [c, is_set] : motion_cards) prescribed_motion(c, is_set);
     for (const auto& [c, is_set] : pressure_cards) segment_pressure(c, is_set);
+    for (const auto& [c, is_set] : nodal_load_cards) {
+      NodalLoad l;
+      l.where = c.where;
+      l.nodes = is_set ? nodes_of_set(static_cast<int>(c.integer(0, "NSID")), c)
+                       : std::vector<int>{m.index_of(static_cast<int>(c.integer(0, "NID")), c.where)};
+      const long dof = c.integer(1, "DOF");
+      if (dof < 1 || dof > 3)
+        c.fail("DOF " + std::to_string(dof) + ": only 1, 2, 3 (a force along x, y, z) are supported, not moments or follower forces");
+      l.dof = static_cast<int>(dof - 1);
+      l.curve_id = static_cast<int>(c.integer(2, "LCID"));
+      if (!m.curves.count(l.curve_id)) c.fail("LCID " + std::to_string(l.curve_id) + " is not defined by a *DEFINE_CURVE");
+      l.sf = c.real_or(3, "SF", 1.0);
+      if (c.integer_or(4, "CID", 0) != 0) c.fail("CID (a local coordinate system) is not supported");
+      m.nodal_loads.push_back(l);
+    }
     for (const DampingCards& d : damping_cards) mass_damping(d);
     if (has_body_parts) {
       // LS-DYNA: the body loads act on the parts of this set only.

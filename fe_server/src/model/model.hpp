@@ -221,6 +221,16 @@ struct SegmentPressure {
   config::SourceLocation where;
 };
 
+// *LOAD_NODE_POINT / *LOAD_NODE_SET: a force SF·curve(t) along a global
+// translation (DOF 1–3) on each of the nodes.
+struct NodalLoad {
+  std::vector<int> nodes;  // node indices
+  int dof = 0;             // 0 x, 1 y, 2 z
+  int curve_id = 0;
+  double sf = 1.0;
+  config::SourceLocation where;
+};
+
 // *DAMPING_GLOBAL / *DAMPING_PART_MASS: mass-proportional damping, a force
 // −D(t)·m·v on every deformable node (of the part), D = SF·curve(t) (or
 // *DAMPING_GLOBAL's constant VALDMP), per direction times STX, STY, STZ.
@@ -294,6 +304,7 @@ struct Model {
   std::vector<BodyLoad> body_loads;
   std::vector<SegmentPressure> segment_pressures;
   std::vector<MassDamping> mass_damping;
+  std::vector<NodalLoad> nodal_loads;
   DynamicRelaxation relaxation;
   bool relaxes() const;  // a dynamic relaxation phase runs before the transient
   double end_time = 0.0;           // *CONTROL_TERMINATION (0: not given)

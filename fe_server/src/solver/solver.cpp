@@ -79,6 +79,8 @@ NodeReach node_reach(const Model& m) {
   }
   for (const auto& p : m.prescribed)  // their reaction joins the loads
     for (int i : p.nodes) r.loading[static_cast<size_t>(i)] = 1;
+  for (const auto& l : m.nodal_loads)
+    for (int i : l.nodes) r.loading[static_cast<size_t>(i)] = 1;
   for (const auto& d : m.mass_damping) {
     if (d.all_nodes) r.loading.assign(n, 1);
     for (int i : d.nodes) r.loading[static_cast<size_t>(i)] = 1;
@@ -316,7 +318,7 @@ void Solver::build_node_lists() {
   int_nodes_ = listed(r.internal);
   con_nodes_ = listed(r.contact);
   ext_nodes_ = user_load_ || !m_.prescribed.empty() || !m_.body_loads.empty() || !m_.segment_pressures.empty() ||
-                       !m_.mass_damping.empty()
+                       !m_.mass_damping.empty() || !m_.nodal_loads.empty()
                    ? listed(r.loading)
                    : std::vector<int>();
   std::vector<char> live(n, 0), active(n, 0);
@@ -451,6 +453,11 @@ void Solver::user_loads() {
   if (user_load_) user_load_->apply(t_, x_, v_, f_ext_);
   body_loads();
   segment_pressures();
+  for (const NodalLoad& l : m_.nodal_loads)
+    if (curve_acts(l.curve_id)) {
+      const double F = l.sf * m_.curves.at(l.curve_id).value(t_);
+      for (int i : l.nodes) f_ext_[static_cast<size_t>(i)][l.dof] += F;
+    }
   damping();
   // Their work is accounted in external_work, once stage 6 has added the
   // forces that depend on v_{n+1/2}.

@@ -1,6 +1,9 @@
-// Reads the LS-DYNA keyword subset that fe_server understands. Cards may be
-// comma-separated or fixed-width (10 characters; *NODE 8/16/16/16/8/8;
-// *ELEMENT_MASS 8/8/16/8). Unknown keywords are warnings with file:line.
+// Reads the LS-DYNA keyword subset that fe_server understands, with
+// LS-DYNA's card grammar (input/deck_grammar.hpp): comma-separated or
+// fixed-width cards (10 characters; *NODE 8/16/16/16/8/8; *ELEMENT_MASS
+// 8/8/16/8; long format and I10 as the deck asks). A keyword it does not
+// read is an error with file:line unless it provably changes no result
+// (output requests, *CONTROL_ cards of defaults only): those are warnings.
 #pragma once
 
 #include <string>

@@ -436,7 +436,8 @@ TEST(DeckCorpus, PlasticHistoryElementsWriteTheirPlasticStrain) {
       "5,0,0,0.01,4\n6,0.01,0,0.01,2\n7,0.01,0.01,0.01,0\n8,0,0.01,0.01,1\n"
       "*PART\ncube\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_PLASTIC_KINEMATIC\n1,7850,200e9,0.3,250e6,2e9,1.0\n"
       "*ELEMENT_SOLID\n1,1,1,2,3,4,5,6,7,8\n*SET_NODE_LIST\n1\n5,6,7,8\n" +
-      std::string(kUniaxialPath) + "*BOUNDARY_PRESCRIBED_MOTION_SET\n1,3,2,3\n*DATABASE_HISTORY_SOLID\n1\n*END\n";
+      std::string(kUniaxialPath) +
+      "*BOUNDARY_PRESCRIBED_MOTION_SET\n1,3,2,3\n*DATABASE_HISTORY_SOLID\n1\n*DATABASE_BINARY_D3PLOT\n1e-3\n*END\n";
   const std::string file = ::testing::TempDir() + "/plastic_history.h5";
   for (const bool plastic : {true, false}) {
     if (!plastic) deck.replace(deck.find("*MAT_PLASTIC_KINEMATIC\n1,7850,200e9,0.3,250e6,2e9,1.0"), 52, "*MAT_ELASTIC\n1,7850,200e9,0.3");
@@ -460,7 +461,12 @@ TEST(DeckCorpus, PlasticHistoryElementsWriteTheirPlasticStrain) {
       EXPECT_EQ(ep.back(), last);
       EXPECT_GT(last, 3e-3) << "ε − σ/E after the tension";
     }
+    // The field snapshots name it for ParaView too, on plastic models only.
+    const std::string xdmf = ::testing::TempDir() + "/plastic_history_fields.xdmf";
+    EXPECT_EQ(config::read_text_file(xdmf).find("plastic_strain") != std::string::npos, plastic);
     std::remove(file.c_str());
+    std::remove(xdmf.c_str());
+    std::remove((::testing::TempDir() + "/plastic_history_fields.h5").c_str());
   }
 }
 

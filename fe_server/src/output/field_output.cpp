@@ -47,7 +47,9 @@ FieldWriter::FieldWriter(const std::string& path, const Model& model) : m_(model
   write_int_dataset("mesh/element_id", eid, cells(), 1);
   write_int_dataset("mesh/node_id", model.node_ids, model.x0.size(), 1);
   // The state at t = 0: undeformed, initial velocities, no stress.
-  write_snapshot(0.0, model.x0, model.v0, std::vector<Eigen::Matrix<double, 6, 1>>(cells(), Eigen::Matrix<double, 6, 1>::Zero()));
+  for (const auto& [id, mat] : model.materials) plastic_ = plastic_ || mat.plastic;
+  write_snapshot(0.0, model.x0, model.v0, std::vector<Eigen::Matrix<double, 6, 1>>(cells(), Eigen::Matrix<double, 6, 1>::Zero()),
+                 std::vector<double>(cells(), 0.0));
 }
 
 FieldWriter::~FieldWriter() {
@@ -85,19 +87,18 @@ void FieldWriter::write_int_dataset(const std::string& name, const std::vector<i
 }
 
 void FieldWriter::write(const Solver& s) {
-  if (axisymmetric()) {
-    std::vector<Eigen::Matrix<double, 6, 1>> stress(m_.axis.size());
-    for (size_t e = 0; e < stress.size(); ++e) stress[e] = s.axi_stress(e);
-    write_snapshot(s.time(), s.x(), s.v(), stress);
-  } else {
-    std::vector<Eigen::Matrix<double, 6, 1>> stress(m_.solids.size());
-    for (size_t e = 0; e < stress.size(); ++e) stress[e] = s.stress(e);
-    write_snapshot(s.time(), s.x(), s.v(), stress);
+  std::vector<Eigen::Matrix<double, 6, 1>> stress(cells());
+  std::vector<double> plastic(cells(), 0.0);
+  for (size_t e = 0; e < stress.size(); ++e) {
+    stress[e] = axisymmetric() ? s.axi_stress(e) : s.stress(e);
+    plastic[e] = axisymmetric() ? s.axi_plastic_strain(e) : s.plastic_strain(e);
   }
+  write_snapshot(s.time(), s.x(), s.v(), stress, plastic);
 }
 
 void FieldWriter::write_snapshot(double time, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                                 const std::vector<Eigen::Matrix<double, 6, 1>>& stress) {
+                                 const std::vector<Eigen::Matrix<double, 6, 1>>& stress,
+                                 const std::vector<double>& plastic_strain) {
   char group[32];
   std::snprintf(group, sizeof group, "fields/%06zu/", times_.size());
   const std::string g = group;
@@ -127,6 +128,10 @@ void FieldWriter::write_snapshot(double time, const std::vector<Vec3>& x, const 
   for (size_t e = 0; e < stress.size(); ++e) column[e] = von_mises(stress[e]);
   write_dataset(g + "von_mises", column.data(), stress.size(), 1, "Pa");
   fields_.push_back({"von_mises", "Cell", "Pa"});
+  if (plastic_) {  // effective plastic strain (0 in elastic parts)
+    write_dataset(g + "plastic_strain", plastic_strain.data(), plastic_strain.size(), 1, "1");
+    fields_.push_back({"plastic_strain", "Cell", "1"});
+  }
   H5Fflush(file_, H5F_SCOPE_GLOBAL);
   times_.push_back(time);
   write_index();

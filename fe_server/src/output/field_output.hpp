@@ -49,7 +49,8 @@ class FieldWriter {
   // One snapshot from nodal displacements, velocities and element stresses
   // (Voigt per element, the solver's layout).
   void write_snapshot(double time, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                      const std::vector<Eigen::Matrix<double, 6, 1>>& stress);
+                      const std::vector<Eigen::Matrix<double, 6, 1>>& stress, const std::vector<double>& plastic_strain);
+  bool plastic_ = false;  // a plastic material: snapshots carry plastic_strain
   void write_dataset(const std::string& name, const double* data, hsize_t rows, hsize_t cols, const std::string& unit);
   void write_int_dataset(const std::string& name, const std::vector<int>& data, hsize_t rows, hsize_t cols);
   void write_index() const;

@@ -54,7 +54,6 @@ struct Energies {
   double contact = 0.0;        // stored in and dissipated by contact
   double damping = 0.0;        // dissipated by dampers and bulk viscosity
   double external_work = 0.0;  // done by user loads
-  double peak_internal = 0.0;  // the largest internal energy reached so far
   double scale = 0.0;          // the largest of kinetic + internal + spring and |external work| so far
   // Per part of solids (ids in Model::parts order): the hourglass energy and
   // the internal work put in, the sum of the steps' positive increments of
@@ -76,9 +75,8 @@ struct Energies {
 // nearly zero after every blow. The comparison is therefore with the energy
 // that went into the part's elements (Energies::part_loading). A part that
 // took less than 1e-6 of the largest energy the model held is not judged (a
-// ratio of nothing: "9679 % of 3e-33 J"). Without per-part data (an Energies
-// filled by hand), the whole model's: its largest internal energy, or the
-// loads' work if larger.
+// ratio of nothing: "9679 % of 3e-33 J"). Parts without solids (bars,
+// springs) have no hourglass modes.
 std::string hourglass_warning(const Energies& e);
 
 // What limits the stable time step.
@@ -182,6 +180,7 @@ class Solver {
   void prescribed_motions();
   void body_loads();
   void segment_pressures();  // *LOAD_SEGMENT(_SET)
+  void nodal_loads();        // *LOAD_NODE_POINT, *LOAD_NODE_SET
   void damping();            // *DAMPING_GLOBAL, *DAMPING_PART_MASS
   void relaxation_residual(RelaxationReport& rep) const;
   bool curve_acts(int curve_id) const;  // in this phase (transient or relaxation)

@@ -166,6 +166,9 @@ TEST(DeckCorpus, MassDampingDecaysVelocitiesAsItsFactorSays) {
   };
   EXPECT_NE(error("*DAMPING_GLOBAL\n0, 1.0e4\n").find("e.k:9: mass damping D = 10000 1/s with the FE step"),
             std::string::npos);
+  // The curve as Curve::value scales it (SFO 1000 × 50 1/s), not its raw ordinates.
+  EXPECT_NE(error("*DEFINE_CURVE\n6, 0, 0.0, 1000.0\n0, 50\n1, 50\n*DAMPING_GLOBAL\n6\n").find("mass damping D = 50000 1/s"),
+            std::string::npos);
   EXPECT_NE(error("*DAMPING_PART_MASS\n7, 0\n").find("e.k:9: PID 7 is not a *PART"), std::string::npos);
 }
 
@@ -379,9 +382,13 @@ TEST(DeckCorpus, ATaylorBarComesToRestWithItsEnergyAccounted) {
   EXPECT_LT(E.kinetic, 0.01 * r.ke0) << "at rest";
   EXPECT_LT(std::fabs(E.balance_error), 0.01 * r.ke0) << "measured 0.03 J of 235 J";
   EXPECT_GT(E.internal, 0.85 * r.ke0) << "mostly plastic work (measured 91 %; hourglass 5 %)";
-  EXPECT_GT(r.length, 0.6 * 0.0324);
-  EXPECT_LT(r.length, 0.7 * 0.0324) << "measured 21.7 mm (21.5 mm with 0.8 mm cells)";
-  EXPECT_GT(r.radius, 2.0 * 0.0032) << "the mushroom: measured 6.6 mm (7.0 mm with 0.8 mm cells)";
+  // Final length: measured 21.73 mm here, 21.54 mm with 0.8 mm cells, 21.45
+  // mm in 0.4 mm axisymmetric quads: 3 % around 21.5 mm holds the mesh's
+  // 1 % and fails a bar that did not yield or did not stop. The mushroom's
+  // radius is where the coarse O-grid's facets show most (6.57 mm against
+  // 6.97 and 7.16): 10 % around 7.0 mm.
+  EXPECT_NEAR(r.length, 0.0215, 0.03 * 0.0215);
+  EXPECT_NEAR(r.radius, 0.0070, 0.10 * 0.0070) << "the mushroom";
   EXPECT_GT(ep, 1.0) << "large plastic strain at the impact face";
 }
 
@@ -411,7 +418,9 @@ TEST(DeckCorpus, AxisymmetricPlasticityFollowsTheUniaxialClosedForms) {
   EXPECT_NEAR(isotropic.tension, tension, 0.01 * tension);
   EXPECT_NEAR(isotropic.compression, iso, 0.01 * std::fabs(iso));
   EXPECT_NEAR(kinematic.compression, kin, 0.01 * std::fabs(kin));
-  EXPECT_LT(std::fabs(isotropic.balance), 1e-3 * isotropic.work);
+  // Measured: 257.47, −272.18, −257.38 MPa; the account 3e-6 J of 9.6 J
+  // (the bound leaves 30× for round-off, as in 3D).
+  EXPECT_LT(std::fabs(isotropic.balance), 1e-4 * isotropic.work);
 }
 
 // The Taylor bar as a body of revolution (0.4 mm quads, 648 elements): the
@@ -425,7 +434,7 @@ TEST(DeckCorpus, AnAxisymmetricTaylorBarAgreesWithTheSolidOne) {
   EXPECT_LT(E.kinetic, 0.01 * r.ke0) << "at rest";
   EXPECT_LT(std::fabs(E.balance_error), 0.01 * r.ke0);
   EXPECT_NEAR(r.length, 0.0215, 0.02 * 0.0215) << "m";
-  EXPECT_GT(r.radius, 2.0 * 0.0032) << "the mushroom";
+  EXPECT_NEAR(r.radius, 0.0070, 0.05 * 0.0070) << "the mushroom (measured 7.16 mm)";
 }
 
 // A plastic part's history elements carry their effective plastic strain;

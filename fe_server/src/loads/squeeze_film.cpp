@@ -83,7 +83,6 @@ void SqueezeFilmLoad::apply_implicit(const Mobility& mob, const std::vector<Vec3
   const int a = model_.symmetry_axis;
   const double th = mob.theta;
   for (Film& f : films_) {
-    f.force = 0.0;
     if (f.S < 0.0) f.S = mobility(f, mob);
     // The relative velocity at t_n without the film, and the gap's rate.
     const double w = (1.0 - th) * (mean_axial(f.one, v_old) - mean_axial(f.two, v_old)) +
@@ -94,15 +93,15 @@ void SqueezeFilmLoad::apply_implicit(const Mobility& mob, const std::vector<Vec3
     const double C = f.K / (h * h * h);
     // F = −C·w_n with w_n = w + θ·h_step·S·F. On the first step (θ = 0, v_0
     // known) the force is bounded the same way, so that it cannot reverse w.
-    f.force = -C * w / (1.0 + (th > 0.0 ? th : 1.0) * mob.h * C * f.S);
+    const double force = -C * w / (1.0 + (th > 0.0 ? th : 1.0) * mob.h * C * f.S);  // on side 1, along +axis
     for (size_t k = 0; k < f.one.nodes.size(); ++k) {
       NodalForce nf{f.one.nodes[k], Vec3::Zero()};
-      nf.f[a] = f.force * f.one.weight[k];
+      nf.f[a] = force * f.one.weight[k];
       out.push_back(nf);
     }
     for (size_t k = 0; k < f.two.nodes.size(); ++k) {
       NodalForce nf{f.two.nodes[k], Vec3::Zero()};
-      nf.f[a] = -f.force * f.two.weight[k];
+      nf.f[a] = -force * f.two.weight[k];
       out.push_back(nf);
     }
   }

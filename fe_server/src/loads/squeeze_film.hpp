@@ -36,14 +36,11 @@ class SqueezeFilmLoad : public UserLoad {
  public:
   explicit SqueezeFilmLoad(const Model& model);  // an InputError names the card of a bad film
   bool empty() const { return films_.empty(); }
-  size_t size() const { return films_.size(); }
   // Stage 2: only records the gaps at x_n (the force is solved at stage 6).
   void apply(double t, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f_ext) override;
   bool loaded_nodes(std::vector<int>& nodes) const override;
   void apply_implicit(const Mobility& mob, const std::vector<Vec3>& v_old, const std::vector<Vec3>& v_pred,
                       std::vector<NodalForce>& out) override;
-  double gap(size_t k) const { return films_[k].h; }      // m, at the last step
-  double force(size_t k) const { return films_[k].force; }  // N on side 1 along +axis
 
  private:
   struct Side {
@@ -53,7 +50,7 @@ class SqueezeFilmLoad : public UserLoad {
   struct Film {
     Side one, two;
     double direction = 1.0, h0 = 0.0, u0 = 0.0, K = 0.0, h_min = 0.0;
-    double h = 0.0, force = 0.0;
+    double h = 0.0;  // the gap at x_n (stage 2)
     double S = -1.0;  // the relative velocity's answer to a unit force pair per unit h (built on first use)
   };
   double mean_axial(const Side& s, const std::vector<Vec3>& field) const;

@@ -27,6 +27,7 @@
 #include "coupling/coupling_server.hpp"
 #include "input/deck_reader.hpp"
 #include "coupling/exit_codes.hpp"
+#include "output/checkpoint.hpp"
 #include "output/history.hpp"
 #include "solver/mass_scaling.hpp"
 #include "socketlib/auth.h"
@@ -58,6 +59,13 @@ int usage(std::ostream& os, int rc) {
         "  --threads N           threads for the element and node loops (default: every core, and one\n"
         "                        less when listening on loopback, where tlm_host shares the machine);\n"
         "                        results are bit-identical for any N\n"
+        "  --checkpoint FILE     where checkpoints go (default: the results file with .ckpt for .h5). Standalone:\n"
+        "                        written at a stop signal and every --checkpoint-every minutes; in a\n"
+        "                        session: when the host asks (tlm_host --checkpoint-every, or its stop)\n"
+        "  --checkpoint-every M  standalone: a checkpoint every M minutes of wall time (0: only at a stop)\n"
+        "  --restart FILE        continue from a checkpoint of this deck (and port tables): the results\n"
+        "                        file is continued from the checkpoint's row; in a session the host must\n"
+        "                        resume from its checkpoint of the same step\n"
         "  --quiet               no progress output\n"
         "Exit codes: 0 ok, 2 usage, 3 input rejected, 4 no host (every connection refused or none came),\n"
         "            6 link lost, 7 host aborted, 8 non-finite values or energy far off, 9 internal error,\n"
@@ -169,7 +177,22 @@ fe::ExitCode relax(fe::Solver& solver, const fe::Model& model, bool quiet) {
   return fe::kExitOk;
 }
 
-int run_standalone(fe::Model& model, const std::string& out, bool quiet, int threads) {
+// Checkpointing as the command line asked for it.
+struct CheckpointOptions {
+  std::string path;        // where checkpoints go ("" : checkpointing off)
+  double every_s = 0.0;    // standalone: wall seconds between checkpoints (0: only at a stop)
+  std::string restart;     // continue from this checkpoint
+  std::string deck_digest;
+  bool enabled() const { return !path.empty(); }
+};
+
+// The default checkpoint name: the results file's, .h5 → .ckpt.
+std::string default_checkpoint_path(const std::string& out) {
+  const bool h5 = out.size() > 3 && out.compare(out.size() - 3, 3, ".h5") == 0;
+  return (h5 ? out.substr(0, out.size() - 3) : out) + ".ckpt";
+}
+
+int run_standalone(fe::Model& model, const std::string& out, bool quiet, int threads, const CheckpointOptions& ck) {
   if (!(model.end_time > 0.0)) {
     std::cerr << "fe_server: " << model.source
               << ": a standalone run needs *CONTROL_TERMINATION with ENDTIM > 0\n";
@@ -191,21 +214,55 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
     std::cerr << "fe_server: " << e.what() << "\n";
     return fe::kExitInput;
   }
-  if (const fe::ExitCode code = relax(solver, model, quiet); code != fe::kExitOk) return code;
+  const bool resume = !ck.restart.empty();
+  // A restart's state is the settled one: no relaxation again.
+  if (!resume)
+    if (const fe::ExitCode code = relax(solver, model, quiet); code != fe::kExitOk) return code;
   if (!films->empty()) solver.set_user_load(films.get());  // with the transient, as the host's loads
+  fe::UserLoad* loads = films->empty() ? nullptr : films.get();
   // Without *DATABASE_ DT cards: 10000 rows over the run.
-  fe::History history(out, model, nullptr, dt, model.end_time / 1e4);
+  std::unique_ptr<fe::History> history_owner;
+  fe::CheckpointIdentity id{ck.deck_digest, 0, 0};
+  long first = 0;
+  try {
+    history_owner = std::make_unique<fe::History>(out, model, nullptr, dt, model.end_time / 1e4, resume);
+    if (resume) {
+      first = static_cast<long>(fe::load_checkpoint(ck.restart, id, solver, loads, *history_owner));
+      if (!quiet)
+        std::cout << "fe_server: restarted from " << ck.restart << " at step " << first << " (t = " << solver.time()
+                  << " s); " << out << " continues after its row " << history_owner->rows() << std::endl;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "fe_server: " << e.what() << "\n";
+    return fe::kExitInput;
+  }
+  fe::History& history = *history_owner;
   const long steps = static_cast<long>(std::ceil(model.end_time / dt));
   const auto t0 = std::chrono::steady_clock::now();
-  auto last = t0;
+  auto last = t0, last_checkpoint = t0;
+  auto checkpoint = [&](long k) {
+    id.coupling_step = static_cast<uint64_t>(k);
+    fe::save_checkpoint(ck.path, id, solver, loads, history);
+    if (!quiet) std::cout << "fe_server: checkpoint at step " << k << " (t = " << solver.time() << " s) in " << ck.path << std::endl;
+  };
   try {
-    for (long k = 0; k < steps; ++k) {
+    for (long k = first; k < steps; ++k) {
       if (const int signo = config::stop_signal()) {
         history.flush();
+        std::string saved;
+        if (ck.enabled()) {
+          checkpoint(k);
+          saved = "; checkpoint in " + ck.path + " (--restart " + ck.path + " continues)";
+        }
         std::cerr << "fe_server: stopped by " << config::signal_name(signo) << " at step " << k << " (t = "
                   << solver.time() << " s); history up to that step (" << history.rows() << " rows) kept in " << out
-                  << "\n";
+                  << saved << "\n";
         return fe::stopped_by(signo);
+      }
+      if (ck.enabled() && ck.every_s > 0.0 && (k & 255) == 0 &&
+          std::chrono::steady_clock::now() - last_checkpoint > std::chrono::duration<double>(ck.every_s)) {
+        checkpoint(k);
+        last_checkpoint = std::chrono::steady_clock::now();
       }
       solver.step();
       history.record(solver, {}, {});
@@ -225,7 +282,7 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   bool drift = false, failed = false;
   const std::string energy = history.energy_summary(solver, &drift, &failed);
   if (!quiet)
-    std::cout << "fe_server: standalone run, " << steps << " steps of " << dt << " s (limited by " << crit.limited_by
+    std::cout << "fe_server: standalone run, " << steps - first << " steps of " << dt << " s (limited by " << crit.limited_by
               << "), " << wall << " s wall; " << energy << "; " << history.rows() << " history rows in " << out
               << (history.snapshots() ? "; " + std::to_string(history.snapshots()) + " field snapshots in " +
                                             history.fields_path() + " (open it in ParaView)"
@@ -247,6 +304,7 @@ int main(int argc, char** argv) {
   std::string token_file;
   int threads = 0;  // 0: the default below
   int sessions = 1;
+  CheckpointOptions ck;
   try {
     config::Args args(argc, argv);
     while (args.next()) {
@@ -262,6 +320,9 @@ int main(int argc, char** argv) {
       else if (args.is("--step-timeout")) opt.step_timeout = args.real(1e-3, 1e6);
       else if (args.is("--handshake-timeout")) opt.handshake_timeout = args.real(1e-3, 3600);
       else if (args.is("--quiet")) opt.quiet = true;
+      else if (args.is("--checkpoint")) ck.path = args.value();
+      else if (args.is("--checkpoint-every")) ck.every_s = 60.0 * args.real(1e-3, 1e6);
+      else if (args.is("--restart")) ck.restart = args.value();
       else if (args.is("--sessions")) {
         sessions = args.integer();
         if (sessions < 0) throw std::invalid_argument("--sessions must be 0 (until stopped) or more, got " + std::to_string(sessions));
@@ -274,6 +335,10 @@ int main(int argc, char** argv) {
       else args.unknown();
     }
     if (deck.empty()) throw std::invalid_argument("--model is required");
+    if (ck.path.empty() && (ck.every_s > 0.0 || !ck.restart.empty())) ck.path = default_checkpoint_path(out);
+    if (!ck.restart.empty() && sessions != 1)
+      throw std::invalid_argument("--restart continues one session: it cannot be combined with --sessions " +
+                                  std::to_string(sessions));
     char host[256];
     if (sl_parse_endpoint(listen.c_str(), host, sizeof host, &opt.listen_port) != SL_OK)
       throw std::invalid_argument("--listen '" + listen + "' is not HOST:PORT");
@@ -298,7 +363,8 @@ int main(int argc, char** argv) {
     fe::DeckWarnings warnings;
     model = fe::read_deck(deck, &warnings);
     for (const auto& w : warnings.messages) std::cerr << w << "\n";
-    if (ports_paths.empty()) return run_standalone(model, out, opt.quiet, threads);
+    if (ck.enabled()) ck.deck_digest = fe::file_digest(deck);
+    if (ports_paths.empty()) return run_standalone(model, out, opt.quiet, threads, ck);
     for (const auto& p : ports_paths) tables.push_back(config::read_port_table(p));
     table = config::combine_port_tables(tables);
   } catch (const std::exception& e) {

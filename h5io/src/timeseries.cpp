@@ -33,13 +33,25 @@ int64_t now_ns() {
 }
 }  // namespace
 
-TimeSeriesWriter::TimeSeriesWriter(const std::string& path, size_t rows_per_chunk, double flush_interval)
-    : path_(path), flush_interval_(flush_interval), chunk_(rows_per_chunk ? rows_per_chunk : 1) {
+TimeSeriesWriter::TimeSeriesWriter(const std::string& path, size_t rows_per_chunk, double flush_interval, bool resume)
+    : path_(path), flush_interval_(flush_interval), resume_(resume), chunk_(rows_per_chunk ? rows_per_chunk : 1) {
   // SWMR needs the file format of HDF5 1.10 or later.
   hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
   H5Pset_libver_bounds(fapl, H5F_LIBVER_LATEST, H5F_LIBVER_LATEST);
-  file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
-  H5Pclose(fapl);
+  if (resume) {
+    H5E_BEGIN_TRY { file_ = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl); }
+    H5E_END_TRY;
+    H5Pclose(fapl);
+    // A writer that died without closing leaves the file marked as being
+    // written (see above); HDF5 then refuses to open it for writing.
+    if (file_ < 0)
+      fail("cannot open the results file to continue it (missing? if its writer was killed, clear its mark with "
+           "'h5clear -s " + path + "')",
+           path);
+  } else {
+    file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+    H5Pclose(fapl);
+  }
   if (file_ < 0) fail("cannot create file", path);
   last_flush_ns_ = now_ns();
 }
@@ -69,6 +81,14 @@ size_t TimeSeriesWriter::add_stream() {
 size_t TimeSeriesWriter::add_series(const std::string& name, const std::string& unit, size_t stream) {
   if (live_) fail("series '" + name + "' declared after the first row", path_);
   if (stream >= streams_.size()) fail("series '" + name + "' names an undeclared stream", path_);
+  if (resume_) {
+    hid_t d = -1;
+    H5E_BEGIN_TRY { d = H5Dopen2(file_, name.c_str(), H5P_DEFAULT); }
+    H5E_END_TRY;
+    if (d < 0) fail("the file to continue has no series '" + name + "' (written by another model?)", path_);
+    streams_[stream].series.push_back(d);
+    return streams_[stream].series.size() - 1;
+  }
   hsize_t dims[1] = {0}, maxdims[1] = {H5S_UNLIMITED}, chunk[1] = {chunk_};
   hid_t space = H5Screate_simple(1, dims, maxdims);
   hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
@@ -83,6 +103,22 @@ size_t TimeSeriesWriter::add_series(const std::string& name, const std::string& 
   put_string_attribute(d, "unit", unit, path_);
   streams_[stream].series.push_back(d);
   return streams_[stream].series.size() - 1;
+}
+
+void TimeSeriesWriter::resume_at(size_t rows, size_t stream) {
+  if (!resume_ || live_) fail("resume_at() on a new file or after the first row", path_);
+  Stream& st = streams_.at(stream);
+  const hsize_t size[1] = {rows};
+  for (hid_t d : st.series) {
+    hid_t space = H5Dget_space(d);
+    const hssize_t n = H5Sget_simple_extent_npoints(space);
+    H5Sclose(space);
+    if (n < 0 || static_cast<size_t>(n) < rows)
+      fail("a series has " + std::to_string(n) + " rows, the checkpoint was taken after " + std::to_string(rows), path_);
+    if (H5Dset_extent(d, size) < 0) fail("cannot cut a series back to the checkpoint's rows", path_);
+  }
+  st.rows_written = rows;
+  st.buffered = 0;
 }
 
 void TimeSeriesWriter::set_attribute(const std::string& name, const std::string& value) {

@@ -37,3 +37,7 @@ int pcs_auth_check(const char *token, pcs_role role, const uint8_t client_nonce[
   sodium_memzero(expected, sizeof expected);
   return same;
 }
+
+void pcs_sha256(const uint8_t *data, size_t n, uint8_t out[PCS_SHA256_SIZE]) {
+  crypto_hash_sha256(out, data, (unsigned long long)n);
+}

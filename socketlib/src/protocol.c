@@ -16,6 +16,8 @@ const char *pcs_msg_name(uint32_t type) {
     case PCS_MSG_HEARTBEAT: return "HEARTBEAT";
     case PCS_MSG_CHALLENGE: return "CHALLENGE";
     case PCS_MSG_AUTH: return "AUTH";
+    case PCS_MSG_CHECKPOINT: return "CHECKPOINT";
+    case PCS_MSG_RESUME: return "RESUME";
     default: return "UNKNOWN";
   }
 }

@@ -231,6 +231,7 @@ TEST(RigidBody, AnUndeclaredUserLoadOnAnInteriorNodeMovesTheBody) {
     void apply(double, const std::vector<Vec3>&, const std::vector<Vec3>&, std::vector<Vec3>& f) override {
       f[0] += Vec3(0, 0, 10.0);
     }
+    void state(config::StateIO&) override {}  // a constant force: nothing carried between steps
   } push;
   const std::string deck =
       "*KEYWORD\n*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n5,0,0,1\n6,1,0,1\n7,1,1,1\n8,0,1,1\n"

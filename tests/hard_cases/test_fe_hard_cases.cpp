@@ -58,6 +58,7 @@ class NodalLoads : public fe::UserLoad {
              std::vector<fe::Vec3>& f) override {
     for (const auto& [node, force] : loads_) f[node] += std::min(1.0, t / rise_) * force;
   }
+  void state(config::StateIO&) override {}  // a function of t alone
 
  private:
   std::vector<std::pair<size_t, fe::Vec3>> loads_;

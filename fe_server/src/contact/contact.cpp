@@ -245,3 +245,17 @@ int PenaltyContact::apply(const std::vector<Vec3>& x, const std::vector<Vec3>& v
 }
 
 }  // namespace fe
+
+namespace fe {
+
+void PenaltyContact::state(config::StateIO& io) {
+  io.expect("contact sides", sides_.size(), "the sides of a contact");
+  for (Side& s : sides_) {
+    io.array("contact start", s.start);
+    io.array("contact cand", s.cand);
+    io.array("contact reach2", s.reach2);
+  }
+  io.value("contact max_penetration", max_penetration_);
+}
+
+}  // namespace fe

@@ -25,6 +25,7 @@
 
 #include <vector>
 
+#include "config/checkpoint.hpp"
 #include "model/model.hpp"
 
 namespace fe {
@@ -40,6 +41,8 @@ class PenaltyContact {
   // Throws std::runtime_error naming the deepest node if, at positions x, a
   // node is already behind a segment of the other surface (beyond round-off).
   void refuse_initial_penetration(const Model& model, const ContactDef& def, const std::vector<Vec3>& x);
+  // The search's candidate lists and the last penetration (checkpoints).
+  void state(config::StateIO& io);
 
  private:
   struct Side {

@@ -296,3 +296,22 @@ double CavityPressureLoad::displacement(int slot, const std::vector<Vec3>& x) co
 }
 
 }  // namespace fe
+
+namespace fe {
+
+void CavityPressureLoad::state(config::StateIO& io) {
+  io.expect("cavity slots", surfaces_.size(), "the number of hydraulic ports");
+  io.array("cavity pressure", pressure_);
+  io.array("cavity wave", wave_);
+  io.array("cavity impedance", impedance_);
+  io.array("cavity tlm flow", tlm_flow_);
+  io.array("cavity tlm", tlm_);
+  io.array("cavity area", area_vector_);
+  for (PortSurface& ps : surfaces_) {
+    io.array("surface segment area", ps.segment_area);
+    io.array("surface shift", ps.shift);
+    io.array("surface corner weight", ps.corner_weight);
+  }
+}
+
+}  // namespace fe

@@ -100,6 +100,9 @@ class CavityPressureLoad : public UserLoad {
   double displacement(int slot, const std::vector<Vec3>& x) const;
   // Wetted area the last apply() used, m².
   double area(int slot) const { return area_vector_[static_cast<size_t>(slot)].norm(); }
+  // The host's last inputs and what the last apply() computed (the flows
+  // and areas the outputs read).
+  void state(config::StateIO& io) override;
 
  private:
   struct PortSurface {

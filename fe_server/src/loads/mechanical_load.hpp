@@ -26,6 +26,7 @@ class MechanicalLoad : public UserLoad {
   }
   double displacement(int slot, const std::vector<Vec3>& x) const;
   double velocity(int slot, const std::vector<Vec3>& v) const;
+  void state(config::StateIO& io) override { io.array("mechanical force", force_); }  // the host's last forces
 
  private:
   const Model& model_;
@@ -52,6 +53,10 @@ class UserLoads : public UserLoad {
   void apply_implicit(const Mobility& m, const std::vector<Vec3>& v_old, const std::vector<Vec3>& v_pred,
                       std::vector<NodalForce>& out) override {
     for (UserLoad* l : loads_) l->apply_implicit(m, v_old, v_pred, out);
+  }
+  void state(config::StateIO& io) override {
+    io.expect("loads", loads_.size(), "the number of user loads");
+    for (UserLoad* l : loads_) l->state(io);
   }
 
  private:

@@ -108,3 +108,12 @@ void SqueezeFilmLoad::apply_implicit(const Mobility& mob, const std::vector<Vec3
 }
 
 }  // namespace fe
+
+namespace fe {
+
+void SqueezeFilmLoad::state(config::StateIO& io) {
+  io.expect("films", films_.size(), "the number of squeeze films");
+  for (Film& f : films_) io.value("film gap", f.h);
+}
+
+}  // namespace fe

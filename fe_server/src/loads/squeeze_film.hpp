@@ -41,6 +41,8 @@ class SqueezeFilmLoad : public UserLoad {
   bool loaded_nodes(std::vector<int>& nodes) const override;
   void apply_implicit(const Mobility& mob, const std::vector<Vec3>& v_old, const std::vector<Vec3>& v_pred,
                       std::vector<NodalForce>& out) override;
+  // The gaps at x_n (stage 6 of the next step reads them).
+  void state(config::StateIO& io) override;
 
  private:
   struct Side {

@@ -15,6 +15,7 @@
 
 #include <vector>
 
+#include "config/checkpoint.hpp"
 #include "model/model.hpp"
 
 namespace fe {
@@ -51,6 +52,10 @@ class UserLoad {
   // `v_pred` is v_{n+1/2} without this load's forces.
   virtual void apply_implicit(const Mobility&, const std::vector<Vec3>& /*v_old*/, const std::vector<Vec3>& /*v_pred*/,
                               std::vector<NodalForce>& /*out*/) {}
+  // Save or restore what the load carries from one step to the next
+  // (config/checkpoint.hpp); a load without such state says so with an
+  // empty body. Pure, so a new load cannot forget its state.
+  virtual void state(config::StateIO& io) = 0;
 };
 
 }  // namespace fe

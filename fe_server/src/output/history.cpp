@@ -18,8 +18,8 @@ long steps_per_row(double interval, double fe_dt) {
 }  // namespace
 
 History::History(const std::string& path, const Model& model, const config::PortTable* table, double fe_dt,
-                 double default_interval)
-    : writer_(path),
+                 double default_interval, bool resume)
+    : writer_(path, 4096, 1.0, resume),
       model_(model),
       // 2D axisymmetric: a section's components along the axis only
       section_components_(model.symmetry_axis == 1 ? std::vector<int>{1} : std::vector<int>{0, 1, 2}) {
@@ -97,6 +97,9 @@ History::History(const std::string& path, const Model& model, const config::Port
   for (size_t k : {stream_[0], stream_[1], stream_[2]}) widest = std::max(widest, writer_.columns(k));
   row_.resize(widest);
   if (model.snapshot_interval > 0.0) {
+    if (resume)
+      throw std::runtime_error(model.source + ": a restart cannot continue field snapshots (*DATABASE_BINARY_D3PLOT) "
+                               "yet; the time histories can: run without the card to restart");
     std::string base = path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0 ? path.substr(0, path.size() - 3) : path;
     fields_ = std::make_unique<FieldWriter>(base + "_fields.h5", model);  // writes the snapshot at t = 0
     next_snapshot_ = model.snapshot_interval;
@@ -104,6 +107,17 @@ History::History(const std::string& path, const Model& model, const config::Port
 }
 
 History::~History() = default;
+
+void History::state(config::StateIO& io) {
+  io.value("history energy scale", energy_scale_);
+  io.value("history next snapshot", next_snapshot_);
+  for (size_t k = 0; k < 3; ++k) {
+    if (k > 0 && stream_[k] == 0) continue;  // a stream this model does not write
+    uint64_t rows = writer_.rows(stream_[k]);
+    io.value("history rows", rows);
+    if (!io.saving()) writer_.resume_at(static_cast<size_t>(rows), stream_[k]);
+  }
+}
 
 size_t History::snapshots() const { return fields_ ? fields_->snapshots() : 0; }
 

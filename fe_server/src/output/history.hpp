@@ -33,13 +33,18 @@ namespace fe {
 // the run standalone); node and element streams default to the first's.
 class History {
  public:
+  // resume: continue the file of a run restarted from a checkpoint (state()
+  // then cuts it back to the checkpoint's rows) instead of creating it.
   History(const std::string& path, const Model& model, const config::PortTable* table, double fe_dt,
-          double default_interval);
+          double default_interval, bool resume = false);
   ~History();
   // Called after every FE step; writes the rows that are due.
   // inputs/outputs: the values of the table's to_fe/to_host variables, wire units.
   void record(const Solver& s, const std::vector<double>& inputs, const std::vector<double>& outputs);
   void flush() { writer_.flush(); }
+  // The rows written so far and the energy scale (checkpoints; flush first).
+  // Restoring cuts the resumed file back to the saved rows.
+  void state(config::StateIO& io);
   size_t rows() const { return writer_.rows(); }
   // FE steps between two rows of each stream (global, nodes, elements).
   long every_global() const { return every_[0]; }

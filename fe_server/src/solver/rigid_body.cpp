@@ -243,3 +243,25 @@ void RigidBodies::place_interior(std::vector<Vec3>& x, std::vector<Vec3>& v) con
 }
 
 }  // namespace fe
+
+namespace fe {
+
+void RigidBodies::state(config::StateIO& io) {
+  io.expect("rigid bodies", bodies_.size(), "the number of rigid bodies");
+  for (RigidBodyState& b : bodies_) {
+    io.value("body com", b.com);
+    io.value("body q", b.q.coeffs());
+    io.value("body Q", b.Q);
+    io.value("body Q_prev", b.Q_prev);
+    io.value("body rotation_rate", b.rotation_rate);
+    io.value("body v", b.v);
+    io.value("body v_prev", b.v_prev);
+    io.value("body L", b.L);
+    io.value("body omega", b.omega);
+    io.value("body omega_prev", b.omega_prev);
+    io.value("body force", b.force);
+    io.value("body moment", b.moment);
+  }
+}
+
+}  // namespace fe

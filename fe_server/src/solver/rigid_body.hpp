@@ -36,6 +36,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "config/checkpoint.hpp"
 #include "model/model.hpp"
 
 namespace fe {
@@ -68,6 +69,8 @@ class RigidBodies {
   void set_live(const std::vector<char>& live);
 
   size_t size() const { return bodies_.size(); }
+  // Every body's motion (checkpoints; the mass properties come from the model).
+  void state(config::StateIO& io);
   const RigidBodyState& operator[](size_t b) const { return bodies_[b]; }
   // v_0 of every node of every body: v_c + ω × r.
   void initial_velocities(std::vector<Vec3>& v) const;

@@ -746,3 +746,64 @@ void Solver::step() {
 }
 
 }  // namespace fe
+
+namespace fe {
+
+void Solver::state(config::StateIO& io) {
+  io.expect("nodes", x_.size(), "the number of nodes");
+  io.expect("solids", hex8_.sigma.size(), "the number of solid elements");
+  io.expect("axisymmetric", axi4_.sigma.size(), "the number of axisymmetric elements");
+  io.expect("bars", bars_.length.size(), "the number of bar elements");
+  io.expect("contacts", contacts_.size(), "the number of contacts");
+  io.value("dt", dt_);
+  io.value("t", t_);
+  io.value("n", n_);
+  io.value("relaxing", relaxing_);
+  // Nodal state: the step's inputs (x_n, v_{n-1/2}) and what the next step's
+  // work sums and stress-time velocities read from the last one.
+  io.array("x", x_);
+  io.array("v", v_);
+  io.value("interior placed", interior_placed_);
+  io.array("x_prev", x_prev_);
+  io.array("v_prev", v_prev_);
+  io.array("f_int", f_int_);
+  io.array("f_ext", f_ext_);
+  io.array("f_ext_prev", f_ext_prev_);
+  io.array("f_con", f_con_);
+  io.array("f_con_prev", f_con_prev_);
+  io.array("mass", mass_);  // scaled masses, as the deck's scaling left them
+  io.array("part internal step", part_internal_step_);
+  io.array("part hourglass step", part_hourglass_step_);
+  bodies_.state(io);
+  // Element state: stresses, plastic strains and the last step's nodal
+  // forces (section forces read them); bars their last length (the
+  // trapezoidal work of the next step).
+  io.array("hex8 sigma", hex8_.sigma);
+  io.array("hex8 plastic", hex8_.plastic_strain);
+  io.array("hex8 back stress", hex8_.back_stress);
+  io.array("hex8 force", hex8_.force);
+  io.array("axi4 sigma", axi4_.sigma);
+  io.array("axi4 plastic", axi4_.plastic_strain);
+  io.array("axi4 back stress", axi4_.back_stress);
+  io.array("axi4 force", axi4_.force);
+  io.array("bar force", bars_.force);
+  io.array("bar length", bars_.length);
+  for (auto& c : contacts_) c->state(io);
+  io.value("damping power", damping_power_);
+  io.value("contact force", contact_force_);
+  io.value("energy kinetic", energies_.kinetic);
+  io.value("energy internal", energies_.internal);
+  io.value("energy spring", energies_.spring);
+  io.value("energy hourglass", energies_.hourglass);
+  io.value("energy contact", energies_.contact);
+  io.value("energy damping", energies_.damping);
+  io.value("energy external", energies_.external_work);
+  io.value("energy scale", energies_.scale);
+  io.array("energy part ids", energies_.part_ids);
+  io.array("energy part hourglass", energies_.part_hourglass);
+  io.array("energy part loading", energies_.part_loading);
+  io.value("energy balance", energies_.balance_error);
+  io.value("energy0", energy0_);
+}
+
+}  // namespace fe

@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "config/checkpoint.hpp"
 #include "contact/contact.hpp"
 #include "elements/element_axi4.hpp"
 #include "elements/element_bar.hpp"
@@ -124,6 +125,12 @@ class Solver {
   // relaxation there (a stop signal; it may also print progress).
   RelaxationReport relax(const std::function<bool(const RelaxationReport&)>& keep_going = {});
   void begin_transient();
+
+  // Save or restore everything step() changes (checkpoint and restart,
+  // config/checkpoint.hpp): after restoring, the run continues bit for bit
+  // as the saved one did. The model must be the one the state was saved
+  // with (the node and element counts are checked).
+  void state(config::StateIO& io);
 
   double time() const { return t_; }
   long step_count() const { return n_; }

@@ -27,8 +27,12 @@ namespace h5io {
 
 class TimeSeriesWriter {
  public:
-  // Creates (or truncates) the file.
-  explicit TimeSeriesWriter(const std::string& path, size_t rows_per_chunk = 4096, double flush_interval = 1.0);
+  // Creates (or truncates) the file; with `resume`, opens an existing one
+  // written by the same program to continue it (a restart from a
+  // checkpoint): add_series then opens the series instead of creating
+  // them, and resume_at() cuts each stream back to the checkpoint's rows.
+  explicit TimeSeriesWriter(const std::string& path, size_t rows_per_chunk = 4096, double flush_interval = 1.0,
+                            bool resume = false);
   ~TimeSeriesWriter();
   TimeSeriesWriter(const TimeSeriesWriter&) = delete;
   TimeSeriesWriter& operator=(const TimeSeriesWriter&) = delete;
@@ -46,6 +50,11 @@ class TimeSeriesWriter {
   // One value for every series of the stream, in declaration order.
   void append(const double* row, size_t stream = 0);
   void append(const std::vector<double>& row, size_t stream = 0) { append(row.data(), stream); }
+  // Resume: continue stream `stream` after its first `rows` rows (the rows a
+  // checkpoint was taken at; later ones, written after it, are dropped).
+  // After the stream's series are declared, before the first row. Throws if
+  // a series has fewer rows.
+  void resume_at(size_t rows, size_t stream = 0);
   // Write buffered rows and flush the file to disk.
   void flush();
   size_t rows(size_t stream = 0) const { return streams_[stream].rows_written + streams_[stream].buffered; }
@@ -66,6 +75,7 @@ class TimeSeriesWriter {
   int64_t last_flush_ns_ = 0;
   unsigned rows_since_check_ = 0;
   bool live_ = false;
+  bool resume_ = false;
   hid_t file_ = -1;
   size_t chunk_;
   std::vector<Stream> streams_{1};

@@ -20,6 +20,7 @@
 #define SOCKETLIB_AUTH_H
 
 #include <stdint.h>
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -46,6 +47,10 @@ void pcs_auth_proof(const char *token, pcs_role role, const uint8_t client_nonce
 int pcs_auth_check(const char *token, pcs_role role, const uint8_t client_nonce[PCS_NONCE_SIZE],
                    const uint8_t server_nonce[PCS_NONCE_SIZE], uint64_t table_hash,
                    const uint8_t proof[PCS_PROOF_SIZE]);
+
+/* SHA-256 of n bytes (libsodium): the checksum of checkpoint files. */
+#define PCS_SHA256_SIZE 32u
+void pcs_sha256(const uint8_t *data, size_t n, uint8_t out[PCS_SHA256_SIZE]);
 
 #ifdef __cplusplus
 }

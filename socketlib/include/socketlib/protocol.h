@@ -23,6 +23,15 @@
  * step takes long the server sends HEARTBEAT k now and then, and the client
  * restarts its receive deadline on each, so a slow step is not a dead peer.
  * Either side may send ABORT(reason) at any time; BYE ends a session cleanly.
+ *
+ * Checkpoints (restart after a lost node or a wall-time limit): in place of
+ * STEP k the client may send CHECKPOINT k; the server saves its state after
+ * k completed steps and answers CHECKPOINT k with the file's path (a string
+ * payload), then STEP k or BYE follows. A server restarted from such a file
+ * expects RESUME k (the step its checkpoint holds) as the client's first
+ * frame after HELLO_ACK and echoes it; a fresh server refuses RESUME and a
+ * resumed one refuses STEP 0, each with an ABORT that says which side to
+ * restart.
  */
 #ifndef SOCKETLIB_PROTOCOL_H
 #define SOCKETLIB_PROTOCOL_H
@@ -35,7 +44,7 @@ extern "C" {
 #endif
 
 #define PCS_MAGIC 0x43534350u /* bytes 'P','C','S','C' in little-endian order */
-#define PCS_PROTOCOL_VERSION 3u /* 2: HEARTBEAT; 3: challenge-response (CHALLENGE, AUTH) */
+#define PCS_PROTOCOL_VERSION 4u /* 2: HEARTBEAT; 3: challenge-response (CHALLENGE, AUTH); 4: CHECKPOINT, RESUME */
 #define PCS_HEADER_SIZE 24u
 #define PCS_MAX_PAYLOAD (16u * 1024u * 1024u)
 #define PCS_MAX_TOKEN 256u /* a token is at most 255 bytes (it is an HMAC key, never sent) */
@@ -50,7 +59,9 @@ typedef enum {
   PCS_MSG_BYE = 6,       /* client → server: session ends cleanly */
   PCS_MSG_HEARTBEAT = 7, /* server → client during a long step: "still computing step k" */
   PCS_MSG_CHALLENGE = 8, /* server → client: server nonce, server's proof of the token */
-  PCS_MSG_AUTH = 9       /* client → server: client's proof of the token */
+  PCS_MSG_AUTH = 9,      /* client → server: client's proof of the token */
+  PCS_MSG_CHECKPOINT = 10, /* client → server: save state after step k; server → client: saved (path) */
+  PCS_MSG_RESUME = 11      /* client → server: continue from step k; server → client: agreed */
 } pcs_msg_type;
 
 /* Name of a message type ("HELLO", ...), "UNKNOWN" otherwise. */

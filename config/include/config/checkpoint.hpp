@@ -1,0 +1,122 @@
+// Checkpoint files: the complete state of one side of a co-simulation
+// (fe_server's solver, tlm_host's components), written at a step boundary
+// so that a run resumed from it continues bit for bit as if never stopped.
+//
+// One function per stateful object, `void state(config::StateIO& io)`,
+// lists its mutable members with io.value / io.array; the same function
+// saves (StateWriter) and restores (StateReader), so the two cannot
+// disagree on order. Every record carries its name, element size and count;
+// the reader checks all three, so a checkpoint of another model or version
+// is refused with the record that differs rather than read as garbage.
+//
+// File: "PCS-CKPT", format version (u32), the records, then the SHA-256 of
+// everything before it (libsodium). Written to FILE.tmp, flushed to disk
+// and renamed: a crash while writing leaves the previous checkpoint intact.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace config {
+
+class CheckpointError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class StateIO {
+ public:
+  virtual ~StateIO() = default;
+  virtual bool saving() const = 0;
+
+  // One value: an arithmetic type, or a fixed-size aggregate of them
+  // (Eigen's fixed-size vectors and matrices).
+  template <class T>
+  void value(const char* name, T& v) {
+    check_plain<T>();
+    raw(name, &v, sizeof(T), 1);
+  }
+  // A vector of such values; restored to the length it was saved with.
+  template <class T>
+  void array(const char* name, std::vector<T>& v) {
+    check_plain<T>();
+    uint64_t n = v.size();
+    if (saving()) {
+      raw(name, v.data(), sizeof(T), n);
+    } else {
+      n = next_count(name, sizeof(T));
+      v.resize(static_cast<size_t>(n));
+      raw(name, v.data(), sizeof(T), n);
+    }
+  }
+  void array(const char* name, std::vector<bool>&) = delete;  // not contiguous
+  void text(const char* name, std::string& s);
+  // A value the reader must find equal to `expected` (a model's size, a
+  // port table's hash): else CheckpointError "<what>: the checkpoint has A,
+  // this run has B".
+  void expect(const char* name, uint64_t expected, const std::string& what);
+  void expect(const char* name, const std::string& expected, const std::string& what);
+
+ protected:
+  // Save or restore count elements of elem_size bytes at data.
+  virtual void raw(const char* name, void* data, size_t elem_size, uint64_t count) = 0;
+  // Reader: the count of the next record, checked to be `name` with elements of elem_size.
+  virtual uint64_t next_count(const char* name, size_t elem_size) = 0;
+
+ private:
+  template <class T>
+  static constexpr void check_plain() {
+    static_assert(std::is_standard_layout_v<T> && !std::is_pointer_v<T>,
+                  "StateIO stores plain values (numbers, fixed-size Eigen types), not pointers or classes");
+  }
+};
+
+class StateWriter final : public StateIO {
+ public:
+  StateWriter();
+  bool saving() const override { return true; }
+  // Write the records (plus checksum) to `path` atomically.
+  void write(const std::string& path) const;
+  const std::vector<uint8_t>& bytes() const { return buf_; }
+
+ protected:
+  void raw(const char* name, void* data, size_t elem_size, uint64_t count) override;
+  uint64_t next_count(const char*, size_t) override { return 0; }
+
+ private:
+  std::vector<uint8_t> buf_;
+};
+
+class StateReader final : public StateIO {
+ public:
+  // Reads and verifies the file (magic, version, checksum). Throws
+  // CheckpointError naming the file.
+  explicit StateReader(const std::string& path);
+  bool saving() const override { return false; }
+  // Every record consumed? (CheckpointError otherwise: the checkpoint holds
+  // state this run does not have.)
+  void finish() const;
+  const std::string& path() const { return path_; }
+
+ protected:
+  void raw(const char* name, void* data, size_t elem_size, uint64_t count) override;
+  uint64_t next_count(const char* name, size_t elem_size) override;
+
+ private:
+  struct Header {
+    std::string name;
+    uint64_t elem_size = 0, count = 0;
+    size_t data = 0;  // offset of the record's bytes
+  };
+  Header peek(const char* want) const;
+  std::string path_;
+  std::vector<uint8_t> buf_;
+  size_t pos_ = 0, end_ = 0;
+  size_t record_ = 0;
+};
+
+}  // namespace config

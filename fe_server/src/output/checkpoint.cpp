@@ -1,0 +1,65 @@
+#include "output/checkpoint.hpp"
+
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <vector>
+
+#include "socketlib/auth.h"
+
+namespace fe {
+
+std::string file_digest(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error("cannot read '" + path + "' for its digest");
+  const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+  uint8_t sum[PCS_SHA256_SIZE];
+  pcs_sha256(bytes.data(), bytes.size(), sum);
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (uint8_t b : sum) out += hex[b >> 4], out += hex[b & 15];
+  return out;
+}
+
+namespace {
+// The same sequence saves and restores (StateIO); the identity first.
+uint64_t exchange(config::StateIO& io, const CheckpointIdentity& id, Solver& solver, UserLoad* loads,
+                  History& history) {
+  io.expect("kind", std::string("fe_server"), "the checkpoint's program");
+  io.expect("deck digest", id.deck_digest, "the deck's contents (SHA-256)");
+  io.expect("port table hash", id.table_hash, "the port tables' hash");
+  uint64_t step = id.coupling_step;
+  io.value("coupling step", step);
+  solver.state(io);
+  uint64_t has_loads = loads != nullptr;
+  io.value("user loads", has_loads);
+  if (has_loads != (loads != nullptr))
+    throw config::CheckpointError(std::string("the checkpoint was taken ") + (has_loads ? "with" : "without") +
+                                  " user loads, this run has " + (loads ? "some" : "none"));
+  if (loads) loads->state(io);
+  history.state(io);
+  return step;
+}
+}  // namespace
+
+void save_checkpoint(const std::string& path, const CheckpointIdentity& id, Solver& solver, UserLoad* loads,
+                     History& history) {
+  history.flush();
+  config::StateWriter w;
+  exchange(w, id, solver, loads, history);
+  w.write(path);
+}
+
+uint64_t load_checkpoint(const std::string& path, const CheckpointIdentity& expected, Solver& solver,
+                         UserLoad* loads, History& history) {
+  config::StateReader r(path);
+  try {
+    const uint64_t step = exchange(r, expected, solver, loads, history);
+    r.finish();
+    return step;
+  } catch (const config::CheckpointError& e) {
+    throw config::CheckpointError("checkpoint '" + path + "': " + e.what());
+  }
+}
+
+}  // namespace fe

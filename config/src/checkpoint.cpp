@@ -26,6 +26,18 @@ uint64_t get_u64(const uint8_t* p) {
 }
 }  // namespace
 
+std::string file_sha256(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw CheckpointError("cannot read '" + path + "' for its digest");
+  const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+  uint8_t sum[PCS_SHA256_SIZE];
+  pcs_sha256(bytes.data(), bytes.size(), sum);
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (uint8_t b : sum) out += hex[b >> 4], out += hex[b & 15];
+  return out;
+}
+
 void StateIO::text(const char* name, std::string& s) {
   std::vector<char> v(s.begin(), s.end());
   array(name, v);

@@ -363,7 +363,9 @@ int main(int argc, char** argv) {
     fe::DeckWarnings warnings;
     model = fe::read_deck(deck, &warnings);
     for (const auto& w : warnings.messages) std::cerr << w << "\n";
-    if (ck.enabled()) ck.deck_digest = fe::file_digest(deck);
+    // In a session the host decides when to checkpoint: always ready.
+    if (!ports_paths.empty() && ck.path.empty()) ck.path = default_checkpoint_path(out);
+    if (ck.enabled()) ck.deck_digest = config::file_sha256(deck);
     if (ports_paths.empty()) return run_standalone(model, out, opt.quiet, threads, ck);
     for (const auto& p : ports_paths) tables.push_back(config::read_port_table(p));
     table = config::combine_port_tables(tables);
@@ -398,11 +400,39 @@ int main(int argc, char** argv) {
       // Before the host's loads: they start with the transient. A host that
       // connected meanwhile waits (its handshake deadline is the port
       // table's timeout).
-      if (const fe::ExitCode code = relax(solver, model, quiet); code != fe::kExitOk) return code;
+      const bool resume = !ck.restart.empty();
+      if (!resume)  // a checkpoint holds the settled state
+        if (const fe::ExitCode code = relax(solver, model, quiet); code != fe::kExitOk) return code;
       solver.set_user_load(&loads);
       const std::string path = session_path(out, session, sessions);
       // Without *DATABASE_ DT cards: a row per coupling step.
-      history = std::make_unique<fe::History>(path, model, &table, table.dt / table.subcycles, table.dt);
+      history = std::make_unique<fe::History>(path, model, &table, table.dt / table.subcycles, table.dt, resume);
+      if (ck.enabled()) {
+        const fe::CheckpointIdentity id{ck.deck_digest, table.hash(), 0};
+        if (resume) {
+          try {
+            const uint64_t step = fe::load_checkpoint(ck.restart, id, solver, &loads, *history);
+            server.set_resume(step);
+            if (!opt.quiet)
+              std::cout << "fe_server: restarted from " << ck.restart << " after coupling step " << step << " (t = "
+                        << solver.time() << " s); " << path << " continues after its row " << history->rows()
+                        << std::endl;
+          } catch (const std::exception& e) {
+            std::cerr << "fe_server: " << e.what() << "\n";
+            return fe::kExitInput;
+          }
+        }
+        const std::string ck_path = session_path(ck.path, session, sessions);
+        server.set_checkpointer([&, id, ck_path](uint64_t k) {
+          fe::CheckpointIdentity at = id;
+          at.coupling_step = k;
+          fe::save_checkpoint(ck_path, at, solver, &loads, *history);
+          if (!opt.quiet)
+            std::cout << "fe_server: checkpoint after coupling step " << k << " (t = " << solver.time() << " s) in "
+                      << ck_path << std::endl;
+          return ck_path;
+        });
+      }
       if (!opt.quiet)
         std::cout << "fe_server: " << (sessions == 1 ? std::string() : "session " + std::to_string(session) + ": ")
                   << "listening on " << opt.listen_host << ":" << server.port() << " (model " << table.model_name

@@ -145,6 +145,42 @@ void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<
                             std::to_string(outputs.size()));
 }
 
+pcs_header CouplingClient::request(uint16_t type, uint64_t k) {
+  if (!connected()) throw LinkError(SL_EINVAL, "not connected to fe_server");
+  const std::string what = std::string(pcs_msg_name(type)) + " " + std::to_string(k);
+  int rc = pcs_send_frame(&sock_, type, k, nullptr, 0, deadline_after(timeout_s_));
+  if (rc != SL_OK) fail(rc, "cannot send " + what);
+  pcs_header h{};
+  for (;;) {  // a checkpoint of a large model may take a while: heartbeats say it is alive
+    rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout_s_));
+    if (rc != SL_OK || h.type != PCS_MSG_HEARTBEAT) break;
+  }
+  if (rc == SL_OK && h.type == PCS_MSG_ABORT) {
+    pcs_abort a{};
+    pcs_decode_abort(buf_.data(), h.payload_size, &a);
+    sl_close(&sock_);
+    throw LinkError(SL_EREFUSED_BY_PEER, "fe_server refused " + what + ": " + a.reason);
+  }
+  if (rc != SL_OK) fail(rc, "no answer to " + what);
+  if (h.type != type || h.step != k) {
+    const std::string got = std::string("expected ") + what + ", got " + pcs_msg_name(h.type) + " " + std::to_string(h.step);
+    pcs_send_abort(&sock_, k, SL_EUNEXPECTED, got.c_str(), deadline_after(1.0));
+    fail(SL_EUNEXPECTED, got);
+  }
+  return h;
+}
+
+std::string CouplingClient::checkpoint(uint64_t k) {
+  const pcs_header h = request(PCS_MSG_CHECKPOINT, k);
+  pcs_reader r{buf_.data(), h.payload_size, 0, 0};
+  std::vector<char> path(4096);
+  pcs_get_str(&r, path.data(), static_cast<uint32_t>(path.size()));
+  if (r.error) fail(SL_EMALFORMED, "malformed CHECKPOINT answer");
+  return path.data();
+}
+
+void CouplingClient::resume(uint64_t k) { request(PCS_MSG_RESUME, k); }
+
 void CouplingClient::bye() {
   if (!connected()) return;
   (void)pcs_send_frame(&sock_, PCS_MSG_BYE, 0, nullptr, 0, deadline_after(timeout_s_));

@@ -37,6 +37,12 @@ class CouplingClient {
   // Throws LinkError (timed out, peer closed, ABORT with its reason, ...).
   void step(uint64_t k, double time, double dt, const std::vector<double>& inputs,
             std::vector<double>& outputs);
+  // Ask the server to save its state after k completed steps (CHECKPOINT k);
+  // returns the path of the server's checkpoint. Throws LinkError.
+  std::string checkpoint(uint64_t k);
+  // First exchange of a restarted session: RESUME k, the server agrees or
+  // refuses (LinkError with its reason).
+  void resume(uint64_t k);
   // Clean end of the session (best effort).
   void bye();
   // Tell the peer why we stop (best effort), then close.
@@ -47,6 +53,10 @@ class CouplingClient {
   [[noreturn]] void fail(int code, const std::string& what);
   // Receive one handshake frame of type `want`; an ABORT, another version or
   // another type ends the connection with a LinkError naming the cause.
+  // Send a frame of `type` for step k (empty payload) and wait for the
+  // server's answer of the same type and step (heartbeats restart the wait);
+  // its payload stays in buf_.
+  pcs_header request(uint16_t type, uint64_t k);
   void receive_handshake_frame(pcs_header& h, uint16_t want, const std::string& where, int64_t deadline);
   config::PortTable table_;  // a copy: the client may outlive the table it was given
   sl_socket sock_ = SL_SOCKET_INIT;

@@ -277,3 +277,31 @@ fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind, fmi2String
 }
 
 }  // extern "C"
+
+// Beyond FMI 2.0: checkpoint and restart of the co-simulation (tlm_host
+// looks these up by name and does without them when absent; other importers
+// never see them). Declared here only: the importer declares its own
+// prototypes. The FMI state functions (fmi2GetFMUstate, ...) would promise
+// rolling back to any saved state at any time, which a remote FE server
+// restarted from a file cannot do; these promise only what is true.
+extern "C" {
+
+// Ask fe_server to save its state after the steps done so far; its file's
+// path goes to path (cap bytes, NUL-terminated). In StepComplete only.
+__attribute__((visibility("default"))) fmi2Status pcs_fmu_checkpoint(fmi2Component c, char* path, size_t cap) {
+  return guarded(c, "pcs_fmu_checkpoint", kDoStep, [&](Instance& i) {
+    const std::string p = i.checkpoint();
+    if (!path || cap == 0 || p.size() >= cap) throw FmuError(fmi2Error, "the checkpoint path does not fit the buffer");
+    std::memcpy(path, p.c_str(), p.size() + 1);
+  });
+}
+
+// Resume a session after `step` coupling steps: before
+// fmi2ExitInitializationMode, against an fe_server started with --restart
+// and its checkpoint of the same step.
+__attribute__((visibility("default"))) fmi2Status pcs_fmu_resume(fmi2Component c, unsigned long long step) {
+  return guarded(c, "pcs_fmu_resume", kSetupExperiment | kExitInit,
+                 [&](Instance& i) { i.set_resume_step(static_cast<uint64_t>(step)); });
+}
+
+}  // extern "C"

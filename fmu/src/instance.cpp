@@ -180,6 +180,16 @@ void Instance::exit_initialization() {
   }
   log(fmi2OK, "logCoupling", "connected to fe_server at " + host + ":" + std::to_string(port));
   step_ = 0;
+  if (resume_) {
+    try {
+      client_->resume(resume_step_);
+    } catch (const LinkError& e) {
+      throw FmuError(fmi2Error, e.what());
+    }
+    step_ = resume_step_;
+    time_ = static_cast<double>(resume_step_) * table_.dt;
+    log(fmi2OK, "logCoupling", "resumed after step " + std::to_string(step_));
+  }
   state_ = State::StepComplete;
 }
 
@@ -227,6 +237,19 @@ void Instance::do_step(double t, double h) {
   time_ = t + h;
 }
 
+std::string Instance::checkpoint() {
+  try {
+    return client_->checkpoint(step_);
+  } catch (const LinkError& e) {
+    throw FmuError(fmi2Error, e.what());
+  }
+}
+
+void Instance::set_resume_step(uint64_t step) {
+  resume_ = true;
+  resume_step_ = step;
+}
+
 void Instance::terminate() {
   if (client_) client_->bye();
   state_ = State::Terminated;
@@ -243,6 +266,7 @@ void Instance::reset() {
   std::fill(outputs_.begin(), outputs_.end(), 0.0);
   step_ = 0;
   time_ = 0.0;
+  resume_ = false;
   state_ = State::Instantiated;
 }
 

@@ -55,6 +55,14 @@ class Instance {
   void exit_initialization();  // connects and shakes hands
   void do_step(double t, double h);
   void terminate();
+  // Checkpoint and restart (pcs_fmu_checkpoint / pcs_fmu_resume, beyond
+  // FMI): the server saves its state after the steps done so far and
+  // returns its file; a new instance resumes at a step (before
+  // fmi2ExitInitializationMode, which then sends RESUME instead of starting
+  // at step 0).
+  std::string checkpoint();
+  void set_resume_step(uint64_t step);
+  uint64_t steps_done() const { return step_; }
   void reset();
   // The link is told why (ABORT) before an instance goes to its error state.
   void abort_link(const std::string& reason);
@@ -86,6 +94,8 @@ class Instance {
   int port_ = 0;
   double timeout_ = 60.0;
   uint64_t step_ = 0;
+  uint64_t resume_step_ = 0;
+  bool resume_ = false;
   double time_ = 0.0;
   std::unique_ptr<CouplingClient> client_;
 };

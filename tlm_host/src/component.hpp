@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "config/checkpoint.hpp"
 #include "config/keyword_reader.hpp"
 #include "node.hpp"
 
@@ -81,6 +82,11 @@ class Component {
   // Advance from t to t + dt.
   virtual void simulate_one_step(double t) = 0;
   virtual void finalize() {}
+  // Save or restore everything simulate_one_step changes (checkpoint and
+  // restart, config/checkpoint.hpp); called after initialize(). Pure, so a
+  // new component cannot forget its state: a stateless one says so with an
+  // empty body.
+  virtual void state(config::StateIO& io) = 0;
   virtual void log_variables(std::vector<LogVariable>&) {}
 
   const std::string& name() const { return name_; }

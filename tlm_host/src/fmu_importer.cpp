@@ -307,6 +307,8 @@ FmuInstance::FmuInstance(std::shared_ptr<FmuArchive> archive, const std::string&
   if (!name) throw FmuError(archive_->path() + ": the FMU binary does not export " #name);
   PCS_FMI2_FUNCTIONS(PCS_FMI2_LOAD)
 #undef PCS_FMI2_LOAD
+  pcs_checkpoint_ = reinterpret_cast<CheckpointFn*>(dlsym(lib, "pcs_fmu_checkpoint"));
+  pcs_resume_ = reinterpret_cast<ResumeFn*>(dlsym(lib, "pcs_fmu_resume"));
   const auto& md = archive_->description();
   c_ = fmi2Instantiate(instance_name.c_str(), fmi2CoSimulation, md.guid.c_str(), archive_->resource_uri().c_str(),
                        &callbacks_, fmi2False, verbose ? fmi2True : fmi2False);
@@ -349,6 +351,16 @@ void FmuInstance::setup_experiment(double start, double stop) {
 void FmuInstance::enter_initialization() { check(fmi2EnterInitializationMode(c_), "fmi2EnterInitializationMode"); }
 void FmuInstance::exit_initialization() { check(fmi2ExitInitializationMode(c_), "fmi2ExitInitializationMode"); }
 void FmuInstance::do_step(double t, double h) { check(fmi2DoStep(c_, t, h, fmi2True), "fmi2DoStep"); }
+std::string FmuInstance::checkpoint() {
+  if (!can_checkpoint()) throw FmuError(archive_->path() + ": this FMU cannot checkpoint (made by another tool or an older fmugen)");
+  std::vector<char> path(4096);
+  check(pcs_checkpoint_(c_, path.data(), path.size()), "pcs_fmu_checkpoint");
+  return path.data();
+}
+void FmuInstance::resume(unsigned long long step) {
+  if (!can_checkpoint()) throw FmuError(archive_->path() + ": this FMU cannot resume (made by another tool or an older fmugen)");
+  check(pcs_resume_(c_, step), "pcs_fmu_resume");
+}
 void FmuInstance::terminate() {
   if (terminated_) return;
   terminated_ = true;

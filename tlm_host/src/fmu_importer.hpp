@@ -78,6 +78,11 @@ class FmuInstance {
   void exit_initialization();
   void do_step(double t, double h);
   void terminate();
+  // Our FMUs' checkpoint functions (fmu/src/fmi2_functions.cpp), beyond
+  // FMI: FmuError for an FMU without them ("cannot checkpoint").
+  bool can_checkpoint() const { return pcs_checkpoint_ && pcs_resume_; }
+  std::string checkpoint();            // the server's checkpoint file
+  void resume(unsigned long long step);  // before exit_initialization()
 
   // The log sink the FMU's logger callback writes to.
   struct Log {
@@ -93,6 +98,10 @@ class FmuInstance {
   fmi2CallbackFunctions callbacks_;
   fmi2Component c_ = nullptr;
   bool terminated_ = false;
+  using CheckpointFn = fmi2Status(fmi2Component, char*, size_t);
+  using ResumeFn = fmi2Status(fmi2Component, unsigned long long);
+  CheckpointFn* pcs_checkpoint_ = nullptr;
+  ResumeFn* pcs_resume_ = nullptr;
 #define PCS_FMI2_MEMBER(name) name##TYPE* name = nullptr;
   PCS_FMI2_FUNCTIONS(PCS_FMI2_MEMBER)
 #undef PCS_FMI2_MEMBER

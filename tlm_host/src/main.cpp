@@ -27,6 +27,12 @@ int usage(std::ostream& os, int rc) {
         "  --csv FILE          also write every logged series as CSV\n"
         "  --report FILE       write the percussion report (model's *REPORT block) to FILE\n"
         "                      (JSON in SI units when FILE ends in .json)\n"
+        "  --checkpoint FILE   checkpoint here (default: the results file with .ckpt for .h5) at a stop\n"
+        "                      signal (SIGTERM, SIGINT, SIGHUP) and every --checkpoint-every minutes;\n"
+        "                      each FMU's fe_server writes its own checkpoint of the same step first\n"
+        "  --checkpoint-every M  a checkpoint every M minutes of wall time\n"
+        "  --restart FILE      continue from a checkpoint (fe_server restarted with --restart and its\n"
+        "                      checkpoint of the same step); the results file continues after its row\n"
         "  --quiet             no progress line\n"
         "Exit codes: 0 ok, 2 usage, 3 model rejected, 4 simulation failed,\n"
         "            128 + N stopped by signal N (130 Ctrl-C, 143 SIGTERM) with results flushed.\n";
@@ -41,6 +47,7 @@ int main(int argc, char** argv) {
   std::string model_path, fmu, server, token, out = "results.h5", report_path, csv_path;
   std::vector<std::string> overrides;
   bool quiet = false;
+  tlm::System::Checkpointing ck;
   try {
     config::Args args(argc, argv);
     while (args.next()) {
@@ -57,12 +64,19 @@ int main(int argc, char** argv) {
       else if (args.is("--quiet")) quiet = true;
       else if (args.is("--report")) report_path = args.value();
       else if (args.is("--csv")) csv_path = args.value();
+      else if (args.is("--checkpoint")) ck.path = args.value();
+      else if (args.is("--checkpoint-every")) ck.every_s = 60.0 * args.real(1e-3, 1e6);
+      else if (args.is("--restart")) ck.restart = args.value();
       else if (args.is("-h") || args.is("--help")) return usage(std::cout, 0);
       else if (args.is_option()) args.unknown();
       else if (model_path.empty()) model_path = args.current();
       else throw std::invalid_argument("more than one model given");
     }
     if (model_path.empty()) throw std::invalid_argument("no model file given");
+    if (ck.path.empty() && (ck.every_s > 0.0 || !ck.restart.empty())) {
+      const bool h5 = out.size() > 3 && out.compare(out.size() - 3, 3, ".h5") == 0;
+      ck.path = (h5 ? out.substr(0, out.size() - 3) : out) + ".ckpt";
+    }
   } catch (const std::exception& e) {
     std::cerr << "tlm_host: " << e.what() << "\n";
     return usage(std::cerr, 2);
@@ -85,12 +99,17 @@ int main(int argc, char** argv) {
     if (want_report) report = tlm::report_settings(spec);
     system = std::make_unique<tlm::System>(std::move(spec));
     if (!csv_path.empty()) system->set_csv(csv_path);
+    system->set_checkpointing(ck);
   } catch (const std::exception& e) {
     std::cerr << "tlm_host: " << e.what() << "\n";
     return 3;
   }
   try {
     system->run(out, !quiet);
+  } catch (const config::CheckpointError& e) {
+    std::cerr << "tlm_host: " << e.what() << "\n";
+    system.reset();
+    return 3;
   } catch (const config::StopRequested& e) {
     std::cerr << "tlm_host: " << e.what() << "\n";
     system.reset();  // frees the FMUs now: fe_server is told, their folders removed

@@ -11,6 +11,11 @@
 #include <sstream>
 #include <unistd.h>
 
+#include <filesystem>
+#include <future>
+
+#include "components/FmuQ.hpp"
+
 namespace tlm {
 
 using config::InputError;
@@ -215,9 +220,52 @@ Component* System::find(const std::string& name) {
   return nullptr;
 }
 
+void System::exchange_state(config::StateIO& io) {
+  io.expect("nodes", nodes_.size(), "the number of hydraulic nodes");
+  for (auto& n : nodes_) {
+    io.value("node p", n->p);
+    io.value("node q", n->q);
+    io.value("node c", n->c);
+    io.value("node Zc", n->Zc);
+  }
+  io.expect("components", components_.size(), "the number of components");
+  for (auto& c : components_) {
+    std::string name = c->name();
+    io.expect("component", name, "the components in file order");
+    c->state(io);
+  }
+}
+
 void System::run(const std::string& out_path, bool progress) {
   const double dt = spec_.dt;
   const long steps = std::lround(spec_.stop_time / dt);
+  std::vector<FmuQ*> fmus;
+  for (auto& c : components_)
+    if (auto* f = dynamic_cast<FmuQ*>(c.get())) fmus.push_back(f);
+  // A restart: the identity and the step first, so the FMUs can resume
+  // their sessions at it while they connect (initialize()).
+  const bool resume = !checkpointing_.restart.empty();
+  std::unique_ptr<config::StateReader> restart;
+  long first = 0;
+  uint64_t resumed_rows = 0, csv_bytes = 0;
+  auto identity = [&](config::StateIO& io, long& step) {
+    io.expect("kind", std::string("tlm_host"), "the checkpoint's program");
+    io.expect("model digest", config::file_sha256(spec_.source), "the model file's contents (SHA-256)");
+    io.expect("timestep", static_cast<uint64_t>(std::llround(dt * 1e15)), "the time step in fs");
+    io.value("step", step);
+  };
+  if (resume) {
+    try {
+      restart = std::make_unique<config::StateReader>(checkpointing_.restart);
+      identity(*restart, first);
+    } catch (const config::CheckpointError& e) {
+      throw config::CheckpointError("checkpoint '" + checkpointing_.restart + "': " + e.what());
+    }
+    if (first < 0 || first > steps)
+      throw config::CheckpointError("checkpoint '" + checkpointing_.restart + "' is after step " + std::to_string(first) +
+                                    ", beyond this run's " + std::to_string(steps) + " steps");
+    for (FmuQ* f : fmus) f->set_resume_step(first);
+  }
   for (auto& c : components_) c->initialize(dt);
   std::vector<Component*> peers;
   for (Component* c : q_type_)
@@ -230,7 +278,7 @@ void System::run(const std::string& out_path, bool progress) {
   }
   for (const auto& w : stability_warnings(dt)) std::cerr << "tlm_host: warning: " << w << "\n";
 
-  h5io::TimeSeriesWriter out(out_path);
+  h5io::TimeSeriesWriter out(out_path, 4096, 1.0, resume);
   out.set_attribute("producer", "tlm_host");
   out.set_attribute("model", spec_.source);
   out.set_attribute("timestep", dt);
@@ -252,13 +300,33 @@ void System::run(const std::string& out_path, bool progress) {
     c->log_variables(vars);
     for (const auto& v : vars) add("components/" + c->name() + "/" + v.name, v.unit, v.value);
   }
+  if (resume) {
+    try {
+      exchange_state(*restart);
+      restart->value("rows", resumed_rows);
+      restart->value("csv bytes", csv_bytes);
+      restart->finish();
+    } catch (const config::CheckpointError& e) {
+      throw config::CheckpointError("checkpoint '" + checkpointing_.restart + "': " + e.what());
+    }
+    out.resume_at(static_cast<size_t>(resumed_rows));
+  }
   std::ofstream csv;
   if (!csv_path_.empty()) {
-    csv.open(csv_path_);
+    if (resume) {  // continue after the checkpoint's last row
+      std::error_code ec;
+      std::filesystem::resize_file(csv_path_, csv_bytes, ec);
+      if (ec) throw std::runtime_error("cannot continue CSV file '" + csv_path_ + "': " + ec.message());
+      csv.open(csv_path_, std::ios::app);
+    } else {
+      csv.open(csv_path_);
+    }
     if (!csv) throw std::runtime_error("cannot write CSV file '" + csv_path_ + "'");
     csv.precision(12);
-    for (size_t i = 0; i < names.size(); ++i) csv << (i ? "," : "") << names[i];
-    csv << "\n";
+    if (!resume) {
+      for (size_t i = 0; i < names.size(); ++i) csv << (i ? "," : "") << names[i];
+      csv << "\n";
+    }
   }
   std::vector<double> row(sources.size());
   auto record = [&] {
@@ -269,15 +337,57 @@ void System::run(const std::string& out_path, bool progress) {
       csv << "\n";
     }
   };
-  record();
+  if (resume) {
+    time = static_cast<double>(first) * dt;
+    steps_done_ = first;
+    if (progress)
+      std::fprintf(stderr, "tlm_host: restarted from %s after step %ld (t = %g s); %s continues after its row %llu\n",
+                   checkpointing_.restart.c_str(), first, time, out_path.c_str(),
+                   static_cast<unsigned long long>(resumed_rows));
+  } else {
+    record();
+  }
+
+  // The FMUs' servers save theirs first (concurrently: a server with
+  // several FMUs waits for all of them), then this side's state.
+  auto checkpoint = [&](long k) {
+    std::vector<std::future<std::string>> servers;
+    for (FmuQ* f : fmus) servers.push_back(std::async(std::launch::async, [f] { return f->checkpoint(); }));
+    std::string where;
+    for (auto& s : servers) where += (where.empty() ? "" : ", ") + s.get();
+    out.flush();
+    if (csv.is_open()) csv.flush();
+    config::StateWriter w;
+    long step = k;
+    identity(w, step);
+    exchange_state(w);
+    uint64_t rows = out.rows();
+    uint64_t bytes = csv.is_open() ? static_cast<uint64_t>(csv.tellp()) : 0;
+    w.value("rows", rows);
+    w.value("csv bytes", bytes);
+    w.write(checkpointing_.path);
+    return checkpointing_.path + (where.empty() ? std::string() : " (fe_server: " + where + ")");
+  };
 
   const bool tty = isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
-  auto last_report = start;
-  long k = 0;
+  auto last_report = start, last_checkpoint = start;
+  long k = first;
   try {
     for (; k < steps; ++k) {
-      if (const int signo = config::stop_signal()) throw config::StopRequested(signo);
+      if (const int signo = config::stop_signal()) {
+        if (checkpointing_.path.empty()) throw config::StopRequested(signo);
+        const std::string saved = checkpoint(k);
+        throw config::StopRequested(signo, "stopped by " + config::signal_name(signo) + " after step " +
+                                               std::to_string(k) + "; checkpoint in " + saved + " (--restart " +
+                                               checkpointing_.path + " continues)");
+      }
+      if (!checkpointing_.path.empty() && checkpointing_.every_s > 0.0 && k > first &&
+          std::chrono::steady_clock::now() - last_checkpoint > std::chrono::duration<double>(checkpointing_.every_s)) {
+        const std::string saved = checkpoint(k);
+        if (progress) std::fprintf(stderr, "tlm_host: checkpoint after step %ld in %s\n", k, saved.c_str());
+        last_checkpoint = std::chrono::steady_clock::now();
+      }
       const double t = static_cast<double>(k) * dt;
       for (Component* c : signal_) c->simulate_one_step(t);
       for (Component* c : c_type_) c->simulate_one_step(t);

@@ -66,6 +66,18 @@ class System {
   void run(const std::string& out_path, bool progress);
   // Also write every logged series as CSV (same rows as the HDF5 file).
   void set_csv(const std::string& path) { csv_path_ = path; }
+  // Checkpoint and restart. With a path, run() writes a checkpoint every
+  // `every_s` seconds of wall time (0: never on a clock) and when a stop
+  // signal arrives, each time after asking every FMU's fe_server for its own
+  // checkpoint of the same step (fe_server writes its file first). With
+  // `restart`, run() continues from that checkpoint: the FMUs resume their
+  // sessions at its step (fe_server must be restarted from its checkpoint of
+  // the same step), and the results file (and CSV) continue after its row.
+  struct Checkpointing {
+    std::string path, restart;
+    double every_s = 0.0;
+  };
+  void set_checkpointing(const Checkpointing& c) { checkpointing_ = c; }
   Component* find(const std::string& name);
   // Stability advisor: one message per component whose largest stable step
   // (explicit springs, stops, contacts) is below dt.
@@ -84,6 +96,10 @@ class System {
   long steps_done_ = 0;
   std::set<const SignalPort*> bound_;
   std::string csv_path_;
+  Checkpointing checkpointing_;
+  // The state that is not a component's: the nodes' p, q, c, Zc and every
+  // component's state(), in file order.
+  void exchange_state(config::StateIO& io);
 };
 
 }  // namespace tlm

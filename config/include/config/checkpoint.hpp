@@ -28,6 +28,10 @@ class CheckpointError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Hex SHA-256 of a file's bytes (a deck's or model's identity in a
+// checkpoint); throws CheckpointError if unreadable.
+std::string file_sha256(const std::string& path);
+
 class StateIO {
  public:
   virtual ~StateIO() = default;

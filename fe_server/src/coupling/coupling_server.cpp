@@ -434,6 +434,40 @@ ExitCode CouplingServer::stop(uint64_t step, const std::string& where, std::stri
   return stopped_by(signo);
 }
 
+ExitCode CouplingServer::resume_clients(std::string& message) {
+  for (Client& c : clients_) {
+    pcs_header h{};
+    const int rc = pcs_recv_frame(&c.conn, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout_));
+    if (rc == SL_EINTERRUPTED) return stop(resume_step_, "waiting for RESUME" + name_of(c), message);
+    if (rc != SL_OK) {
+      message = "link lost waiting for RESUME" + name_of(c) + ": " + link_error(rc, c.conn);
+      abort_all(resume_step_, static_cast<uint32_t>(-rc), message);
+      return kExitLinkLost;
+    }
+    std::string why;
+    if (h.type != PCS_MSG_RESUME)
+      why = "this fe_server continues from its checkpoint after step " + std::to_string(resume_step_) + ", but the host" +
+            name_of(c) + " sent " + pcs_msg_name(h.type) + " " + std::to_string(h.step) +
+            ": restart the host from its checkpoint of that step (tlm_host --restart)";
+    else if (h.step != resume_step_)
+      why = "the host" + name_of(c) + " resumes after step " + std::to_string(h.step) + ", this fe_server's checkpoint is after step " +
+            std::to_string(resume_step_) + ": both sides must restart from checkpoints of the same step";
+    if (!why.empty()) {
+      message = why;
+      abort_all(resume_step_, SL_EUNEXPECTED, why);
+      return kExitInput;
+    }
+    const int src = pcs_send_frame(&c.conn, PCS_MSG_RESUME, resume_step_, nullptr, 0, deadline_after(timeout_));
+    if (src != SL_OK) {
+      message = "cannot confirm RESUME" + name_of(c) + ": " + link_error(src, c.conn);
+      abort_all(resume_step_, static_cast<uint32_t>(-src), message);
+      return kExitLinkLost;
+    }
+  }
+  if (!opt_.quiet) std::cout << "fe_server: the host resumes after step " << resume_step_ << std::endl;
+  return kExitOk;
+}
+
 ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, std::string& message) {
   if (listener_.fd < 0) bind();
   const ExitCode accepted = accept_clients(message);
@@ -444,13 +478,15 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
   const size_t n_in = clients_.back().in_offset + clients_.back().table->to_fe.size();
   const size_t n_out = clients_.back().out_offset + clients_.back().table->to_host.size();
   std::vector<double> in(n_in), out(n_out);
-  uint64_t expected = 0;
+  if (resume_)
+    if (const ExitCode code = resume_clients(message); code != kExitOk) return code;
+  uint64_t expected = resume_ ? resume_step_ : 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (;;) {
     if (config::stop_signal())
       return stop(expected, "at coupling step " + std::to_string(expected) + " (t = " + std::to_string(solver.time()) + " s)",
                   message);
-    size_t byes = 0;
+    size_t byes = 0, checkpoints = 0;
     for (Client& c : clients_) {
       pcs_header h{};
       int rc = pcs_recv_frame(&c.conn, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout_));
@@ -478,7 +514,15 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
         abort_all(h.step, SL_EUNEXPECTED, why);
         return code;
       };
-      if (h.type != PCS_MSG_STEP)
+      if (h.type == PCS_MSG_RESUME)
+        return reject("the host resumes from its checkpoint at step " + std::to_string(h.step) + name_of(c) +
+                          ", but this fe_server started afresh: start it with --restart and its checkpoint of that step",
+                      kExitInput);
+      if (h.type == PCS_MSG_CHECKPOINT && h.step == expected) {
+        ++checkpoints;
+        continue;
+      }
+      if (h.type != PCS_MSG_STEP && h.type != PCS_MSG_CHECKPOINT)
         return reject(std::string("expected STEP") + name_of(c) + ", got " + pcs_msg_name(h.type), kExitLinkLost);
       if (h.step != expected)
         return reject("step index out of order" + name_of(c) + ": expected " + std::to_string(expected) + ", got " +
@@ -498,6 +542,35 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
           return reject(c.table->to_fe[i].name() + " is not finite at step " + std::to_string(h.step), kExitNumerical);
     }
     if (byes == clients_.size()) break;
+    if (checkpoints == clients_.size()) {
+      std::string path;
+      try {
+        if (!checkpointer_) throw std::runtime_error("fe_server was started without --checkpoint");
+        path = checkpointer_(expected);
+      } catch (const std::exception& e) {
+        message = "cannot checkpoint at step " + std::to_string(expected) + ": " + e.what();
+        abort_all(expected, SL_EUNEXPECTED, message);
+        return kExitInput;
+      }
+      for (Client& c : clients_) {
+        uint8_t payload[4200];
+        pcs_writer w{payload, sizeof payload, 0, 0};
+        pcs_put_str(&w, path.c_str());
+        const int rc = w.overflow ? SL_EOVERSIZE
+                                  : pcs_send_frame(&c.conn, PCS_MSG_CHECKPOINT, expected, payload, w.len, deadline_after(timeout_));
+        if (rc != SL_OK) {
+          message = "cannot confirm CHECKPOINT " + std::to_string(expected) + name_of(c) + ": " + link_error(rc, c.conn);
+          abort_all(expected, static_cast<uint32_t>(-rc), message);
+          return kExitLinkLost;
+        }
+      }
+      continue;
+    }
+    if (checkpoints > 0) {
+      message = "at step " + std::to_string(expected) + " some FMUs asked for a checkpoint while others stepped on";
+      abort_all(expected, SL_EUNEXPECTED, message);
+      return kExitLinkLost;
+    }
     if (byes > 0) {
       message = "at step " + std::to_string(expected) + " some FMUs ended the session while others stepped on";
       abort_all(expected, SL_EUNEXPECTED, message);

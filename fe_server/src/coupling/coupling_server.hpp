@@ -10,6 +10,7 @@
 // always with the history flushed.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "loads/cavity_load.hpp"
@@ -77,6 +78,17 @@ class CouplingServer {
   // After run(): close the session's connections, ready for the next run().
   void end_session();
   int port() const { return port_; }
+  // Checkpoints: `save(k)` is called when every client has sent CHECKPOINT
+  // k, saves the state after k coupling steps and returns the file's path
+  // (told to the clients); it throws to refuse. Without it CHECKPOINT is
+  // refused ("started without --checkpoint").
+  void set_checkpointer(std::function<std::string(uint64_t)> save) { checkpointer_ = std::move(save); }
+  // A server restarted from a checkpoint after `step` coupling steps: every
+  // client must open the session with RESUME step.
+  void set_resume(uint64_t step) {
+    resume_ = true;
+    resume_step_ = step;
+  }
   // Serve one session. Returns an exit code; `message` says what happened.
   ExitCode run(Solver& solver, PortMap& ports, History& history, std::string& message);
 
@@ -130,6 +142,11 @@ class CouplingServer {
   // Tells every connected client why the session ends (best effort).
   void abort_all(uint64_t step, uint32_t code, const std::string& why);
   std::string name_of(const Client& c) const;
+  // RESUME from every client, checked against resume_step_ and answered.
+  ExitCode resume_clients(std::string& message);
+  std::function<std::string(uint64_t)> checkpointer_;
+  bool resume_ = false;
+  uint64_t resume_step_ = 0;
   const ServerOptions opt_;
   const std::vector<config::PortTable> tables_;
   std::vector<Client> clients_;

@@ -1,25 +1,8 @@
 #include "output/checkpoint.hpp"
 
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
-#include <vector>
-
-#include "socketlib/auth.h"
 
 namespace fe {
-
-std::string file_digest(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw std::runtime_error("cannot read '" + path + "' for its digest");
-  const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-  uint8_t sum[PCS_SHA256_SIZE];
-  pcs_sha256(bytes.data(), bytes.size(), sum);
-  static const char* hex = "0123456789abcdef";
-  std::string out;
-  for (uint8_t b : sum) out += hex[b >> 4], out += hex[b & 15];
-  return out;
-}
 
 namespace {
 // The same sequence saves and restores (StateIO); the identity first.

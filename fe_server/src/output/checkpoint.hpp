@@ -19,11 +19,8 @@
 
 namespace fe {
 
-// Hex SHA-256 of a file's bytes; throws std::runtime_error if unreadable.
-std::string file_digest(const std::string& path);
-
 struct CheckpointIdentity {
-  std::string deck_digest;   // file_digest of the deck
+  std::string deck_digest;   // config::file_sha256 of the deck
   uint64_t table_hash = 0;   // the combined port table's hash; 0 standalone
   uint64_t coupling_step = 0;  // completed coupling steps (standalone: FE steps)
 };

@@ -41,6 +41,10 @@ class ControlSpoolQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "ControlSpoolQ"; }
+  void state(config::StateIO& io) override {
+    io.value("x", x_);
+    io.value("v", v_);
+  }
   void configure(ParameterSet& prm) override {
     mech_.configure(prm);
     A_s_ = prm.positive("A_s", 1.2e-4);
@@ -82,6 +86,11 @@ class SpoolMechanicsSignal : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Signal; }
   const char* type_name() const override { return "SpoolMechanicsSignal"; }
+  void state(config::StateIO& io) override {
+    io.value("x", x_);
+    io.value("v", v_);
+    io.value("F", F_);
+  }
   void configure(ParameterSet& prm) override {
     mech_.configure(prm);
     add_signal_input("x", &x_in_);

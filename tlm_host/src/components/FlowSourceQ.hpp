@@ -12,6 +12,7 @@ class FlowSourceQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "FlowSourceQ"; }
+  void state(config::StateIO& io) override { io.value("q", q_); }
   void configure(ParameterSet& prm) override {
     q_ = prm.real("q", 0.0);  // m³/s into the node
     add_port("P1", Kind::Q);

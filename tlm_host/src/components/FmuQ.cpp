@@ -81,7 +81,8 @@ void FmuQ::initialize(double dt) {
   fmu_->setup_experiment(0.0, 0.0);
   fmu_->enter_initialization();
   send_inputs();
-  fmu_->exit_initialization();  // connects to fe_server
+  if (resume_step_ >= 0) fmu_->resume(static_cast<unsigned long long>(resume_step_));
+  fmu_->exit_initialization();  // connects to fe_server (RESUME on a restart)
 }
 
 void FmuQ::send_inputs() {
@@ -108,6 +109,16 @@ void FmuQ::simulate_one_step(double t) {
     hp.p_node = n.p;
   }
   for (auto& o : outputs_) o.value = fmu_->get_real(o.vr);
+}
+
+void FmuQ::state(config::StateIO& io) {
+  io.expect("fmu ports", hports_.size(), name_ + ": the FMU's hydraulic ports");
+  for (auto& hp : hports_) {
+    io.value("q", hp.q);
+    io.value("p_node", hp.p_node);
+  }
+  io.expect("fmu outputs", outputs_.size(), name_ + ": the FMU's outputs");
+  for (auto& o : outputs_) io.value("output", o.value);
 }
 
 void FmuQ::finalize() {

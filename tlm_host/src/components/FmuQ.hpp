@@ -22,6 +22,13 @@ class FmuQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "FmuQ"; }
+  // The last flows and outputs; the FMU's own session state is fe_server's
+  // checkpoint, taken first (System::checkpoint).
+  void state(config::StateIO& io) override;
+  // A restarted run: the FMU resumes its session after `step` coupling
+  // steps. Before initialize().
+  void set_resume_step(long step) { resume_step_ = step; }
+  std::string checkpoint() { return fmu_->checkpoint(); }
   void configure(ParameterSet& prm) override;
   void initialize(double dt) override;
   void simulate_one_step(double t) override;
@@ -56,6 +63,7 @@ class FmuQ : public Component {
   std::string server_, token_;
   double dt_ = 0.0;
   bool verbose_ = false;
+  long resume_step_ = -1;  // -1: a fresh session
 };
 
 }  // namespace tlm

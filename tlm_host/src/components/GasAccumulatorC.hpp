@@ -23,6 +23,10 @@ class GasAccumulatorC : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::C; }
   const char* type_name() const override { return "GasAccumulatorC"; }
+  void state(config::StateIO& io) override {
+    io.value("V_oil", V_oil_);
+    io.value("p", p_);
+  }
   void configure(ParameterSet& prm) override {
     V0_ = prm.positive("V0", 1e-3);            // m³, gas volume at precharge
     p0_ = prm.positive("p0", 1e6);             // Pa abs, precharge

@@ -17,6 +17,11 @@ class HammerPistonQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "HammerPistonQ"; }
+  void state(config::StateIO& io) override {
+    io.value("x", x_);
+    io.value("v", v_);
+    mech_.state(io);
+  }
   void configure(ParameterSet& prm) override {
     mech_.configure(prm, name_);
     A_A_ = prm.positive("A_A", 9.17e-4);
@@ -64,6 +69,12 @@ class PistonMechanicsSignal : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Signal; }
   const char* type_name() const override { return "PistonMechanicsSignal"; }
+  void state(config::StateIO& io) override {
+    io.value("x", x_);
+    io.value("v", v_);
+    io.value("F", F_);
+    mech_.state(io);
+  }
   void configure(ParameterSet& prm) override {
     mech_.configure(prm, name_);
     add_signal_input("x", &x_in_);

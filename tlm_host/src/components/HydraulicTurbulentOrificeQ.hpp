@@ -33,6 +33,10 @@ class HydraulicTurbulentOrificeQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "HydraulicTurbulentOrificeQ"; }
+  void state(config::StateIO& io) override {
+    io.value("q", q_);
+    io.value("dissipated", dissipated_);
+  }
   void configure(ParameterSet& prm) override {
     Cd_ = prm.positive("Cd", 0.67);
     A_ = prm.positive("A", 1e-5);  // m²

@@ -47,6 +47,11 @@ class HydraulicVolumeC : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::C; }
   const char* type_name() const override { return "HydraulicVolumeC"; }
+  void state(config::StateIO& io) override {
+    for (double* s : {&V_, &Zc_, &p_mean_, &stored_, &void_, &t_last_}) io.value("volume", *s);
+    io.value("cavitating", cavitating_);
+    io.array("cavitation events", events_);
+  }
   void configure(ParameterSet& prm) override {
     V0_ = prm.positive("V", 1e-3);         // m³ (at x = 0 for a chamber)
     beta_ = prm.positive("beta", 1.4e9);   // Pa, effective bulk modulus

@@ -13,6 +13,10 @@ class LaminarOrificeQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "LaminarOrificeQ"; }
+  void state(config::StateIO& io) override {
+    io.value("q", q_);
+    io.value("dissipated", dissipated_);
+  }
   void configure(ParameterSet& prm) override {
     Kc_ = prm.real("Kc");  // m³/(s·Pa)
     if (Kc_ < 0.0) throw config::InputError(prm.where(), name_ + ": Kc must not be negative");

@@ -31,6 +31,13 @@ class LosslessLineC : public Component {
   void configure(ParameterSet& prm) override { configure_line(prm); }
   void initialize(double dt) override;
   void simulate_one_step(double) override;
+  // The waves in flight (both delay lines) and where they start.
+  void state(config::StateIO& io) override {
+    io.expect("delay", static_cast<uint64_t>(n_), name_ + ": the line's delay in steps");
+    io.value("head", head_);
+    io.array("to1", to1_);
+    io.array("to2", to2_);
+  }
   long delay_steps() const { return n_; }
   double impedance() const { return Zc_; }
 

@@ -65,6 +65,10 @@ struct PercussionMechanics {
     c_contact = 2.0 * zeta * std::sqrt(k_contact * m * m_tool / (m + m_tool));
     v_blow = prm.positive("v_blow", 1.0);
   }
+  void state(config::StateIO& io) {
+    for (double* s : {&v_f, &y, &w, &F_contact, &v_impact, &blows, &overlap_prev}) io.value("mechanics", *s);
+    io.array("impacts", impacts);
+  }
   void initialize(double step) {
     dt = step;
     filter = 1.0 - std::exp(-step / tau_f);

@@ -21,6 +21,10 @@ class ReliefValveQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "ReliefValveQ"; }
+  void state(config::StateIO& io) override {
+    io.value("K_eff", K_eff_);  // the opening's lag
+    io.value("q", q_);
+  }
   void configure(ParameterSet& prm) override {
     p_crack_ = prm.real("p_crack");         // Pa, pressure difference at which it opens
     K_ = prm.positive("K", 6.7e-9);         // m³/(s·Pa), override gradient

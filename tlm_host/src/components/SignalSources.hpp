@@ -28,6 +28,9 @@ class SignalComponent : public Component {
     y_ = value(0.0);
   }
   void simulate_one_step(double t) override { y_ = value(t + dt_); }
+  // The output is the whole state (a low-pass filter's memory; the
+  // sources' value is a function of t).
+  void state(config::StateIO& io) override { io.value("y", y_); }
 
  protected:
   virtual double value(double t) = 0;

@@ -24,6 +24,10 @@ class SpoolValveQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "SpoolValveQ"; }
+  void state(config::StateIO& io) override {
+    for (double* s : {&K_PA_, &K_AT_, &q_PA_, &q_AT_}) io.value("spool valve", *s);
+    io.value("iterations", iterations_);
+  }
   void configure(ParameterSet& prm) override;
   void initialize(double) override {
     solver_.reset(gsl_root_fsolver_alloc(gsl_root_fsolver_brent));  // once, not on every step

@@ -19,6 +19,10 @@ class SpringPistonQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "SpringPistonQ"; }
+  void state(config::StateIO& io) override {
+    io.value("x", x_);
+    io.value("v", v_);
+  }
   void configure(ParameterSet& prm) override {
     A_ = prm.positive("A", 1e-3);       // m², piston area
     m_ = prm.positive("m", 1.0);        // kg

@@ -14,6 +14,10 @@ class VariableOrificeQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "VariableOrificeQ"; }
+  void state(config::StateIO& io) override {
+    io.value("q", q_);
+    io.value("A", A_);
+  }
   void configure(ParameterSet& prm) override {
     Cd_ = prm.positive("Cd", 0.67);
     rho_ = prm.positive("rho", 870.0);

@@ -66,9 +66,13 @@ int usage(std::ostream& os, int rc) {
         "  --restart FILE        continue from a checkpoint of this deck (and port tables): the results\n"
         "                        file is continued from the checkpoint's row; in a session the host must\n"
         "                        resume from its checkpoint of the same step\n"
+        "  --stop-grace S        a stop signal in a session asks the host for a checkpoint of both sides\n"
+        "                        and waits up to S seconds for it (default 20; SLURM kills 30 s after\n"
+        "                        its SIGTERM)\n"
         "  --quiet               no progress output\n"
         "Exit codes: 0 ok, 2 usage, 3 input rejected, 4 no host (every connection refused or none came),\n"
         "            6 link lost, 7 host aborted, 8 non-finite values or energy far off, 9 internal error,\n"
+        "            10 the host ended the session after a checkpoint (--restart continues),\n"
         "            128 + N stopped by signal N (130 Ctrl-C, 143 SIGTERM) with results flushed.\n";
   return rc;
 }
@@ -323,6 +327,7 @@ int main(int argc, char** argv) {
       else if (args.is("--checkpoint")) ck.path = args.value();
       else if (args.is("--checkpoint-every")) ck.every_s = 60.0 * args.real(1e-3, 1e6);
       else if (args.is("--restart")) ck.restart = args.value();
+      else if (args.is("--stop-grace")) opt.stop_grace = args.real(0.0, 3600);
       else if (args.is("--sessions")) {
         sessions = args.integer();
         if (sessions < 0) throw std::invalid_argument("--sessions must be 0 (until stopped) or more, got " + std::to_string(sessions));
@@ -460,7 +465,7 @@ int main(int argc, char** argv) {
       history.reset();
       // A signal, or no host within --accept-timeout, ends the server; any
       // other failed session is reported and the next one is served.
-      if (code >= fe::kExitStopped || code == fe::kExitAcceptTimeout) return code;
+      if (code >= fe::kExitStopped || code == fe::kExitAcceptTimeout || code == fe::kExitCheckpointed) return code;
       if (code != fe::kExitOk) worst = code;
     }
     return worst;

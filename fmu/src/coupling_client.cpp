@@ -118,6 +118,11 @@ void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<
   int64_t wait_until = deadline;
   for (;;) {
     rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), wait_until);
+    // The server is stopping and asks for a checkpoint; its RESULT follows.
+    if (rc == SL_OK && h.type == PCS_MSG_STOPPING) {
+      stop_requested_ = true;
+      continue;
+    }
     // A heartbeat for this step: the server is alive and still computing.
     if (rc != SL_OK || h.type != PCS_MSG_HEARTBEAT || h.step != k) break;
     wait_until = deadline_after(timeout_s_);
@@ -153,6 +158,10 @@ pcs_header CouplingClient::request(uint16_t type, uint64_t k) {
   pcs_header h{};
   for (;;) {  // a checkpoint of a large model may take a while: heartbeats say it is alive
     rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout_s_));
+    if (rc == SL_OK && h.type == PCS_MSG_STOPPING) {  // the server asks for a checkpoint
+      stop_requested_ = true;
+      continue;
+    }
     if (rc != SL_OK || h.type != PCS_MSG_HEARTBEAT) break;
   }
   if (rc == SL_OK && h.type == PCS_MSG_ABORT) {

@@ -48,6 +48,9 @@ class CouplingClient {
   // Tell the peer why we stop (best effort), then close.
   void abort(const std::string& reason);
   bool connected() const { return sock_.fd >= 0; }
+  // The server is stopping (it got a stop signal) and asks for a checkpoint
+  // of both sides; it keeps serving meanwhile.
+  bool stop_requested() const { return stop_requested_; }
 
  private:
   [[noreturn]] void fail(int code, const std::string& what);
@@ -62,6 +65,7 @@ class CouplingClient {
   sl_socket sock_ = SL_SOCKET_INIT;
   double timeout_s_ = 60.0;
   std::vector<uint8_t> buf_;
+  bool stop_requested_ = false;
 };
 
 // The one-line reason for a link error code ("timed out: ...").

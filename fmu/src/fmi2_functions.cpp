@@ -304,4 +304,14 @@ __attribute__((visibility("default"))) fmi2Status pcs_fmu_resume(fmi2Component c
                  [&](Instance& i) { i.set_resume_step(static_cast<uint64_t>(step)); });
 }
 
+// Set *requested to 1 when fe_server got a stop signal and asks the host
+// for a checkpoint (then pcs_fmu_checkpoint, and the end of the session),
+// else 0. After any fmi2DoStep.
+__attribute__((visibility("default"))) fmi2Status pcs_fmu_stop_requested(fmi2Component c, int* requested) {
+  return guarded(c, "pcs_fmu_stop_requested", kAnyButFatal, [&](Instance& i) {
+    if (!requested) throw FmuError(fmi2Error, "requested is a null pointer");
+    *requested = i.stop_requested() ? 1 : 0;
+  });
+}
+
 }  // extern "C"

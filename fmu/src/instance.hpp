@@ -63,6 +63,9 @@ class Instance {
   std::string checkpoint();
   void set_resume_step(uint64_t step);
   uint64_t steps_done() const { return step_; }
+  // The server got a stop signal and asks for a checkpoint (it keeps
+  // serving for a grace period): pcs_fmu_stop_requested.
+  bool stop_requested() const { return client_ && client_->stop_requested(); }
   void reset();
   // The link is told why (ABORT) before an instance goes to its error state.
   void abort_link(const std::string& reason);

@@ -41,13 +41,23 @@ TimeSeriesWriter::TimeSeriesWriter(const std::string& path, size_t rows_per_chun
   if (resume) {
     H5E_BEGIN_TRY { file_ = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl); }
     H5E_END_TRY;
+    // A writer that died without closing (kill -9, a lost node: the very
+    // case a restart is for) leaves the file marked as being written, and
+    // HDF5 refuses to open it for writing. Clearing the mark is what
+    // `h5clear -s` does, through the file-access property
+    // "clear_status_flags" (HDF5 1.10 tools/src/h5clear); safe here, since
+    // SWMR kept the file consistent up to its last flush and the rows after
+    // the checkpoint, flushed before it was written, are cut off anyway.
+    if (file_ < 0) {
+      hbool_t clear = 1;
+      if (H5Pset(fapl, "clear_status_flags", &clear) >= 0) {
+        H5E_BEGIN_TRY { file_ = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl); }
+        H5E_END_TRY;
+      }
+    }
     H5Pclose(fapl);
-    // A writer that died without closing leaves the file marked as being
-    // written (see above); HDF5 then refuses to open it for writing.
     if (file_ < 0)
-      fail("cannot open the results file to continue it (missing? if its writer was killed, clear its mark with "
-           "'h5clear -s " + path + "')",
-           path);
+      fail("cannot open the results file to continue it (is it there, and yours?)", path);
   } else {
     file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
     H5Pclose(fapl);

@@ -18,6 +18,7 @@ const char *pcs_msg_name(uint32_t type) {
     case PCS_MSG_AUTH: return "AUTH";
     case PCS_MSG_CHECKPOINT: return "CHECKPOINT";
     case PCS_MSG_RESUME: return "RESUME";
+    case PCS_MSG_STOPPING: return "STOPPING";
     default: return "UNKNOWN";
   }
 }

@@ -59,6 +59,7 @@ static int sl__sys(sl_socket *s, int err) {
 static const volatile sig_atomic_t *sl__stop_flag = NULL;
 
 void sl_set_stop_flag(const volatile sig_atomic_t *flag) { sl__stop_flag = flag; }
+const volatile sig_atomic_t *sl_get_stop_flag(void) { return sl__stop_flag; }
 
 static int sl__stopping(void) { return sl__stop_flag && *sl__stop_flag; }
 

@@ -309,6 +309,7 @@ FmuInstance::FmuInstance(std::shared_ptr<FmuArchive> archive, const std::string&
 #undef PCS_FMI2_LOAD
   pcs_checkpoint_ = reinterpret_cast<CheckpointFn*>(dlsym(lib, "pcs_fmu_checkpoint"));
   pcs_resume_ = reinterpret_cast<ResumeFn*>(dlsym(lib, "pcs_fmu_resume"));
+  pcs_stop_requested_ = reinterpret_cast<StopRequestedFn*>(dlsym(lib, "pcs_fmu_stop_requested"));
   const auto& md = archive_->description();
   c_ = fmi2Instantiate(instance_name.c_str(), fmi2CoSimulation, md.guid.c_str(), archive_->resource_uri().c_str(),
                        &callbacks_, fmi2False, verbose ? fmi2True : fmi2False);
@@ -360,6 +361,12 @@ std::string FmuInstance::checkpoint() {
 void FmuInstance::resume(unsigned long long step) {
   if (!can_checkpoint()) throw FmuError(archive_->path() + ": this FMU cannot resume (made by another tool or an older fmugen)");
   check(pcs_resume_(c_, step), "pcs_fmu_resume");
+}
+bool FmuInstance::stop_requested() {
+  if (!pcs_stop_requested_) return false;
+  int requested = 0;
+  check(pcs_stop_requested_(c_, &requested), "pcs_fmu_stop_requested");
+  return requested != 0;
 }
 void FmuInstance::terminate() {
   if (terminated_) return;

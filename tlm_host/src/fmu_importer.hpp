@@ -83,6 +83,9 @@ class FmuInstance {
   bool can_checkpoint() const { return pcs_checkpoint_ && pcs_resume_; }
   std::string checkpoint();            // the server's checkpoint file
   void resume(unsigned long long step);  // before exit_initialization()
+  // fe_server got a stop signal and asks for a checkpoint (false for FMUs
+  // without the function).
+  bool stop_requested();
 
   // The log sink the FMU's logger callback writes to.
   struct Log {
@@ -102,6 +105,8 @@ class FmuInstance {
   using ResumeFn = fmi2Status(fmi2Component, unsigned long long);
   CheckpointFn* pcs_checkpoint_ = nullptr;
   ResumeFn* pcs_resume_ = nullptr;
+  using StopRequestedFn = fmi2Status(fmi2Component, int*);
+  StopRequestedFn* pcs_stop_requested_ = nullptr;
 #define PCS_FMI2_MEMBER(name) name##TYPE* name = nullptr;
   PCS_FMI2_FUNCTIONS(PCS_FMI2_MEMBER)
 #undef PCS_FMI2_MEMBER

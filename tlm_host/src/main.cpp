@@ -34,7 +34,8 @@ int usage(std::ostream& os, int rc) {
         "  --restart FILE      continue from a checkpoint (fe_server restarted with --restart and its\n"
         "                      checkpoint of the same step); the results file continues after its row\n"
         "  --quiet             no progress line\n"
-        "Exit codes: 0 ok, 2 usage, 3 model rejected, 4 simulation failed,\n"
+        "Exit codes: 0 ok, 2 usage, 3 model rejected (or a checkpoint that does not fit it), 4 simulation\n"
+        "            failed, 10 stopped after a checkpoint fe_server asked for (it got a stop signal),\n"
         "            128 + N stopped by signal N (130 Ctrl-C, 143 SIGTERM) with results flushed.\n";
   return rc;
 }
@@ -106,6 +107,10 @@ int main(int argc, char** argv) {
   }
   try {
     system->run(out, !quiet);
+  } catch (const tlm::CheckpointStop& e) {
+    std::cerr << "tlm_host: " << e.what() << "\n";
+    system.reset();
+    return 10;
   } catch (const config::CheckpointError& e) {
     std::cerr << "tlm_host: " << e.what() << "\n";
     system.reset();

@@ -369,6 +369,11 @@ void System::run(const std::string& out_path, bool progress) {
     return checkpointing_.path + (where.empty() ? std::string() : " (fe_server: " + where + ")");
   };
 
+  // A stop with a checkpoint ends the FMUs' sessions cleanly (BYE): their
+  // servers then know the checkpoint they just wrote is the one to resume.
+  auto end_sessions = [&] {
+    for (FmuQ* f : fmus) f->finalize();
+  };
   const bool tty = isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
   auto last_report = start, last_checkpoint = start;
@@ -378,9 +383,24 @@ void System::run(const std::string& out_path, bool progress) {
       if (const int signo = config::stop_signal()) {
         if (checkpointing_.path.empty()) throw config::StopRequested(signo);
         const std::string saved = checkpoint(k);
+        end_sessions();
         throw config::StopRequested(signo, "stopped by " + config::signal_name(signo) + " after step " +
                                                std::to_string(k) + "; checkpoint in " + saved + " (--restart " +
                                                checkpointing_.path + " continues)");
+      }
+      // fe_server got a stop signal (a wall-time limit on its node): both
+      // sides checkpoint here, at the same step, and the run ends. Without
+      // --checkpoint the host's goes next to its results.
+      if (std::any_of(fmus.begin(), fmus.end(), [](FmuQ* f) { return f->server_stopping(); })) {
+        if (checkpointing_.path.empty()) {
+          const bool h5 = out_path.size() > 3 && out_path.compare(out_path.size() - 3, 3, ".h5") == 0;
+          checkpointing_.path = (h5 ? out_path.substr(0, out_path.size() - 3) : out_path) + ".ckpt";
+        }
+        const std::string saved = checkpoint(k);
+        end_sessions();
+        throw CheckpointStop("fe_server is stopping (it got a stop signal) and asked for a checkpoint: stopped after step " +
+                             std::to_string(k) + "; checkpoint in " + saved + " (--restart " + checkpointing_.path +
+                             " continues, with fe_server's --restart)");
       }
       if (!checkpointing_.path.empty() && checkpointing_.every_s > 0.0 && k > first &&
           std::chrono::steady_clock::now() - last_checkpoint > std::chrono::duration<double>(checkpointing_.every_s)) {
@@ -412,6 +432,10 @@ void System::run(const std::string& out_path, bool progress) {
         }
       }
     }
+  } catch (const CheckpointStop& e) {
+    out.flush();
+    if (csv.is_open()) csv.flush();
+    throw CheckpointStop(std::string(e.what()) + "; results up to it kept in " + out_path);
   } catch (const std::exception& e) {
     out.flush();
     if (csv.is_open()) csv.flush();

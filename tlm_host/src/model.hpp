@@ -55,6 +55,13 @@ struct ModelSpec {
 ModelSpec parse_model(const std::string& text, const std::string& name);
 ModelSpec read_model(const std::string& path);
 
+// The run stopped after both sides checkpointed because fe_server asked
+// (it got a stop signal: a cluster's wall-time limit); tlm_host exits 10.
+class CheckpointStop : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class System {
  public:
   // Creates, configures and connects the components; checks that every port

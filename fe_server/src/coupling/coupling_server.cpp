@@ -468,7 +468,45 @@ ExitCode CouplingServer::resume_clients(std::string& message) {
   return kExitOk;
 }
 
+bool CouplingServer::ask_for_checkpoint(uint64_t step) {
+  if (!checkpointer_) return false;
+  for (Client& c : clients_)
+    if (pcs_send_frame(&c.conn, PCS_MSG_STOPPING, step, nullptr, 0, deadline_after(1.0)) != SL_OK) return false;
+  stopping_ = true;
+  stop_deadline_ = sl_now_ms() + static_cast<int64_t>(1000.0 * opt_.stop_grace);
+  // From here the waits must not end at the signal: the host has the grace
+  // to checkpoint. A second signal ends the process (SA_RESETHAND).
+  sl_set_stop_flag(nullptr);
+  if (!opt_.quiet)
+    std::cout << "fe_server: " << config::signal_name(config::stop_signal()) << ": asking the host for a checkpoint at step "
+              << step << " (within " << opt_.stop_grace << " s)" << std::endl;
+  return true;
+}
+
+int CouplingServer::receive(Client& c, pcs_header& h, uint64_t step, int64_t deadline) {
+  for (;;) {
+    sl_socket* s = &c.conn;
+    int ready = 0;
+    const int64_t until = stopping_ ? std::min(stop_deadline_, deadline) : deadline;
+    const int rc = sl_wait_any(&s, 1, until, &ready);
+    if (rc == SL_EINTERRUPTED) {
+      if (!stopping_ && ask_for_checkpoint(step)) continue;
+      return rc;
+    }
+    if (rc == 0) return SL_ETIMEDOUT;
+    if (rc < 0) return rc;
+    break;
+  }
+  const volatile sig_atomic_t* flag = sl_get_stop_flag();
+  sl_set_stop_flag(nullptr);
+  const int rc = pcs_recv_frame(&c.conn, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline);
+  sl_set_stop_flag(flag);
+  return rc;
+}
+
 ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, std::string& message) {
+  stopping_ = false;
+  checkpointed_at_ = -1;
   if (listener_.fd < 0) bind();
   const ExitCode accepted = accept_clients(message);
   if (accepted != kExitOk) return accepted;
@@ -483,13 +521,17 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
   uint64_t expected = resume_ ? resume_step_ : 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (;;) {
-    if (config::stop_signal())
-      return stop(expected, "at coupling step " + std::to_string(expected) + " (t = " + std::to_string(solver.time()) + " s)",
-                  message);
+    const std::string here = "at coupling step " + std::to_string(expected) + " (t = " + std::to_string(solver.time()) + " s)";
+    if (config::stop_signal() && !stopping_ && !ask_for_checkpoint(expected)) return stop(expected, here, message);
+    if (stopping_ && sl_now_ms() >= stop_deadline_)
+      return stop(expected, here + "; the host did not checkpoint within " + std::to_string(opt_.stop_grace) + " s", message);
     size_t byes = 0, checkpoints = 0;
     for (Client& c : clients_) {
       pcs_header h{};
-      int rc = pcs_recv_frame(&c.conn, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout_));
+      int rc = receive(c, h, expected, deadline_after(timeout_));
+      if (rc == SL_ETIMEDOUT && stopping_ && sl_now_ms() >= stop_deadline_)
+        return stop(expected, here + "; the host did not checkpoint within " + std::to_string(opt_.stop_grace) + " s",
+                    message);
       if (rc == SL_EINTERRUPTED)
         return stop(expected, "waiting for STEP " + std::to_string(expected) + name_of(c), message);
       if (rc != SL_OK) {
@@ -547,6 +589,7 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
       try {
         if (!checkpointer_) throw std::runtime_error("fe_server was started without --checkpoint");
         path = checkpointer_(expected);
+        checkpointed_at_ = static_cast<long>(expected);
       } catch (const std::exception& e) {
         message = "cannot checkpoint at step " + std::to_string(expected) + ": " + e.what();
         abort_all(expected, SL_EUNEXPECTED, message);
@@ -626,6 +669,19 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
       }
     }
     ++expected;
+  }
+  if (stopping_ && checkpointed_at_ != static_cast<long>(expected)) {
+    message = "stopped by " + config::signal_name(config::stop_signal()) + ": the host ended the session at coupling step " +
+              std::to_string(expected) + " without the checkpoint it was asked for";
+    return stopped_by(config::stop_signal());
+  }
+  if (checkpointed_at_ == static_cast<long>(expected)) {
+    std::ostringstream s;
+    if (stopping_) s << "stopped by " << config::signal_name(config::stop_signal()) << ": ";
+    s << "the host ended the session after the checkpoint at coupling step " << expected << " (t = " << solver.time()
+      << " s); --restart continues from it";
+    message = s.str();
+    return stopping_ ? stopped_by(config::stop_signal()) : kExitCheckpointed;
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ostringstream s;

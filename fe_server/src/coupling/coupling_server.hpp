@@ -34,6 +34,11 @@ struct ServerOptions {
   // do not are dropped (logged) while the server keeps listening.
   double handshake_timeout = 5;  // s
   bool quiet = false;
+  // A stop signal during a session: the host is asked to checkpoint (both
+  // sides, at the same step) and given this long to do it before the
+  // session stops without one. SLURM sends SIGTERM KillWait (default 30 s)
+  // before SIGKILL.
+  double stop_grace = 20;  // s
 };
 
 // Maps the table's variables to the model: which load each input sets and
@@ -139,6 +144,19 @@ class CouplingServer {
   std::string on_auth(Pending& p, const pcs_header& h);
   // A stop by signal: `message` says which and where, the clients are told.
   ExitCode stop(uint64_t step, const std::string& where, std::string& message);
+  // The first look at a stop signal in a session that can checkpoint: ask
+  // every client for a checkpoint (STOPPING) and keep
+  // serving until the host's CHECKPOINT, BYE or the grace's end. True if
+  // the clients were asked.
+  bool ask_for_checkpoint(uint64_t step);
+  // Receive client c's next frame by `deadline`: the wait for its first byte
+  // may end at a stop signal (nothing read yet: then the host is asked for a
+  // checkpoint and the wait goes on, or SL_EINTERRUPTED when it cannot be),
+  // the frame itself is read whole.
+  int receive(Client& c, pcs_header& h, uint64_t step, int64_t deadline);
+  bool stopping_ = false;          // a stop signal came; the host was asked to checkpoint
+  int64_t stop_deadline_ = 0;      // ms: the grace's end
+  long checkpointed_at_ = -1;      // the step of this session's last checkpoint
   // Tells every connected client why the session ends (best effort).
   void abort_all(uint64_t step, uint32_t code, const std::string& why);
   std::string name_of(const Client& c) const;

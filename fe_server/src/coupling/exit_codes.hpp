@@ -17,6 +17,8 @@ enum ExitCode : int {
   kExitPeerAbort = 7,      // the host sent ABORT
   kExitNumerical = 8,      // NaN/Inf in an input or in the FE state
   kExitInternal = 9,       // anything else (a bug: please report)
+  kExitCheckpointed = 10,  // the host stopped the session right after both sides checkpointed
+                           // (--restart continues it)
   kExitStopped = 128,      // + the signal's number: stopped by SIGINT (130), SIGTERM (143) or
                            // SIGHUP (129), results flushed and the host told
 };

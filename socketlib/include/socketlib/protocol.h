@@ -31,7 +31,8 @@
  * expects RESUME k (the step its checkpoint holds) as the client's first
  * frame after HELLO_ACK and echoes it; a fresh server refuses RESUME and a
  * resumed one refuses STEP 0, each with an ABORT that says which side to
- * restart.
+ * restart. A server that gets a stop signal sends STOPPING (before the next
+ * RESULT) and keeps serving a grace period for the client's CHECKPOINT.
  */
 #ifndef SOCKETLIB_PROTOCOL_H
 #define SOCKETLIB_PROTOCOL_H
@@ -61,7 +62,8 @@ typedef enum {
   PCS_MSG_CHALLENGE = 8, /* server → client: server nonce, server's proof of the token */
   PCS_MSG_AUTH = 9,      /* client → server: client's proof of the token */
   PCS_MSG_CHECKPOINT = 10, /* client → server: save state after step k; server → client: saved (path) */
-  PCS_MSG_RESUME = 11      /* client → server: continue from step k; server → client: agreed */
+  PCS_MSG_RESUME = 11,     /* client → server: continue from step k; server → client: agreed */
+  PCS_MSG_STOPPING = 12    /* server → client: got a stop signal, asks for CHECKPOINT soon */
 } pcs_msg_type;
 
 /* Name of a message type ("HELLO", ...), "UNKNOWN" otherwise. */

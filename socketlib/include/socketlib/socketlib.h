@@ -63,8 +63,11 @@ typedef struct sl_socket {
 #define SL_SOCKET_INIT {-1, 0}
 
 /* The flag that makes waits return SL_EINTERRUPTED (NULL: waits run to their
- * deadline). Set once, before any wait, by the program's main thread. */
+ * deadline). Set by the thread that does the waits (fe_server suspends it
+ * while it reads a frame that has begun to arrive, so a signal never cuts a
+ * frame in two), never while another thread waits. */
 void sl_set_stop_flag(const volatile sig_atomic_t *flag);
+const volatile sig_atomic_t *sl_get_stop_flag(void);
 
 /* Milliseconds on the monotonic clock; add a budget to make a deadline. */
 int64_t sl_now_ms(void);

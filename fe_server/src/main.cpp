@@ -66,7 +66,7 @@ int usage(std::ostream& os, int rc) {
         "  --restart FILE        continue from a checkpoint of this deck (and port tables): the results\n"
         "                        file is continued from the checkpoint's row; in a session the host must\n"
         "                        resume from its checkpoint of the same step\n"
-        "  --stop-grace S        a stop signal in a session asks the host for a checkpoint of both sides\n"
+        "  --stop-grace S        SIGTERM in a session asks the host for a checkpoint of both sides\n"
         "                        and waits up to S seconds for it (default 20; SLURM kills 30 s after\n"
         "                        its SIGTERM)\n"
         "  --quiet               no progress output\n"
@@ -229,6 +229,7 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   fe::CheckpointIdentity id{ck.deck_digest, 0, 0};
   long first = 0;
   try {
+    if (resume) fe::check_checkpoint(ck.restart, id);
     history_owner = std::make_unique<fe::History>(out, model, nullptr, dt, model.end_time / 1e4, resume);
     if (resume) {
       first = static_cast<long>(fe::load_checkpoint(ck.restart, id, solver, loads, *history_owner));
@@ -410,6 +411,14 @@ int main(int argc, char** argv) {
         if (const fe::ExitCode code = relax(solver, model, quiet); code != fe::kExitOk) return code;
       solver.set_user_load(&loads);
       const std::string path = session_path(out, session, sessions);
+      if (resume) {
+        try {
+          fe::check_checkpoint(ck.restart, fe::CheckpointIdentity{ck.deck_digest, table.hash(), 0});
+        } catch (const std::exception& e) {
+          std::cerr << "fe_server: " << e.what() << "\n";
+          return fe::kExitInput;
+        }
+      }
       // Without *DATABASE_ DT cards: a row per coupling step.
       history = std::make_unique<fe::History>(path, model, &table, table.dt / table.subcycles, table.dt, resume);
       if (ck.enabled()) {

@@ -74,9 +74,11 @@ void expect_both_files_closed_and_no_folder(const TempDir& dir, const Server& se
 
 }  // namespace
 
-TEST(Signals, SigintOrSigtermStopsTheServerCleanlyAndTellsTheHost) {
-  for (const int sig : {SIGINT, SIGTERM}) {
-    SCOPED_TRACE(sig == SIGINT ? "SIGINT" : "SIGTERM");
+// SIGINT (Ctrl-C) and SIGHUP stop the server at once, the host told why.
+TEST(Signals, SigintOrSighupStopsTheServerCleanlyAndTellsTheHost) {
+  for (const int sig : {SIGINT, SIGHUP}) {
+    const std::string name = sig == SIGINT ? "SIGINT" : "SIGHUP";
+    SCOPED_TRACE(name);
     TempDir dir;
     Server server(dir);
     ASSERT_GT(server.port, 0) << server.child->output();
@@ -84,13 +86,34 @@ TEST(Signals, SigintOrSigtermStopsTheServerCleanlyAndTellsTheHost) {
     let_it_run();
     kill(server.child->pid(), sig);
     EXPECT_EQ(server.child->wait(kHardTimeout), 128 + sig) << server.child->output();
-    const std::string name = sig == SIGINT ? "SIGINT" : "SIGTERM";
     EXPECT_NE(server.child->output().find("stopped by " + name + " "), std::string::npos) << server.child->output();
     EXPECT_EQ(host->wait(kHardTimeout), 4) << host->output();
     EXPECT_NE(host->output().find("fe_server stopped by " + name), std::string::npos)
         << "the host is told why through ABORT:\n" << host->output();
     expect_both_files_closed_and_no_folder(dir, server);
   }
+}
+
+// SIGTERM (a batch system's wall-time limit) asks the host for a checkpoint
+// of both sides first: the host takes it at its next step and ends (exit
+// 10), the server then stops (143); both files closed, both checkpoints
+// there. (That a restart from them continues bit for bit: test_restart.)
+TEST(Signals, SigtermToTheServerEndsTheRunWithACheckpointOfBothSides) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0) << server.child->output();
+  auto host = start_host(dir, server.port, dir.path());
+  let_it_run();
+  kill(server.child->pid(), SIGTERM);
+  EXPECT_EQ(server.child->wait(kHardTimeout), 128 + SIGTERM) << server.child->output();
+  EXPECT_NE(server.child->output().find("stopped by SIGTERM: the host ended the session after the checkpoint"),
+            std::string::npos)
+      << server.child->output();
+  EXPECT_EQ(host->wait(kHardTimeout), 10) << host->output();
+  EXPECT_NE(host->output().find("fe_server is stopping"), std::string::npos) << host->output();
+  EXPECT_TRUE(std::filesystem::exists(dir.file("fe.ckpt"))) << server.child->output();
+  EXPECT_TRUE(std::filesystem::exists(dir.file("host.ckpt"))) << host->output();
+  expect_both_files_closed_and_no_folder(dir, server);
 }
 
 TEST(Signals, SigintOrSigtermStopsTheHostCleanlyAndTellsTheServer) {

@@ -469,7 +469,9 @@ ExitCode CouplingServer::resume_clients(std::string& message) {
 }
 
 bool CouplingServer::ask_for_checkpoint(uint64_t step) {
-  if (!checkpointer_) return false;
+  // SIGTERM is what batch systems send before they kill (SLURM at the wall
+  // time, scancel); Ctrl-C (SIGINT) and SIGHUP stop at once, as before.
+  if (!checkpointer_ || config::stop_signal() != SIGTERM) return false;
   for (Client& c : clients_)
     if (pcs_send_frame(&c.conn, PCS_MSG_STOPPING, step, nullptr, 0, deadline_after(1.0)) != SL_OK) return false;
   stopping_ = true;

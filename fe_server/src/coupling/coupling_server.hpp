@@ -34,7 +34,7 @@ struct ServerOptions {
   // do not are dropped (logged) while the server keeps listening.
   double handshake_timeout = 5;  // s
   bool quiet = false;
-  // A stop signal during a session: the host is asked to checkpoint (both
+  // SIGTERM during a session: the host is asked to checkpoint (both
   // sides, at the same step) and given this long to do it before the
   // session stops without one. SLURM sends SIGTERM KillWait (default 30 s)
   // before SIGKILL.

@@ -28,6 +28,9 @@ struct CheckpointIdentity {
 // Flushes the history and writes the file (atomically).
 void save_checkpoint(const std::string& path, const CheckpointIdentity& id, Solver& solver, UserLoad* loads,
                      History& history);
+// Reads only the identity records: throws config::CheckpointError naming
+// what differs (before anything is opened to continue).
+void check_checkpoint(const std::string& path, const CheckpointIdentity& expected);
 // Restores into a solver, loads and history built from the same deck (the
 // history opened to resume). Throws config::CheckpointError naming what
 // differs. Returns the coupling step.

@@ -1,0 +1,261 @@
+// Checkpoint and restart (issue 18, item 3): a run stopped by a signal, or
+// killed outright after a periodic checkpoint (a lost node), continues from
+// its checkpoints and writes exactly the results an uninterrupted run
+// writes: every series of both sides' files compared bit for bit. There is
+// no tolerance: the restart restores every value the next step reads, and
+// the arithmetic after it is the same arithmetic in the same order.
+// Checkpoints of another step, deck, port table or model are refused with
+// what differs.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "../fe_server/impact_decks.hpp"
+#include "h5io/timeseries.hpp"
+#include "process.hpp"
+
+namespace {
+
+using testing_support::ChildProcess;
+using testing_support::TempDir;
+namespace fs = std::filesystem;
+
+constexpr double kHardTimeout = 120.0;  // no wait is longer (the sanitizer build is slow)
+
+// Every series of `a` is in `b` with the same rows, bit for bit.
+void expect_identical_files(const std::string& a, const std::string& b) {
+  const auto series = h5io::list_series(a);
+  ASSERT_GT(series.size(), 3u) << a;
+  size_t differing = 0;
+  for (const auto& [name, rows] : series) {
+    const std::vector<double> x = h5io::read_series(a, name), y = h5io::read_series(b, name);
+    if (x.size() != y.size() || (!x.empty() && std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) != 0)) {
+      if (++differing <= 5) {
+        size_t at = 0;
+        while (at < std::min(x.size(), y.size()) && std::memcmp(&x[at], &y[at], sizeof(double)) == 0) ++at;
+        ADD_FAILURE() << name << ": " << x.size() << " rows against " << y.size() << ", first difference at row " << at;
+      }
+    }
+  }
+  EXPECT_EQ(differing, 0u) << a << " against " << b << ", " << series.size() << " series";
+}
+
+void wait_for_file(const std::string& path, double timeout_s) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (!fs::exists(path) && std::chrono::steady_clock::now() < end)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+}
+
+// ---------------------------------------------------------------- standalone
+
+// The coaxial bar impact with a plastic tool (yield 100 MPa below the
+// 162 MPa pulse, kinematic hardening: back stresses), contact, and node and
+// solid histories: every kind of state a step carries.
+std::string plastic_impact_deck(double end_time) {
+  std::string d = fe_test::bar_impact_deck(0.1, 0.2, 0.01, 0.005, 8.0, fe_test::kE);
+  const std::string tool_part = "*PART\ntool\n2,1,2\n";
+  const size_t at = d.find(tool_part);
+  if (at == std::string::npos) return "";
+  d.replace(at, tool_part.size(), "*PART\ntool\n2,1,3\n");
+  std::ostringstream s;
+  s << d << "*MAT_PLASTIC_KINEMATIC\n3,7850,2.1e11,0.3,1.0e8,2.0e9,0.0\n"
+    << "*DATABASE_HISTORY_NODE\n1,100001\n*DATABASE_HISTORY_SOLID\n1,2\n*CONTROL_TERMINATION\n" << end_time << "\n";
+  return s.str();
+}
+
+struct Standalone {
+  TempDir dir;
+  std::string deck = dir.file("impact.k");
+  explicit Standalone(double end_time) { std::ofstream(deck) << plastic_impact_deck(end_time); }
+  std::vector<std::string> args(const std::string& out, std::vector<std::string> extra) const {
+    std::vector<std::string> a{PCS_FE_SERVER_EXE, "--model", deck, "--out", dir.file(out)};
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  }
+};
+
+// ---------------------------------------------------------------- co-simulation
+
+const std::string kHammer = PCS_SCENES_DIR "/hammer";
+const std::string kHammerBuilt = PCS_BUILD_SCENES_DIR "/hammer";
+constexpr double kStop = 0.03;  // s of hammer time: the piston lifts, the valve switches
+
+struct CoSim {
+  std::unique_ptr<ChildProcess> server, host;
+};
+
+// fe_server and tlm_host on loopback; files `tag`_fe.h5 and `tag`_host.h5 in dir.
+CoSim start(const TempDir& dir, const std::string& tag, const std::vector<std::string>& server_extra,
+            const std::vector<std::string>& host_extra, const std::string& deck = kHammerBuilt + "/deck.k",
+            const std::string& ports = kHammer + "/ports.cfg", const std::string& model = kHammer + "/model.tlm") {
+  CoSim c;
+  const std::string port_file = dir.file(tag + ".port");
+  fs::remove(port_file);
+  std::vector<std::string> s{PCS_FE_SERVER_EXE, "--model", deck, "--ports", ports, "--listen", "127.0.0.1:0",
+                             "--port-file", port_file, "--out", dir.file(tag + "_fe.h5"), "--accept-timeout", "30"};
+  s.insert(s.end(), server_extra.begin(), server_extra.end());
+  c.server = std::make_unique<ChildProcess>(s);
+  const int port = testing_support::read_port_file(port_file, 30.0);
+  EXPECT_GT(port, 0) << c.server->output();
+  std::vector<std::string> h{PCS_TLM_HOST_EXE, model, "--fmu", kHammerBuilt + "/hammer.fmu", "--server",
+                             "127.0.0.1:" + std::to_string(port), "--out", dir.file(tag + "_host.h5"), "--set",
+                             "simulation.stoptime=" + std::to_string(kStop)};
+  h.insert(h.end(), host_extra.begin(), host_extra.end());
+  c.host = std::make_unique<ChildProcess>(h);
+  return c;
+}
+
+// Exit 4 of a completed host run is its report's complaint that 30 ms hold
+// no settled blows (the run itself completed); any other failure is not.
+void expect_completed(CoSim& c) {
+  const int rc = c.host->wait(kHardTimeout);
+  EXPECT_TRUE(rc == 0 || (rc == 4 && c.host->output().find("tlm_host: report: ") != std::string::npos))
+      << c.host->output();
+  EXPECT_EQ(c.server->wait(kHardTimeout), 0) << c.server->output();
+}
+
+// The uninterrupted run, and how long it took.
+double reference(const TempDir& dir) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CoSim c = start(dir, "ref", {}, {});
+  expect_completed(c);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+TEST(Restart, AStandaloneRunKilledMinus9ContinuesFromItsLastCheckpointBitForBit) {
+  Standalone s(0.003);
+  ChildProcess full(s.args("full.h5", {"--quiet"}));
+  ASSERT_EQ(full.wait(kHardTimeout), 0) << full.output();
+
+  // Checkpoints every 0.12 s of wall time; killed without warning after the first.
+  const std::string ckpt = s.dir.file("part.ckpt");
+  ChildProcess doomed(s.args("part.h5", {"--checkpoint", ckpt, "--checkpoint-every", "0.002"}));
+  wait_for_file(ckpt, 60.0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ::kill(doomed.pid(), SIGKILL);
+  ASSERT_EQ(doomed.wait(kHardTimeout), -1000 - SIGKILL)
+      << "the run must still be going when it is killed (make the deck longer):\n" << doomed.output();
+  ASSERT_TRUE(fs::exists(ckpt)) << doomed.output();
+
+  ChildProcess resumed(s.args("part.h5", {"--restart", ckpt}));
+  ASSERT_EQ(resumed.wait(kHardTimeout), 0) << resumed.output();
+  EXPECT_NE(resumed.output().find("restarted from"), std::string::npos) << resumed.output();
+  expect_identical_files(s.dir.file("full.h5"), s.dir.file("part.h5"));
+}
+
+TEST(Restart, AStandaloneRunStoppedBySigtermWritesItsCheckpointAndContinuesBitForBit) {
+  Standalone s(0.003);
+  ChildProcess full(s.args("full.h5", {"--quiet"}));
+  ASSERT_EQ(full.wait(kHardTimeout), 0) << full.output();
+  const std::string ckpt = s.dir.file("part.ckpt");
+  ChildProcess stopped(s.args("part.h5", {"--checkpoint", ckpt}));
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  ::kill(stopped.pid(), SIGTERM);
+  ASSERT_EQ(stopped.wait(kHardTimeout), 128 + SIGTERM) << stopped.output();
+  EXPECT_NE(stopped.output().find("checkpoint in " + ckpt), std::string::npos) << stopped.output();
+  ChildProcess resumed(s.args("part.h5", {"--restart", ckpt, "--threads", "2"}));  // any thread count: same bits
+  ASSERT_EQ(resumed.wait(kHardTimeout), 0) << resumed.output();
+  expect_identical_files(s.dir.file("full.h5"), s.dir.file("part.h5"));
+}
+
+// The issue's case: the host stopped at about half time by SIGTERM, both
+// sides restarted from their checkpoints.
+TEST(Restart, ACoSimulationStoppedByTheHostsSigtermContinuesBitForBitOnBothSides) {
+  TempDir dir;
+  const double wall = reference(dir);
+  CoSim c = start(dir, "run", {}, {"--checkpoint", dir.file("host.ckpt")});
+  std::this_thread::sleep_for(std::chrono::duration<double>(0.5 * wall));
+  ::kill(c.host->pid(), SIGTERM);
+  ASSERT_EQ(c.host->wait(kHardTimeout), 128 + SIGTERM) << "stopped mid-run:\n" << c.host->output();
+  EXPECT_EQ(c.server->wait(kHardTimeout), 10) << c.server->output();  // ended after a checkpoint
+  ASSERT_TRUE(fs::exists(dir.file("run_fe.ckpt"))) << c.server->output();
+
+  CoSim r = start(dir, "run", {"--restart", dir.file("run_fe.ckpt")}, {"--restart", dir.file("host.ckpt")});
+  expect_completed(r);
+  EXPECT_NE(r.server->output().find("restarted from"), std::string::npos) << r.server->output();
+  expect_identical_files(dir.file("ref_host.h5"), dir.file("run_host.h5"));
+  expect_identical_files(dir.file("ref_fe.h5"), dir.file("run_fe.h5"));
+}
+
+// A cluster's wall-time limit: SIGTERM reaches fe_server only; it asks the
+// host for the checkpoint of both sides.
+TEST(Restart, ACoSimulationWhoseServerGotSigtermContinuesBitForBitOnBothSides) {
+  TempDir dir;
+  const double wall = reference(dir);
+  CoSim c = start(dir, "run", {}, {});
+  std::this_thread::sleep_for(std::chrono::duration<double>(0.5 * wall));
+  ::kill(c.server->pid(), SIGTERM);
+  ASSERT_EQ(c.host->wait(kHardTimeout), 10) << "stopped mid-run:\n" << c.host->output();
+  EXPECT_EQ(c.server->wait(kHardTimeout), 128 + SIGTERM) << c.server->output();
+  // Without --checkpoint the host's checkpoint goes next to its results.
+  CoSim r = start(dir, "run", {"--restart", dir.file("run_fe.ckpt")}, {"--restart", dir.file("run_host.ckpt")});
+  expect_completed(r);
+  expect_identical_files(dir.file("ref_host.h5"), dir.file("run_host.h5"));
+  expect_identical_files(dir.file("ref_fe.h5"), dir.file("run_fe.h5"));
+}
+
+TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) {
+  TempDir dir;
+  // Checkpoints at two different steps: a run stopped, restarted, stopped again.
+  CoSim a = start(dir, "a", {}, {"--checkpoint", dir.file("a_host.ckpt")});
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  ::kill(a.host->pid(), SIGTERM);
+  ASSERT_EQ(a.host->wait(kHardTimeout), 128 + SIGTERM) << a.host->output();
+  ASSERT_EQ(a.server->wait(kHardTimeout), 10) << a.server->output();
+  fs::copy_file(dir.file("a_fe.h5"), dir.file("b_fe.h5"));
+  fs::copy_file(dir.file("a_host.h5"), dir.file("b_host.h5"));
+  CoSim b = start(dir, "b", {"--restart", dir.file("a_fe.ckpt")},
+                  {"--restart", dir.file("a_host.ckpt"), "--checkpoint", dir.file("b_host.ckpt")});
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  ::kill(b.host->pid(), SIGTERM);
+  ASSERT_EQ(b.host->wait(kHardTimeout), 128 + SIGTERM) << b.host->output();
+  ASSERT_EQ(b.server->wait(kHardTimeout), 10) << b.server->output();
+
+  {  // the server at the later step, the host at the earlier one
+    CoSim c = start(dir, "b", {"--restart", dir.file("b_fe.ckpt")}, {"--restart", dir.file("a_host.ckpt")});
+    EXPECT_NE(c.host->wait(kHardTimeout), 0);
+    EXPECT_EQ(c.server->wait(kHardTimeout), 3) << c.server->output();
+    EXPECT_NE(c.server->output().find("both sides must restart from checkpoints of the same step"), std::string::npos)
+        << c.server->output();
+    EXPECT_NE(c.host->output().find("resumes after step"), std::string::npos) << c.host->output();
+  }
+  {  // another deck: the same mesh, one comment more
+    std::ofstream(dir.file("deck.k")) << std::ifstream(kHammerBuilt + "/deck.k").rdbuf() << "$ changed\n";
+    for (const char* mesh : {"piston_mesh.k", "spool_mesh.k", "tool_rock.k"}) fs::copy_file(kHammerBuilt + "/" + mesh, dir.file(mesh));
+    ChildProcess s({PCS_FE_SERVER_EXE, "--model", dir.file("deck.k"), "--ports", kHammer + "/ports.cfg", "--out",
+                    dir.file("x.h5"), "--restart", dir.file("b_fe.ckpt"), "--accept-timeout", "5"});
+    EXPECT_EQ(s.wait(kHardTimeout), 3) << s.output();
+    EXPECT_NE(s.output().find("the deck's contents (SHA-256)"), std::string::npos) << s.output();
+  }
+  {  // another port table
+    ChildProcess s({PCS_FE_SERVER_EXE, "--model", kHammerBuilt + "/deck.k", "--ports", kHammer + "/ports_tlm.cfg",
+                    "--out", dir.file("b_fe.h5"), "--restart", dir.file("b_fe.ckpt"), "--accept-timeout", "5"});
+    EXPECT_EQ(s.wait(kHardTimeout), 3) << s.output();
+    EXPECT_NE(s.output().find("the port tables' hash"), std::string::npos) << s.output();
+  }
+  {  // another model on the host's side
+    std::ofstream(dir.file("model.tlm")) << std::ifstream(kHammer + "/model.tlm").rdbuf() << "$ changed\n";
+    ChildProcess h({PCS_TLM_HOST_EXE, dir.file("model.tlm"), "--fmu", kHammerBuilt + "/hammer.fmu", "--server",
+                    "127.0.0.1:1", "--out", dir.file("b_host.h5"), "--restart", dir.file("b_host.ckpt")});
+    EXPECT_EQ(h.wait(kHardTimeout), 3) << h.output();
+    EXPECT_NE(h.output().find("the model file's contents (SHA-256)"), std::string::npos) << h.output();
+  }
+  {  // a damaged file
+    std::fstream f(dir.file("b_host.ckpt"), std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(100);
+    f.put('\x55');
+    f.close();
+    ChildProcess h({PCS_TLM_HOST_EXE, kHammer + "/model.tlm", "--fmu", kHammerBuilt + "/hammer.fmu", "--server",
+                    "127.0.0.1:1", "--out", dir.file("b_host.h5"), "--restart", dir.file("b_host.ckpt")});
+    EXPECT_EQ(h.wait(kHardTimeout), 3) << h.output();
+    EXPECT_NE(h.output().find("is damaged"), std::string::npos) << h.output();
+  }
+}

@@ -136,3 +136,28 @@ TEST(Checkpoint, AFileThatDoesNotFitIsRefusedSayingWhy) {
   std::filesystem::remove(path);
   EXPECT_NE(error_of([&] { config::StateReader r(path); }).find("cannot read checkpoint"), std::string::npos);
 }
+
+// A crash while a checkpoint is written leaves a partial FILE.tmp, never a
+// partial FILE: the name is given only to a whole, flushed file (rename).
+TEST(Checkpoint, AWriteCutShortLeavesThePreviousCheckpointWhole) {
+  const std::string path = temp_file("pcs_ckpt_atomic.ckpt");
+  State s = sample();
+  config::StateWriter w;
+  s.io(w);
+  w.write(path);
+  std::ofstream(path + ".tmp") << "PCS-CKPT half a checkpoint";  // what a crash mid-write leaves
+  State r;
+  config::StateReader reader(path);
+  r.io(reader);
+  reader.finish();
+  EXPECT_EQ(r.name, "piston");
+  s.name = "spool";  // the next checkpoint replaces both
+  config::StateWriter w2;
+  s.io(w2);
+  w2.write(path);
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  config::StateReader again(path);
+  r.io(again);
+  EXPECT_EQ(r.name, "spool");
+  std::filesystem::remove(path);
+}

@@ -17,6 +17,8 @@
 #include <thread>
 
 #include "../fe_server/impact_decks.hpp"
+#include "config/port_table.hpp"
+#include "fmu_importer.hpp"
 #include "h5io/timeseries.hpp"
 #include "process.hpp"
 
@@ -258,4 +260,47 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
     EXPECT_EQ(h.wait(kHardTimeout), 3) << h.output();
     EXPECT_NE(h.output().find("is damaged"), std::string::npos) << h.output();
   }
+}
+
+// An importer that does not know STOPPING (it steps on, never asks for the
+// checkpoint): the server serves it through the grace, then stops as it
+// would have without one, telling it why.
+TEST(Restart, AnImporterThatNeverCheckpointsGetsTheOldStopWhenTheGraceEnds) {
+  TempDir dir;
+  ChildProcess server({PCS_FE_SERVER_EXE, "--model", PCS_SCENES_DIR "/one_dof/piston.k", "--ports",
+                       PCS_SCENES_DIR "/one_dof/ports.cfg", "--listen", "127.0.0.1:0", "--port-file", dir.file("port"),
+                       "--out", dir.file("fe.h5"), "--accept-timeout", "20", "--stop-grace", "1"});
+  const int port = testing_support::read_port_file(dir.file("port"), 20.0);
+  ASSERT_GT(port, 0) << server.output();
+  auto archive = std::make_shared<tlm::FmuArchive>(PCS_ONE_DOF_FMU);
+  const config::PortTable t = config::read_port_table(archive->dir() + "/resources/ports.cfg");
+  tlm::FmuInstance fmu(archive, "piston", false);
+  fmu.set_string(fmu.vr("server.host"), "127.0.0.1");
+  fmu.set_integer(fmu.vr("server.port"), port);
+  fmu.setup_experiment(0.0, 0.0);
+  fmu.enter_initialization();
+  fmu.exit_initialization();
+  const unsigned p = fmu.vr("cavity.p");
+  std::chrono::steady_clock::time_point signalled{}, failed{};
+  bool asked = false;
+  std::string error;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  for (long k = 0; error.empty() && std::chrono::steady_clock::now() < give_up; ++k) {
+    if (k == 200) {
+      ::kill(server.pid(), SIGTERM);
+      signalled = std::chrono::steady_clock::now();
+    }
+    try {
+      fmu.set_real(p, 1.0e7);
+      fmu.do_step(static_cast<double>(k) * t.dt, t.dt);
+      asked = asked || fmu.stop_requested();
+    } catch (const std::exception& e) {
+      error = e.what();
+      failed = std::chrono::steady_clock::now();
+    }
+  }
+  EXPECT_TRUE(asked) << "the server asked for a checkpoint";
+  EXPECT_NE(error.find("did not checkpoint within"), std::string::npos) << error;
+  EXPECT_GE(std::chrono::duration<double>(failed - signalled).count(), 0.9) << "served through the 1 s grace";
+  EXPECT_EQ(server.wait(kHardTimeout), 128 + SIGTERM) << server.output();
 }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <stdexcept>
@@ -28,8 +29,20 @@ double von_mises(const Eigen::Matrix<double, 6, 1>& t) {
                    3.0 * (t(3) * t(3) + t(4) * t(4) + t(5) * t(5)));
 }
 
-FieldWriter::FieldWriter(const std::string& path, const Model& model) : m_(model), path_(path) {
+FieldWriter::FieldWriter(const std::string& path, const Model& model, bool resume) : m_(model), path_(path) {
   xdmf_ = path.substr(0, path.rfind('.')) + ".xdmf";
+  for (const auto& [id, mat] : model.materials) plastic_ = plastic_ || mat.plastic;
+  if (resume && std::filesystem::exists(path)) {
+    H5E_BEGIN_TRY { file_ = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT); }
+    H5E_END_TRY;
+    if (file_ < 0)
+      throw std::runtime_error("HDF5: cannot open the field snapshots " + path +
+                               " to continue them (a run killed while writing a snapshot leaves them unreadable: "
+                               "move the file away, and the restart writes the later snapshots to a new one)");
+    return;
+  }
+  // A restart without the file starts a new one with the later snapshots.
+  fresh_ = resume;
   file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (file_ < 0) throw std::runtime_error("HDF5: cannot create " + path);
   std::vector<double> xyz;
@@ -46,10 +59,41 @@ FieldWriter::FieldWriter(const std::string& path, const Model& model) : m_(model
   write_int_dataset("mesh/part", part, cells(), 1);
   write_int_dataset("mesh/element_id", eid, cells(), 1);
   write_int_dataset("mesh/node_id", model.node_ids, model.x0.size(), 1);
+  if (fresh_) return;
   // The state at t = 0: undeformed, initial velocities, no stress.
-  for (const auto& [id, mat] : model.materials) plastic_ = plastic_ || mat.plastic;
   write_snapshot(0.0, model.x0, model.v0, std::vector<Eigen::Matrix<double, 6, 1>>(cells(), Eigen::Matrix<double, 6, 1>::Zero()),
                  std::vector<double>(cells(), 0.0));
+}
+
+std::vector<FieldWriter::Field> FieldWriter::field_list() const {
+  std::vector<Field> f{{"displacement", "Node", "m"}, {"velocity", "Node", "m/s"}};
+  static const char* k3d[6] = {"stress_xx", "stress_yy", "stress_zz", "stress_xy", "stress_yz", "stress_zx"};
+  static const char* kAxi[4] = {"stress_radial", "stress_axial", "stress_hoop", "stress_shear_ry"};
+  for (int c = 0; c < (axisymmetric() ? 4 : 6); ++c) f.push_back({axisymmetric() ? kAxi[c] : k3d[c], "Cell", "Pa"});
+  f.push_back({"von_mises", "Cell", "Pa"});
+  if (plastic_) f.push_back({"plastic_strain", "Cell", "1"});
+  return f;
+}
+
+void FieldWriter::state(config::StateIO& io) {
+  io.array("field times", times_);
+  if (io.saving()) return;
+  if (fresh_) {  // a new file: the earlier snapshots are not in it
+    times_.clear();
+    return;
+  }
+  // Snapshots taken after the checkpoint (the run went on before it stopped) go.
+  for (size_t k = times_.size();; ++k) {
+    char group[32];
+    std::snprintf(group, sizeof group, "fields/%06zu", k);
+    htri_t exists = 0;
+    H5E_BEGIN_TRY { exists = H5Lexists(file_, group, H5P_DEFAULT); }
+    H5E_END_TRY;
+    if (exists <= 0) break;
+    if (H5Ldelete(file_, group, H5P_DEFAULT) < 0) throw std::runtime_error("HDF5: cannot remove " + std::string(group) + " from " + path_);
+  }
+  fields_ = field_list();
+  write_index();
 }
 
 FieldWriter::~FieldWriter() {
@@ -108,11 +152,9 @@ void FieldWriter::write_snapshot(double time, const std::vector<Vec3>& x, const 
     u.insert(u.end(), {d.x(), d.y(), d.z()});
     vel.insert(vel.end(), {v[i].x(), v[i].y(), v[i].z()});
   }
-  fields_.clear();
+  fields_ = field_list();
   write_dataset(g + "displacement", u.data(), m_.x0.size(), 3, "m");
-  fields_.push_back({"displacement", "Node", "m"});
   write_dataset(g + "velocity", vel.data(), m_.x0.size(), 3, "m/s");
-  fields_.push_back({"velocity", "Node", "m/s"});
   // Stress components as named scalars: 3D Voigt xx, yy, zz, xy, yz, zx;
   // axisymmetric radial (x), axial (y), hoop, shear in the r–y plane.
   static const char* k3d[6] = {"stress_xx", "stress_yy", "stress_zz", "stress_xy", "stress_yz", "stress_zx"};
@@ -123,15 +165,11 @@ void FieldWriter::write_snapshot(double time, const std::vector<Vec3>& x, const 
     for (size_t e = 0; e < stress.size(); ++e) column[e] = stress[e](c);
     const std::string name = axisymmetric() ? kAxi[c] : k3d[c];
     write_dataset(g + name, column.data(), stress.size(), 1, "Pa");
-    fields_.push_back({name, "Cell", "Pa"});
   }
   for (size_t e = 0; e < stress.size(); ++e) column[e] = von_mises(stress[e]);
   write_dataset(g + "von_mises", column.data(), stress.size(), 1, "Pa");
-  fields_.push_back({"von_mises", "Cell", "Pa"});
-  if (plastic_) {  // effective plastic strain (0 in elastic parts)
+  if (plastic_)  // effective plastic strain (0 in elastic parts)
     write_dataset(g + "plastic_strain", plastic_strain.data(), plastic_strain.size(), 1, "1");
-    fields_.push_back({"plastic_strain", "Cell", "1"});
-  }
   H5Fflush(file_, H5F_SCOPE_GLOBAL);
   times_.push_back(time);
   write_index();

@@ -32,12 +32,17 @@ class FieldWriter {
  public:
   // `path` is the HDF5 file; the XDMF index goes to the same name with .xdmf.
   // Writes the mesh and the snapshot at t = 0 (the model's initial state).
-  FieldWriter(const std::string& path, const Model& model);
+  // resume: opens the file of a run restarted from a checkpoint instead;
+  // state() then drops the snapshots taken after the checkpoint.
+  FieldWriter(const std::string& path, const Model& model, bool resume = false);
   ~FieldWriter();
   FieldWriter(const FieldWriter&) = delete;
   FieldWriter& operator=(const FieldWriter&) = delete;
   void write(const Solver& s);
   size_t snapshots() const { return times_.size(); }
+  // The snapshots' times (checkpoints); restoring removes later snapshots
+  // from the file and rewrites the index.
+  void state(config::StateIO& io);
   const std::string& xdmf_path() const { return xdmf_; }
 
  private:
@@ -51,6 +56,9 @@ class FieldWriter {
   void write_snapshot(double time, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                       const std::vector<Eigen::Matrix<double, 6, 1>>& stress, const std::vector<double>& plastic_strain);
   bool plastic_ = false;  // a plastic material: snapshots carry plastic_strain
+  bool fresh_ = false;    // a restart began a new file: the earlier snapshots are elsewhere
+  // The fields of every snapshot, in the order written.
+  std::vector<Field> field_list() const;
   void write_dataset(const std::string& name, const double* data, hsize_t rows, hsize_t cols, const std::string& unit);
   void write_int_dataset(const std::string& name, const std::vector<int>& data, hsize_t rows, hsize_t cols);
   void write_index() const;

@@ -97,11 +97,8 @@ History::History(const std::string& path, const Model& model, const config::Port
   for (size_t k : {stream_[0], stream_[1], stream_[2]}) widest = std::max(widest, writer_.columns(k));
   row_.resize(widest);
   if (model.snapshot_interval > 0.0) {
-    if (resume)
-      throw std::runtime_error(model.source + ": a restart cannot continue field snapshots (*DATABASE_BINARY_D3PLOT) "
-                               "yet; the time histories can: run without the card to restart");
     std::string base = path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0 ? path.substr(0, path.size() - 3) : path;
-    fields_ = std::make_unique<FieldWriter>(base + "_fields.h5", model);  // writes the snapshot at t = 0
+    fields_ = std::make_unique<FieldWriter>(base + "_fields.h5", model, resume);  // writes the snapshot at t = 0 unless resuming
     next_snapshot_ = model.snapshot_interval;
   }
 }
@@ -111,6 +108,9 @@ History::~History() = default;
 void History::state(config::StateIO& io) {
   io.value("history energy scale", energy_scale_);
   io.value("history next snapshot", next_snapshot_);
+  uint64_t has_fields = fields_ != nullptr;
+  io.expect("history fields", has_fields, "field snapshots (*DATABASE_BINARY_D3PLOT)");
+  if (fields_) fields_->state(io);
   for (size_t k = 0; k < 3; ++k) {
     if (k > 0 && stream_[k] == 0) continue;  // a stream this model does not write
     uint64_t rows = writer_.rows(stream_[k]);

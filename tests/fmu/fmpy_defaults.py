@@ -82,6 +82,37 @@ def main():
             finally:
                 if server.poll() is None:
                     server.kill()
+        # Two simulate_fmu() calls in one Python process against one server
+        # (--sessions 2): the second needs no new server, and gives the first's
+        # results exactly (each session starts from the deck's state).
+        port_file = d / "port_twice"
+        server = subprocess.Popen([fe_server, "--model", str(scene / "piston.k"), "--ports", str(scene / "ports.cfg"),
+                                   "--listen", "127.0.0.1:0", "--port-file", str(port_file), "--out",
+                                   str(d / "fe_{session}.h5"), "--accept-timeout", "30", "--sessions", "2", "--quiet"],
+                                  env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        try:
+            for _ in range(500):
+                if port_file.exists() and port_file.read_text().strip():
+                    break
+                time.sleep(0.02)
+            run_env = {**env, "PCS_SERVER_HOST": "127.0.0.1", "PCS_SERVER_PORT": port_file.read_text().strip()}
+            code = ("import fmpy, numpy\n"
+                    f"a = fmpy.simulate_fmu({fmu!r})\n"
+                    f"b = fmpy.simulate_fmu({fmu!r})\n"
+                    "print(len(a), len(b), all(numpy.array_equal(a[n], b[n]) for n in a.dtype.names))\n")
+            run = subprocess.run([sys.executable, "-c", code], env=run_env, capture_output=True, text=True, timeout=120)
+            server_code = server.wait(timeout=30)
+            lines = run.stdout.strip().splitlines()
+            words = lines[-1].split() if lines else []  # FMPy may print its own lines first
+            ok = run.returncode == 0 and len(words) == 3 and words[2] == "True" and int(words[0]) > 10
+            if not ok or server_code != 0:
+                failures.append(f"two simulate_fmu() on one server: FMPy exit {run.returncode}, fe_server exit "
+                                f"{server_code}\n{run.stdout[-2000:]}{run.stderr[-2000:]}\n{server.stdout.read()[-2000:]}")
+            else:
+                print("two simulate_fmu() in one process, one fe_server (--sessions 2): identical results, exit 0")
+        finally:
+            if server.poll() is None:
+                server.kill()
     for f in failures:
         print("FAILED " + f)
     return 1 if failures else 0

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "fmu_importer.hpp"
 #include "h5io/timeseries.hpp"
 #include "socketlib/protocol.h"
 #include "integration_support.hpp"
@@ -114,4 +115,47 @@ TEST(Sessions, AStrangerBetweenSessionsIsNoObstacleAndASignalOrNoHostEndsTheServ
   TempDir quiet;
   Server lonely(quiet, {"--sessions", "0", "--accept-timeout", "0.5"});
   EXPECT_EQ(lonely.child->wait(kHardTimeout), 4) << lonely.child->output();
+}
+
+// One fmi2DoStep may span several coupling steps (FMPy picks 2^k times the
+// default step): n exchanges with the input held. Stepped by 1×, 16× and
+// 128× the coupling step with the same constant input, the FMU's outputs at
+// their common times are the same bits: the server does the same FE steps
+// from the same inputs whatever the importer's communication step.
+TEST(Sessions, AnFmuSteppedBy1x16xOr128xTheCouplingStepGivesTheSameStatesAtCommonTimes) {
+  TempDir dir;
+  Server server(dir, {"--sessions", "3", "--out", dir.file("fe_{session}.h5")});
+  ASSERT_GT(server.port, 0) << server.child->output();
+  auto archive = std::make_shared<tlm::FmuArchive>(PCS_ONE_DOF_FMU);
+  const config::PortTable t = config::read_port_table(archive->dir() + "/resources/ports.cfg");
+  constexpr int kSteps = 512;  // coupling steps: four 128× steps
+  auto run = [&](int n) {
+    std::vector<std::vector<double>> at_128;  // every output, at every 128th coupling step
+    tlm::FmuInstance fmu(archive, "piston", false);
+    fmu.set_string(fmu.vr("server.host"), "127.0.0.1");
+    fmu.set_integer(fmu.vr("server.port"), server.port);
+    fmu.setup_experiment(0.0, 0.0);
+    fmu.enter_initialization();
+    fmu.exit_initialization();
+    const unsigned p = fmu.vr("cavity.p");
+    std::vector<unsigned> outs;
+    for (const auto& v : archive->description().variables)
+      if (v.causality == "output") outs.push_back(v.value_reference);
+    for (int k = 0; k < kSteps; k += n) {
+      fmu.set_real(p, 1.02e7);  // held constant: a step in pressure above the preload's
+      fmu.do_step(k * t.dt, n * t.dt);
+      if ((k + n) % 128 == 0) {
+        at_128.emplace_back();
+        for (unsigned vr : outs) at_128.back().push_back(fmu.get_real(vr));
+      }
+    }
+    fmu.terminate();
+    return at_128;
+  };
+  const auto one = run(1), sixteen = run(16), big = run(128);
+  ASSERT_EQ(one.size(), 4u);
+  EXPECT_EQ(one, sixteen);
+  EXPECT_EQ(one, big);
+  EXPECT_NE(one.front(), one.back()) << "the face moved: the comparison means something";
+  EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output();
 }

@@ -81,6 +81,27 @@ void expect_identical_field_files(const std::string& a, const std::string& b) {
   H5Fclose(fb);
 }
 
+// Rows of the running host's results file that are already on disk (it
+// flushes at least once a second; read as an SWMR reader).
+size_t rows_on_disk(const std::string& path) {
+  try {
+    for (const auto& [name, rows] : h5io::list_series(path))
+      if (name == "time") return rows;
+  } catch (const std::exception&) {
+    // not created yet
+  }
+  return 0;
+}
+
+// Waits until the host has written more than `rows` rows: it is mid-run,
+// whatever the machine's load (a fixed sleep could land before its first
+// step or after its last).
+void wait_for_rows(const std::string& path, size_t rows, double timeout_s) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (rows_on_disk(path) <= rows && std::chrono::steady_clock::now() < end)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+}
+
 void wait_for_file(const std::string& path, double timeout_s) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   while (!fs::exists(path) && std::chrono::steady_clock::now() < end)
@@ -121,7 +142,9 @@ struct Standalone {
 
 const std::string kHammer = PCS_SCENES_DIR "/hammer";
 const std::string kHammerBuilt = PCS_BUILD_SCENES_DIR "/hammer";
-constexpr double kStop = 0.03;  // s of hammer time: the piston lifts, the valve switches
+// s of hammer time: the piston lifts, the valve switches. About 2.5 s of
+// wall time here: the results file's first flush (after 1 s) is mid-run.
+constexpr double kStop = 0.04;
 
 struct CoSim {
   std::unique_ptr<ChildProcess> server, host;
@@ -157,12 +180,11 @@ void expect_completed(CoSim& c) {
   EXPECT_EQ(c.server->wait(kHardTimeout), 0) << c.server->output();
 }
 
-// The uninterrupted run, and how long it took.
-double reference(const TempDir& dir) {
-  const auto t0 = std::chrono::steady_clock::now();
+// The uninterrupted run; returns its rows.
+size_t reference(const TempDir& dir) {
   CoSim c = start(dir, "ref", {}, {});
   expect_completed(c);
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return rows_on_disk(dir.file("ref_host.h5"));
 }
 
 }  // namespace
@@ -219,9 +241,10 @@ TEST(Restart, AStandaloneRunStoppedBySigtermWritesItsCheckpointAndContinuesBitFo
 // sides restarted from their checkpoints.
 TEST(Restart, ACoSimulationStoppedByTheHostsSigtermContinuesBitForBitOnBothSides) {
   TempDir dir;
-  const double wall = reference(dir);
+  const size_t rows = reference(dir);
   CoSim c = start(dir, "run", {}, {"--checkpoint", dir.file("host.ckpt")});
-  std::this_thread::sleep_for(std::chrono::duration<double>(0.5 * wall));
+  wait_for_rows(dir.file("run_host.h5"), 0, kHardTimeout);
+  ASSERT_LT(rows_on_disk(dir.file("run_host.h5")), rows) << "the run must still be going";
   ::kill(c.host->pid(), SIGTERM);
   ASSERT_EQ(c.host->wait(kHardTimeout), 128 + SIGTERM) << "stopped mid-run:\n" << c.host->output();
   EXPECT_EQ(c.server->wait(kHardTimeout), 10) << c.server->output();  // ended after a checkpoint
@@ -238,9 +261,10 @@ TEST(Restart, ACoSimulationStoppedByTheHostsSigtermContinuesBitForBitOnBothSides
 // host for the checkpoint of both sides.
 TEST(Restart, ACoSimulationWhoseServerGotSigtermContinuesBitForBitOnBothSides) {
   TempDir dir;
-  const double wall = reference(dir);
+  const size_t rows = reference(dir);
   CoSim c = start(dir, "run", {}, {});
-  std::this_thread::sleep_for(std::chrono::duration<double>(0.5 * wall));
+  wait_for_rows(dir.file("run_host.h5"), 0, kHardTimeout);
+  ASSERT_LT(rows_on_disk(dir.file("run_host.h5")), rows) << "the run must still be going";
   ::kill(c.server->pid(), SIGTERM);
   ASSERT_EQ(c.host->wait(kHardTimeout), 10) << "stopped mid-run:\n" << c.host->output();
   EXPECT_EQ(c.server->wait(kHardTimeout), 128 + SIGTERM) << c.server->output();
@@ -253,28 +277,50 @@ TEST(Restart, ACoSimulationWhoseServerGotSigtermContinuesBitForBitOnBothSides) {
 
 TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) {
   TempDir dir;
-  // Checkpoints at two different steps: a run stopped, restarted, stopped again.
-  CoSim a = start(dir, "a", {}, {"--checkpoint", dir.file("a_host.ckpt")});
-  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  // Checkpoints of both sides at step k1: a long run stopped once it is going.
+  CoSim a = start(dir, "a", {}, {"--checkpoint", dir.file("a_host.ckpt"), "--set", "simulation.stoptime=1"});
+  wait_for_rows(dir.file("a_host.h5"), 0, kHardTimeout);
   ::kill(a.host->pid(), SIGTERM);
   ASSERT_EQ(a.host->wait(kHardTimeout), 128 + SIGTERM) << a.host->output();
   ASSERT_EQ(a.server->wait(kHardTimeout), 10) << a.server->output();
+  // The server's checkpoint at k1 + 100: resumed at k1 by an importer that
+  // steps on and asks for one (the FMU's own checkpoint functions).
   fs::copy_file(dir.file("a_fe.h5"), dir.file("b_fe.h5"));
-  fs::copy_file(dir.file("a_host.h5"), dir.file("b_host.h5"));
-  CoSim b = start(dir, "b", {"--restart", dir.file("a_fe.ckpt")},
-                  {"--restart", dir.file("a_host.ckpt"), "--checkpoint", dir.file("b_host.ckpt")});
-  std::this_thread::sleep_for(std::chrono::milliseconds(800));
-  ::kill(b.host->pid(), SIGTERM);
-  ASSERT_EQ(b.host->wait(kHardTimeout), 128 + SIGTERM) << b.host->output();
-  ASSERT_EQ(b.server->wait(kHardTimeout), 10) << b.server->output();
+  ChildProcess server({PCS_FE_SERVER_EXE, "--model", kHammerBuilt + "/deck.k", "--ports", kHammer + "/ports.cfg",
+                       "--listen", "127.0.0.1:0", "--port-file", dir.file("b.port"), "--out", dir.file("b_fe.h5"),
+                       "--restart", dir.file("a_fe.ckpt"), "--checkpoint", dir.file("b_fe.ckpt"), "--accept-timeout",
+                       "30"});
+  const int port = testing_support::read_port_file(dir.file("b.port"), 30.0);
+  ASSERT_GT(port, 0) << server.output();
+  const std::string stopped = a.host->output();  // "stopped by SIGTERM after step K; checkpoint in ..."
+  const size_t at = stopped.find("after step ");
+  ASSERT_NE(at, std::string::npos) << stopped;
+  const long k1 = std::stol(stopped.substr(at + 11));
+  {
+    auto archive = std::make_shared<tlm::FmuArchive>(kHammerBuilt + "/hammer.fmu");
+    const config::PortTable t = config::read_port_table(archive->dir() + "/resources/ports.cfg");
+    tlm::FmuInstance fmu(archive, "fe", false);
+    fmu.set_string(fmu.vr("server.host"), "127.0.0.1");
+    fmu.set_integer(fmu.vr("server.port"), port);
+    fmu.setup_experiment(0.0, 0.0);
+    fmu.enter_initialization();
+    fmu.resume(static_cast<unsigned long long>(k1));
+    fmu.exit_initialization();
+    for (long k = k1; k < k1 + 100; ++k) fmu.do_step(static_cast<double>(k) * t.dt, t.dt);  // the inputs' start values
+    EXPECT_EQ(fmu.checkpoint(), dir.file("b_fe.ckpt"));
+    fmu.terminate();
+  }
+  ASSERT_EQ(server.wait(kHardTimeout), 10) << server.output();
 
-  {  // the server at the later step, the host at the earlier one
+  {  // the server at k1 + 100, the host at k1
     CoSim c = start(dir, "b", {"--restart", dir.file("b_fe.ckpt")}, {"--restart", dir.file("a_host.ckpt")});
     EXPECT_NE(c.host->wait(kHardTimeout), 0);
     EXPECT_EQ(c.server->wait(kHardTimeout), 3) << c.server->output();
-    EXPECT_NE(c.server->output().find("both sides must restart from checkpoints of the same step"), std::string::npos)
-        << c.server->output();
-    EXPECT_NE(c.host->output().find("resumes after step"), std::string::npos) << c.host->output();
+    const std::string why = "the host resumes after step " + std::to_string(k1) +
+                            ", this fe_server's checkpoint is after step " + std::to_string(k1 + 100) +
+                            ": both sides must restart from checkpoints of the same step";
+    EXPECT_NE(c.server->output().find(why), std::string::npos) << c.server->output();
+    EXPECT_NE(c.host->output().find(why), std::string::npos) << "the host is told:\n" << c.host->output();
   }
   {  // another deck: the same mesh, one comment more
     std::ofstream(dir.file("deck.k")) << std::ifstream(kHammerBuilt + "/deck.k").rdbuf() << "$ changed\n";
@@ -293,17 +339,17 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
   {  // another model on the host's side
     std::ofstream(dir.file("model.tlm")) << std::ifstream(kHammer + "/model.tlm").rdbuf() << "$ changed\n";
     ChildProcess h({PCS_TLM_HOST_EXE, dir.file("model.tlm"), "--fmu", kHammerBuilt + "/hammer.fmu", "--server",
-                    "127.0.0.1:1", "--out", dir.file("b_host.h5"), "--restart", dir.file("b_host.ckpt")});
+                    "127.0.0.1:1", "--out", dir.file("a_host.h5"), "--restart", dir.file("a_host.ckpt")});
     EXPECT_EQ(h.wait(kHardTimeout), 3) << h.output();
     EXPECT_NE(h.output().find("the model file's contents (SHA-256)"), std::string::npos) << h.output();
   }
   {  // a damaged file
-    std::fstream f(dir.file("b_host.ckpt"), std::ios::in | std::ios::out | std::ios::binary);
+    std::fstream f(dir.file("a_host.ckpt"), std::ios::in | std::ios::out | std::ios::binary);
     f.seekp(100);
     f.put('\x55');
     f.close();
     ChildProcess h({PCS_TLM_HOST_EXE, kHammer + "/model.tlm", "--fmu", kHammerBuilt + "/hammer.fmu", "--server",
-                    "127.0.0.1:1", "--out", dir.file("b_host.h5"), "--restart", dir.file("b_host.ckpt")});
+                    "127.0.0.1:1", "--out", dir.file("a_host.h5"), "--restart", dir.file("a_host.ckpt")});
     EXPECT_EQ(h.wait(kHardTimeout), 3) << h.output();
     EXPECT_NE(h.output().find("is damaged"), std::string::npos) << h.output();
   }

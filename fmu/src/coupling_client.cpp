@@ -107,6 +107,10 @@ void CouplingClient::connect(const std::string& host, int port, const std::strin
 void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<double>& inputs,
                           std::vector<double>& outputs) {
   if (!connected()) throw LinkError(SL_EINVAL, "not connected to fe_server");
+  if (resume_pending_) {  // the server answers RESUME once every FMU of the session has connected
+    resume_pending_ = false;
+    await_answer(PCS_MSG_RESUME, resume_step_);
+  }
   const int64_t deadline = deadline_after(timeout_s_);
   int n = pcs_encode_values(time, dt, inputs.data(), static_cast<uint32_t>(inputs.size()),
                             buf_.data(), static_cast<uint32_t>(buf_.size()));
@@ -150,12 +154,16 @@ void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<
                             std::to_string(outputs.size()));
 }
 
-pcs_header CouplingClient::request(uint16_t type, uint64_t k) {
+void CouplingClient::send_request(uint16_t type, uint64_t k) {
   if (!connected()) throw LinkError(SL_EINVAL, "not connected to fe_server");
+  const int rc = pcs_send_frame(&sock_, type, k, nullptr, 0, deadline_after(timeout_s_));
+  if (rc != SL_OK) fail(rc, std::string("cannot send ") + pcs_msg_name(type) + " " + std::to_string(k));
+}
+
+pcs_header CouplingClient::await_answer(uint16_t type, uint64_t k) {
   const std::string what = std::string(pcs_msg_name(type)) + " " + std::to_string(k);
-  int rc = pcs_send_frame(&sock_, type, k, nullptr, 0, deadline_after(timeout_s_));
-  if (rc != SL_OK) fail(rc, "cannot send " + what);
   pcs_header h{};
+  int rc = SL_OK;
   for (;;) {  // a checkpoint of a large model may take a while: heartbeats say it is alive
     rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout_s_));
     if (rc == SL_OK && h.type == PCS_MSG_STOPPING) {  // the server asks for a checkpoint
@@ -180,7 +188,8 @@ pcs_header CouplingClient::request(uint16_t type, uint64_t k) {
 }
 
 std::string CouplingClient::checkpoint(uint64_t k) {
-  const pcs_header h = request(PCS_MSG_CHECKPOINT, k);
+  send_request(PCS_MSG_CHECKPOINT, k);
+  const pcs_header h = await_answer(PCS_MSG_CHECKPOINT, k);
   pcs_reader r{buf_.data(), h.payload_size, 0, 0};
   std::vector<char> path(4096);
   pcs_get_str(&r, path.data(), static_cast<uint32_t>(path.size()));
@@ -188,7 +197,11 @@ std::string CouplingClient::checkpoint(uint64_t k) {
   return path.data();
 }
 
-void CouplingClient::resume(uint64_t k) { request(PCS_MSG_RESUME, k); }
+void CouplingClient::resume(uint64_t k) {
+  send_request(PCS_MSG_RESUME, k);
+  resume_pending_ = true;
+  resume_step_ = k;
+}
 
 void CouplingClient::bye() {
   if (!connected()) return;

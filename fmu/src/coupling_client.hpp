@@ -40,8 +40,10 @@ class CouplingClient {
   // Ask the server to save its state after k completed steps (CHECKPOINT k);
   // returns the path of the server's checkpoint. Throws LinkError.
   std::string checkpoint(uint64_t k);
-  // First exchange of a restarted session: RESUME k, the server agrees or
-  // refuses (LinkError with its reason).
+  // First exchange of a restarted session: sends RESUME k; the server's
+  // answer (agreed, or an ABORT saying why not: LinkError) is awaited at the
+  // first step, since the server answers once every FMU of the session has
+  // connected, and the importer may connect them one after another.
   void resume(uint64_t k);
   // Clean end of the session (best effort).
   void bye();
@@ -56,16 +58,19 @@ class CouplingClient {
   [[noreturn]] void fail(int code, const std::string& what);
   // Receive one handshake frame of type `want`; an ABORT, another version or
   // another type ends the connection with a LinkError naming the cause.
-  // Send a frame of `type` for step k (empty payload) and wait for the
-  // server's answer of the same type and step (heartbeats restart the wait);
-  // its payload stays in buf_.
-  pcs_header request(uint16_t type, uint64_t k);
+  // Send a frame of `type` for step k (empty payload); wait for the server's
+  // answer of the same type and step (heartbeats restart the wait, STOPPING
+  // is noted); its payload stays in buf_.
+  void send_request(uint16_t type, uint64_t k);
+  pcs_header await_answer(uint16_t type, uint64_t k);
   void receive_handshake_frame(pcs_header& h, uint16_t want, const std::string& where, int64_t deadline);
   config::PortTable table_;  // a copy: the client may outlive the table it was given
   sl_socket sock_ = SL_SOCKET_INIT;
   double timeout_s_ = 60.0;
   std::vector<uint8_t> buf_;
   bool stop_requested_ = false;
+  bool resume_pending_ = false;  // RESUME sent, its answer not yet read
+  uint64_t resume_step_ = 0;
 };
 
 // The one-line reason for a link error code ("timed out: ...").

@@ -192,7 +192,7 @@ size_t reference(const TempDir& dir) {
 // Without field snapshots: those are not written in SWMR mode, and a kill
 // in the middle of one leaves their file unreadable (fe_server says so).
 TEST(Restart, AStandaloneRunKilledMinus9ContinuesFromItsLastCheckpointBitForBit) {
-  Standalone s(0.003, false);
+  Standalone s(0.0015, false);
   ChildProcess full(s.args("full.h5", {"--quiet"}));
   ASSERT_EQ(full.wait(kHardTimeout), 0) << full.output();
 
@@ -213,7 +213,7 @@ TEST(Restart, AStandaloneRunKilledMinus9ContinuesFromItsLastCheckpointBitForBit)
 }
 
 TEST(Restart, AStandaloneRunStoppedBySigtermWritesItsCheckpointAndContinuesBitForBit) {
-  Standalone s(0.003, true);
+  Standalone s(0.0015, true);
   ChildProcess full(s.args("full.h5", {"--quiet"}));
   ASSERT_EQ(full.wait(kHardTimeout), 0) << full.output();
   const std::string ckpt = s.dir.file("part.ckpt");
@@ -275,6 +275,61 @@ TEST(Restart, ACoSimulationWhoseServerGotSigtermContinuesBitForBitOnBothSides) {
   expect_identical_files(dir.file("ref_fe.h5"), dir.file("run_fe.h5"));
 }
 
+// Two FMUs in one session (piston and valve, stepped concurrently): the
+// host asks both at once, fe_server checkpoints when both have asked, both
+// resume. SIGTERM to the server, so both FMUs also see STOPPING.
+TEST(Restart, TwoFmusOnOneSessionCheckpointAndResumeTogetherBitForBit) {
+  std::stringstream buf;
+  buf << std::ifstream(kHammer + "/model.tlm").rdbuf();
+  std::string text = buf.str();
+  auto replace_all = [&](const std::string& from, const std::string& to) {
+    size_t n = 0;
+    for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()), ++n)
+      text.replace(at, from.size(), to);
+    return n;
+  };
+  ASSERT_EQ(replace_all("fe,          FmuQ", "fe_p, FmuQ, fmu=" + kHammerBuilt + "/hammer_piston.fmu\nfe_v, FmuQ, fmu=" +
+                                                   kHammerBuilt + "/hammer_valve.fmu"),
+            1u);
+  for (const char* label : {"cavA", "cavB", "piston", "tool"}) replace_all(std::string("fe.") + label, std::string("fe_p.") + label);
+  for (const char* label : {"pilot_s", "pilot_c", "spool"}) replace_all(std::string("fe.") + label, std::string("fe_v.") + label);
+  TempDir dir;
+  const std::string model = dir.file("model.tlm");
+  std::ofstream(model) << text;
+  auto run = [&](const std::string& tag, std::vector<std::string> server_extra, std::vector<std::string> host_extra) {
+    CoSim c;
+    const std::string port_file = dir.file(tag + ".port");
+    fs::remove(port_file);
+    std::vector<std::string> s{PCS_FE_SERVER_EXE, "--model", kHammerBuilt + "/deck.k", "--ports",
+                               kHammer + "/two_fmus/piston.cfg", "--ports", kHammer + "/two_fmus/valve.cfg", "--listen",
+                               "127.0.0.1:0", "--port-file", port_file, "--out", dir.file(tag + "_fe.h5"),
+                               "--accept-timeout", "30"};
+    s.insert(s.end(), server_extra.begin(), server_extra.end());
+    c.server = std::make_unique<ChildProcess>(s);
+    const int port = testing_support::read_port_file(port_file, 30.0);
+    EXPECT_GT(port, 0) << c.server->output();
+    std::vector<std::string> h{PCS_TLM_HOST_EXE, model, "--server", "127.0.0.1:" + std::to_string(port), "--out",
+                               dir.file(tag + "_host.h5"), "--set", "simulation.stoptime=0.1", "--set",
+                               "simulation.timestep=1e-5", "--set", "simulation.log_every=1"};
+    h.insert(h.end(), host_extra.begin(), host_extra.end());
+    c.host = std::make_unique<ChildProcess>(h);
+    return c;
+  };
+  CoSim ref = run("ref", {}, {});
+  expect_completed(ref);
+  const size_t rows = rows_on_disk(dir.file("ref_host.h5"));
+  CoSim c = run("run", {}, {});
+  wait_for_rows(dir.file("run_host.h5"), 0, kHardTimeout);
+  ASSERT_LT(rows_on_disk(dir.file("run_host.h5")), rows) << "the run must still be going";
+  ::kill(c.server->pid(), SIGTERM);
+  ASSERT_EQ(c.host->wait(kHardTimeout), 10) << c.host->output();
+  EXPECT_EQ(c.server->wait(kHardTimeout), 128 + SIGTERM) << c.server->output();
+  CoSim r = run("run", {"--restart", dir.file("run_fe.ckpt")}, {"--restart", dir.file("run_host.ckpt")});
+  expect_completed(r);
+  expect_identical_files(dir.file("ref_host.h5"), dir.file("run_host.h5"));
+  expect_identical_files(dir.file("ref_fe.h5"), dir.file("run_fe.h5"));
+}
+
 TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) {
   TempDir dir;
   // Checkpoints of both sides at step k1: a long run stopped once it is going.
@@ -313,6 +368,7 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
   ASSERT_EQ(server.wait(kHardTimeout), 10) << server.output();
 
   {  // the server at k1 + 100, the host at k1
+    fs::copy_file(dir.file("a_host.h5"), dir.file("b_host.h5"));
     CoSim c = start(dir, "b", {"--restart", dir.file("b_fe.ckpt")}, {"--restart", dir.file("a_host.ckpt")});
     EXPECT_NE(c.host->wait(kHardTimeout), 0);
     EXPECT_EQ(c.server->wait(kHardTimeout), 3) << c.server->output();

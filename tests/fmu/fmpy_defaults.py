@@ -23,6 +23,21 @@ from pathlib import Path
 SKIP = 77
 
 
+def start_server(fe_server, scene, d, tag, extra, env):
+    """fe_server for the one-DOF scene on an ephemeral loopback port; returns
+    the process and the environment that points the FMU at it."""
+    port_file = d / f"port_{tag}"
+    server = subprocess.Popen([fe_server, "--model", str(scene / "piston.k"), "--ports", str(scene / "ports.cfg"),
+                               "--listen", "127.0.0.1:0", "--port-file", str(port_file), "--accept-timeout", "30",
+                               "--quiet"] + extra, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    for _ in range(500):  # 10 s at most
+        if port_file.exists() and port_file.read_text().strip():
+            break
+        time.sleep(0.02)
+    port = port_file.read_text().strip() if port_file.exists() else "0"
+    return server, {**env, "PCS_SERVER_HOST": "127.0.0.1", "PCS_SERVER_PORT": port}
+
+
 def main():
     fe_server, scene, fmu = sys.argv[1], Path(sys.argv[2]), sys.argv[3]
     src = os.environ.get("PCS_FMPY_SRC")
@@ -43,18 +58,8 @@ def main():
         # FMPy doubles its step to 1.6e-4 s (16 coupling steps per fmi2DoStep).
         for name, how in (("simulate_fmu()", "api"), ("fmpy simulate", "cli"),
                           ("simulate_fmu(stop_time=0.1)", "api_long")):
-            port_file = d / f"port_{how}"
-            server = subprocess.Popen([fe_server, "--model", str(scene / "piston.k"), "--ports",
-                                       str(scene / "ports.cfg"), "--listen", "127.0.0.1:0", "--port-file",
-                                       str(port_file), "--out", str(d / f"fe_{how}.h5"), "--accept-timeout", "30",
-                                       "--quiet"], env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                      text=True)
+            server, run_env = start_server(fe_server, scene, d, how, ["--out", str(d / f"fe_{how}.h5")], env)
             try:
-                for _ in range(500):
-                    if port_file.exists() and port_file.read_text().strip():
-                        break
-                    time.sleep(0.02)
-                run_env = {**env, "PCS_SERVER_HOST": "127.0.0.1", "PCS_SERVER_PORT": port_file.read_text().strip()}
                 if how in ("api", "api_long"):
                     stop = 0.01 if how == "api" else 0.1
                     args = "" if how == "api" else ", stop_time=0.1"
@@ -85,17 +90,9 @@ def main():
         # Two simulate_fmu() calls in one Python process against one server
         # (--sessions 2): the second needs no new server, and gives the first's
         # results exactly (each session starts from the deck's state).
-        port_file = d / "port_twice"
-        server = subprocess.Popen([fe_server, "--model", str(scene / "piston.k"), "--ports", str(scene / "ports.cfg"),
-                                   "--listen", "127.0.0.1:0", "--port-file", str(port_file), "--out",
-                                   str(d / "fe_{session}.h5"), "--accept-timeout", "30", "--sessions", "2", "--quiet"],
-                                  env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        server, run_env = start_server(fe_server, scene, d, "twice",
+                                       ["--out", str(d / "fe_{session}.h5"), "--sessions", "2"], env)
         try:
-            for _ in range(500):
-                if port_file.exists() and port_file.read_text().strip():
-                    break
-                time.sleep(0.02)
-            run_env = {**env, "PCS_SERVER_HOST": "127.0.0.1", "PCS_SERVER_PORT": port_file.read_text().strip()}
             code = ("import fmpy, numpy\n"
                     f"a = fmpy.simulate_fmu({fmu!r})\n"
                     f"b = fmpy.simulate_fmu({fmu!r})\n"

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "config/port_table.hpp"
+#include "fmu_importer.hpp"
 #include "process.hpp"
 
 namespace {
@@ -34,5 +35,20 @@ class Server {
 };
 
 inline config::PortTable scene_table() { return config::read_port_table(kScene + "/ports.cfg"); }
+
+// An instance of `archive` through the host's importer, initialized and
+// connected to fe_server at 127.0.0.1:port; with resume_step ≥ 0 it resumes
+// a restarted session after that many coupling steps.
+inline std::unique_ptr<tlm::FmuInstance> connected_fmu(const std::shared_ptr<tlm::FmuArchive>& archive,
+                                                       const std::string& name, int port, long resume_step = -1) {
+  auto fmu = std::make_unique<tlm::FmuInstance>(archive, name, false);
+  fmu->set_string(fmu->vr("server.host"), "127.0.0.1");
+  fmu->set_integer(fmu->vr("server.port"), port);
+  fmu->setup_experiment(0.0, 0.0);
+  fmu->enter_initialization();
+  if (resume_step >= 0) fmu->resume(static_cast<unsigned long long>(resume_step));
+  fmu->exit_initialization();
+  return fmu;
+}
 
 }  // namespace

@@ -165,12 +165,8 @@ TEST(Link, FmuThroughTheHostImporterAgainstALiveServer) {
   config::PortTable t = config::read_port_table(archive->dir() + "/resources/ports.cfg");
   double x_last = 0.0, swept = 0.0;
   {
-    tlm::FmuInstance fmu(archive, "piston", false);
-    fmu.set_string(fmu.vr("server.host"), "127.0.0.1");
-    fmu.set_integer(fmu.vr("server.port"), server.port);
-    fmu.setup_experiment(0.0, 0.0);
-    fmu.enter_initialization();
-    fmu.exit_initialization();
+    auto instance = connected_fmu(archive, "piston", server.port);
+    tlm::FmuInstance& fmu = *instance;
     const unsigned p = fmu.vr("cavity.p"), q = fmu.vr("cavity.q"), x = fmu.vr("cavity.x");
     for (int k = 0; k < 200; ++k) {
       fmu.set_real(p, 1.0e7);  // the pressure the spring's preload balances

@@ -19,18 +19,15 @@
 #include <thread>
 
 #include "../fe_server/impact_decks.hpp"
-#include "config/port_table.hpp"
-#include "fmu_importer.hpp"
+#include "../scenes/hammer_two_fmus.hpp"
 #include "h5io/timeseries.hpp"
-#include "process.hpp"
+#include "integration_support.hpp"
 
 namespace {
 
-using testing_support::ChildProcess;
-using testing_support::TempDir;
 namespace fs = std::filesystem;
 
-constexpr double kHardTimeout = 120.0;  // no wait is longer (the sanitizer build is slow)
+constexpr double kRunTimeout = 120.0;  // no wait is longer (the sanitizer build is slow)
 
 // Every series of `a` is in `b` with the same rows, bit for bit.
 void expect_identical_files(const std::string& a, const std::string& b) {
@@ -174,10 +171,10 @@ CoSim start(const TempDir& dir, const std::string& tag, const std::vector<std::s
 // Exit 4 of a completed host run is its report's complaint that 30 ms hold
 // no settled blows (the run itself completed); any other failure is not.
 void expect_completed(CoSim& c) {
-  const int rc = c.host->wait(kHardTimeout);
+  const int rc = c.host->wait(kRunTimeout);
   EXPECT_TRUE(rc == 0 || (rc == 4 && c.host->output().find("tlm_host: report: ") != std::string::npos))
       << c.host->output();
-  EXPECT_EQ(c.server->wait(kHardTimeout), 0) << c.server->output();
+  EXPECT_EQ(c.server->wait(kRunTimeout), 0) << c.server->output();
 }
 
 // The uninterrupted run; returns its rows.
@@ -194,7 +191,7 @@ size_t reference(const TempDir& dir) {
 TEST(Restart, AStandaloneRunKilledMinus9ContinuesFromItsLastCheckpointBitForBit) {
   Standalone s(0.0015, false);
   ChildProcess full(s.args("full.h5", {"--quiet"}));
-  ASSERT_EQ(full.wait(kHardTimeout), 0) << full.output();
+  ASSERT_EQ(full.wait(kRunTimeout), 0) << full.output();
 
   // Checkpoints every 0.12 s of wall time; killed without warning after the first.
   const std::string ckpt = s.dir.file("part.ckpt");
@@ -202,12 +199,12 @@ TEST(Restart, AStandaloneRunKilledMinus9ContinuesFromItsLastCheckpointBitForBit)
   wait_for_file(ckpt, 60.0);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   ::kill(doomed.pid(), SIGKILL);
-  ASSERT_EQ(doomed.wait(kHardTimeout), -1000 - SIGKILL)
+  ASSERT_EQ(doomed.wait(kRunTimeout), -1000 - SIGKILL)
       << "the run must still be going when it is killed (make the deck longer):\n" << doomed.output();
   ASSERT_TRUE(fs::exists(ckpt)) << doomed.output();
 
   ChildProcess resumed(s.args("part.h5", {"--restart", ckpt}));
-  ASSERT_EQ(resumed.wait(kHardTimeout), 0) << resumed.output();
+  ASSERT_EQ(resumed.wait(kRunTimeout), 0) << resumed.output();
   EXPECT_NE(resumed.output().find("restarted from"), std::string::npos) << resumed.output();
   expect_identical_files(s.dir.file("full.h5"), s.dir.file("part.h5"));
 }
@@ -215,15 +212,15 @@ TEST(Restart, AStandaloneRunKilledMinus9ContinuesFromItsLastCheckpointBitForBit)
 TEST(Restart, AStandaloneRunStoppedBySigtermWritesItsCheckpointAndContinuesBitForBit) {
   Standalone s(0.0015, true);
   ChildProcess full(s.args("full.h5", {"--quiet"}));
-  ASSERT_EQ(full.wait(kHardTimeout), 0) << full.output();
+  ASSERT_EQ(full.wait(kRunTimeout), 0) << full.output();
   const std::string ckpt = s.dir.file("part.ckpt");
   ChildProcess stopped(s.args("part.h5", {"--checkpoint", ckpt}));
   std::this_thread::sleep_for(std::chrono::milliseconds(400));
   ::kill(stopped.pid(), SIGTERM);
-  ASSERT_EQ(stopped.wait(kHardTimeout), 128 + SIGTERM) << stopped.output();
+  ASSERT_EQ(stopped.wait(kRunTimeout), 128 + SIGTERM) << stopped.output();
   EXPECT_NE(stopped.output().find("checkpoint in " + ckpt), std::string::npos) << stopped.output();
   ChildProcess resumed(s.args("part.h5", {"--restart", ckpt, "--threads", "2"}));  // any thread count: same bits
-  ASSERT_EQ(resumed.wait(kHardTimeout), 0) << resumed.output();
+  ASSERT_EQ(resumed.wait(kRunTimeout), 0) << resumed.output();
   expect_identical_files(s.dir.file("full.h5"), s.dir.file("part.h5"));
   // The field snapshots continue too: the same snapshots, the same index.
   expect_identical_field_files(s.dir.file("full_fields.h5"), s.dir.file("part_fields.h5"));
@@ -243,11 +240,11 @@ TEST(Restart, ACoSimulationStoppedByTheHostsSigtermContinuesBitForBitOnBothSides
   TempDir dir;
   const size_t rows = reference(dir);
   CoSim c = start(dir, "run", {}, {"--checkpoint", dir.file("host.ckpt")});
-  wait_for_rows(dir.file("run_host.h5"), 0, kHardTimeout);
+  wait_for_rows(dir.file("run_host.h5"), 0, kRunTimeout);
   ASSERT_LT(rows_on_disk(dir.file("run_host.h5")), rows) << "the run must still be going";
   ::kill(c.host->pid(), SIGTERM);
-  ASSERT_EQ(c.host->wait(kHardTimeout), 128 + SIGTERM) << "stopped mid-run:\n" << c.host->output();
-  EXPECT_EQ(c.server->wait(kHardTimeout), 10) << c.server->output();  // ended after a checkpoint
+  ASSERT_EQ(c.host->wait(kRunTimeout), 128 + SIGTERM) << "stopped mid-run:\n" << c.host->output();
+  EXPECT_EQ(c.server->wait(kRunTimeout), 10) << c.server->output();  // ended after a checkpoint
   ASSERT_TRUE(fs::exists(dir.file("run_fe.ckpt"))) << c.server->output();
 
   CoSim r = start(dir, "run", {"--restart", dir.file("run_fe.ckpt")}, {"--restart", dir.file("host.ckpt")});
@@ -263,11 +260,11 @@ TEST(Restart, ACoSimulationWhoseServerGotSigtermContinuesBitForBitOnBothSides) {
   TempDir dir;
   const size_t rows = reference(dir);
   CoSim c = start(dir, "run", {}, {});
-  wait_for_rows(dir.file("run_host.h5"), 0, kHardTimeout);
+  wait_for_rows(dir.file("run_host.h5"), 0, kRunTimeout);
   ASSERT_LT(rows_on_disk(dir.file("run_host.h5")), rows) << "the run must still be going";
   ::kill(c.server->pid(), SIGTERM);
-  ASSERT_EQ(c.host->wait(kHardTimeout), 10) << "stopped mid-run:\n" << c.host->output();
-  EXPECT_EQ(c.server->wait(kHardTimeout), 128 + SIGTERM) << c.server->output();
+  ASSERT_EQ(c.host->wait(kRunTimeout), 10) << "stopped mid-run:\n" << c.host->output();
+  EXPECT_EQ(c.server->wait(kRunTimeout), 128 + SIGTERM) << c.server->output();
   // Without --checkpoint the host's checkpoint goes next to its results.
   CoSim r = start(dir, "run", {"--restart", dir.file("run_fe.ckpt")}, {"--restart", dir.file("run_host.ckpt")});
   expect_completed(r);
@@ -279,23 +276,9 @@ TEST(Restart, ACoSimulationWhoseServerGotSigtermContinuesBitForBitOnBothSides) {
 // host asks both at once, fe_server checkpoints when both have asked, both
 // resume. SIGTERM to the server, so both FMUs also see STOPPING.
 TEST(Restart, TwoFmusOnOneSessionCheckpointAndResumeTogetherBitForBit) {
-  std::stringstream buf;
-  buf << std::ifstream(kHammer + "/model.tlm").rdbuf();
-  std::string text = buf.str();
-  auto replace_all = [&](const std::string& from, const std::string& to) {
-    size_t n = 0;
-    for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()), ++n)
-      text.replace(at, from.size(), to);
-    return n;
-  };
-  ASSERT_EQ(replace_all("fe,          FmuQ", "fe_p, FmuQ, fmu=" + kHammerBuilt + "/hammer_piston.fmu\nfe_v, FmuQ, fmu=" +
-                                                   kHammerBuilt + "/hammer_valve.fmu"),
-            1u);
-  for (const char* label : {"cavA", "cavB", "piston", "tool"}) replace_all(std::string("fe.") + label, std::string("fe_p.") + label);
-  for (const char* label : {"pilot_s", "pilot_c", "spool"}) replace_all(std::string("fe.") + label, std::string("fe_v.") + label);
   TempDir dir;
   const std::string model = dir.file("model.tlm");
-  std::ofstream(model) << text;
+  std::ofstream(model) << hammer_model_with_two_fmus(kHammer, kHammerBuilt);
   auto run = [&](const std::string& tag, std::vector<std::string> server_extra, std::vector<std::string> host_extra) {
     CoSim c;
     const std::string port_file = dir.file(tag + ".port");
@@ -319,11 +302,11 @@ TEST(Restart, TwoFmusOnOneSessionCheckpointAndResumeTogetherBitForBit) {
   expect_completed(ref);
   const size_t rows = rows_on_disk(dir.file("ref_host.h5"));
   CoSim c = run("run", {}, {});
-  wait_for_rows(dir.file("run_host.h5"), 0, kHardTimeout);
+  wait_for_rows(dir.file("run_host.h5"), 0, kRunTimeout);
   ASSERT_LT(rows_on_disk(dir.file("run_host.h5")), rows) << "the run must still be going";
   ::kill(c.server->pid(), SIGTERM);
-  ASSERT_EQ(c.host->wait(kHardTimeout), 10) << c.host->output();
-  EXPECT_EQ(c.server->wait(kHardTimeout), 128 + SIGTERM) << c.server->output();
+  ASSERT_EQ(c.host->wait(kRunTimeout), 10) << c.host->output();
+  EXPECT_EQ(c.server->wait(kRunTimeout), 128 + SIGTERM) << c.server->output();
   CoSim r = run("run", {"--restart", dir.file("run_fe.ckpt")}, {"--restart", dir.file("run_host.ckpt")});
   expect_completed(r);
   expect_identical_files(dir.file("ref_host.h5"), dir.file("run_host.h5"));
@@ -334,10 +317,10 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
   TempDir dir;
   // Checkpoints of both sides at step k1: a long run stopped once it is going.
   CoSim a = start(dir, "a", {}, {"--checkpoint", dir.file("a_host.ckpt"), "--set", "simulation.stoptime=1"});
-  wait_for_rows(dir.file("a_host.h5"), 0, kHardTimeout);
+  wait_for_rows(dir.file("a_host.h5"), 0, kRunTimeout);
   ::kill(a.host->pid(), SIGTERM);
-  ASSERT_EQ(a.host->wait(kHardTimeout), 128 + SIGTERM) << a.host->output();
-  ASSERT_EQ(a.server->wait(kHardTimeout), 10) << a.server->output();
+  ASSERT_EQ(a.host->wait(kRunTimeout), 128 + SIGTERM) << a.host->output();
+  ASSERT_EQ(a.server->wait(kRunTimeout), 10) << a.server->output();
   // The server's checkpoint at k1 + 100: resumed at k1 by an importer that
   // steps on and asks for one (the FMU's own checkpoint functions).
   fs::copy_file(dir.file("a_fe.h5"), dir.file("b_fe.h5"));
@@ -354,24 +337,19 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
   {
     auto archive = std::make_shared<tlm::FmuArchive>(kHammerBuilt + "/hammer.fmu");
     const config::PortTable t = config::read_port_table(archive->dir() + "/resources/ports.cfg");
-    tlm::FmuInstance fmu(archive, "fe", false);
-    fmu.set_string(fmu.vr("server.host"), "127.0.0.1");
-    fmu.set_integer(fmu.vr("server.port"), port);
-    fmu.setup_experiment(0.0, 0.0);
-    fmu.enter_initialization();
-    fmu.resume(static_cast<unsigned long long>(k1));
-    fmu.exit_initialization();
+    auto instance = connected_fmu(archive, "fe", port, k1);
+    tlm::FmuInstance& fmu = *instance;
     for (long k = k1; k < k1 + 100; ++k) fmu.do_step(static_cast<double>(k) * t.dt, t.dt);  // the inputs' start values
     EXPECT_EQ(fmu.checkpoint(), dir.file("b_fe.ckpt"));
     fmu.terminate();
   }
-  ASSERT_EQ(server.wait(kHardTimeout), 10) << server.output();
+  ASSERT_EQ(server.wait(kRunTimeout), 10) << server.output();
 
   {  // the server at k1 + 100, the host at k1
     fs::copy_file(dir.file("a_host.h5"), dir.file("b_host.h5"));
     CoSim c = start(dir, "b", {"--restart", dir.file("b_fe.ckpt")}, {"--restart", dir.file("a_host.ckpt")});
-    EXPECT_NE(c.host->wait(kHardTimeout), 0);
-    EXPECT_EQ(c.server->wait(kHardTimeout), 3) << c.server->output();
+    EXPECT_NE(c.host->wait(kRunTimeout), 0);
+    EXPECT_EQ(c.server->wait(kRunTimeout), 3) << c.server->output();
     const std::string why = "the host resumes after step " + std::to_string(k1) +
                             ", this fe_server's checkpoint is after step " + std::to_string(k1 + 100) +
                             ": both sides must restart from checkpoints of the same step";
@@ -383,20 +361,20 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
     for (const char* mesh : {"piston_mesh.k", "spool_mesh.k", "tool_rock.k"}) fs::copy_file(kHammerBuilt + "/" + mesh, dir.file(mesh));
     ChildProcess s({PCS_FE_SERVER_EXE, "--model", dir.file("deck.k"), "--ports", kHammer + "/ports.cfg", "--out",
                     dir.file("x.h5"), "--restart", dir.file("b_fe.ckpt"), "--accept-timeout", "5"});
-    EXPECT_EQ(s.wait(kHardTimeout), 3) << s.output();
+    EXPECT_EQ(s.wait(kRunTimeout), 3) << s.output();
     EXPECT_NE(s.output().find("the deck's contents (SHA-256)"), std::string::npos) << s.output();
   }
   {  // another port table
     ChildProcess s({PCS_FE_SERVER_EXE, "--model", kHammerBuilt + "/deck.k", "--ports", kHammer + "/ports_tlm.cfg",
                     "--out", dir.file("b_fe.h5"), "--restart", dir.file("b_fe.ckpt"), "--accept-timeout", "5"});
-    EXPECT_EQ(s.wait(kHardTimeout), 3) << s.output();
+    EXPECT_EQ(s.wait(kRunTimeout), 3) << s.output();
     EXPECT_NE(s.output().find("the port tables' hash"), std::string::npos) << s.output();
   }
   {  // another model on the host's side
     std::ofstream(dir.file("model.tlm")) << std::ifstream(kHammer + "/model.tlm").rdbuf() << "$ changed\n";
     ChildProcess h({PCS_TLM_HOST_EXE, dir.file("model.tlm"), "--fmu", kHammerBuilt + "/hammer.fmu", "--server",
                     "127.0.0.1:1", "--out", dir.file("a_host.h5"), "--restart", dir.file("a_host.ckpt")});
-    EXPECT_EQ(h.wait(kHardTimeout), 3) << h.output();
+    EXPECT_EQ(h.wait(kRunTimeout), 3) << h.output();
     EXPECT_NE(h.output().find("the model file's contents (SHA-256)"), std::string::npos) << h.output();
   }
   {  // a damaged file
@@ -406,7 +384,7 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
     f.close();
     ChildProcess h({PCS_TLM_HOST_EXE, kHammer + "/model.tlm", "--fmu", kHammerBuilt + "/hammer.fmu", "--server",
                     "127.0.0.1:1", "--out", dir.file("a_host.h5"), "--restart", dir.file("a_host.ckpt")});
-    EXPECT_EQ(h.wait(kHardTimeout), 3) << h.output();
+    EXPECT_EQ(h.wait(kRunTimeout), 3) << h.output();
     EXPECT_NE(h.output().find("is damaged"), std::string::npos) << h.output();
   }
 }
@@ -423,12 +401,8 @@ TEST(Restart, AnImporterThatNeverCheckpointsGetsTheOldStopWhenTheGraceEnds) {
   ASSERT_GT(port, 0) << server.output();
   auto archive = std::make_shared<tlm::FmuArchive>(PCS_ONE_DOF_FMU);
   const config::PortTable t = config::read_port_table(archive->dir() + "/resources/ports.cfg");
-  tlm::FmuInstance fmu(archive, "piston", false);
-  fmu.set_string(fmu.vr("server.host"), "127.0.0.1");
-  fmu.set_integer(fmu.vr("server.port"), port);
-  fmu.setup_experiment(0.0, 0.0);
-  fmu.enter_initialization();
-  fmu.exit_initialization();
+  auto instance = connected_fmu(archive, "piston", port);
+  tlm::FmuInstance& fmu = *instance;
   const unsigned p = fmu.vr("cavity.p");
   std::chrono::steady_clock::time_point signalled{}, failed{};
   bool asked = false;
@@ -451,5 +425,5 @@ TEST(Restart, AnImporterThatNeverCheckpointsGetsTheOldStopWhenTheGraceEnds) {
   EXPECT_TRUE(asked) << "the server asked for a checkpoint";
   EXPECT_NE(error.find("did not checkpoint within"), std::string::npos) << error;
   EXPECT_GE(std::chrono::duration<double>(failed - signalled).count(), 0.9) << "served through the 1 s grace";
-  EXPECT_EQ(server.wait(kHardTimeout), 128 + SIGTERM) << server.output();
+  EXPECT_EQ(server.wait(kRunTimeout), 128 + SIGTERM) << server.output();
 }

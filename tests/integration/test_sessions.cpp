@@ -12,7 +12,6 @@
 #include <string>
 #include <vector>
 
-#include "fmu_importer.hpp"
 #include "h5io/timeseries.hpp"
 #include "socketlib/protocol.h"
 #include "integration_support.hpp"
@@ -131,12 +130,8 @@ TEST(Sessions, AnFmuSteppedBy1x16xOr128xTheCouplingStepGivesTheSameStatesAtCommo
   constexpr int kSteps = 512;  // coupling steps: four 128× steps
   auto run = [&](int n) {
     std::vector<std::vector<double>> at_128;  // every output, at every 128th coupling step
-    tlm::FmuInstance fmu(archive, "piston", false);
-    fmu.set_string(fmu.vr("server.host"), "127.0.0.1");
-    fmu.set_integer(fmu.vr("server.port"), server.port);
-    fmu.setup_experiment(0.0, 0.0);
-    fmu.enter_initialization();
-    fmu.exit_initialization();
+    auto instance = connected_fmu(archive, "piston", server.port);
+    tlm::FmuInstance& fmu = *instance;
     const unsigned p = fmu.vr("cavity.p");
     std::vector<unsigned> outs;
     for (const auto& v : archive->description().variables)

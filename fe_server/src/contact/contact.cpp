@@ -175,8 +175,11 @@ bool PenaltyContact::touching(const Side& s, size_t i, const std::vector<Vec3>& 
   return true;
 }
 
-int PenaltyContact::side_forces(Side& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+int PenaltyContact::side_forces(Side& s, bool slave_nodes, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                                 std::vector<Vec3>& f) {
+  Vec3& on_nodes = slave_nodes ? slave_force_ : master_force_;
+  Vec3& on_segments = slave_nodes ? master_force_ : slave_force_;
+  double& mass_in_contact = slave_nodes ? slave_mass_ : master_mass_;
   int active = 0;
   Contact c;
   for (size_t i = 0; i < s.nodes.size(); ++i) {
@@ -200,6 +203,9 @@ int PenaltyContact::side_forces(Side& s, const std::vector<Vec3>& x, const std::
     if (F <= 0.0) continue;
     f[node] += F * c.n;
     for (int k2 = 0; k2 < nc; ++k2) f[static_cast<size_t>(seg.n[k2])] -= c.w[k2] * F * c.n;
+    on_nodes += F * c.n;
+    on_segments -= F * c.n;
+    mass_in_contact += m_node;
     max_penetration_ = std::max(max_penetration_, -c.g);
     ++active;
   }
@@ -236,10 +242,13 @@ void PenaltyContact::refuse_initial_penetration(const Model& model, const Contac
 
 int PenaltyContact::apply(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f, long step) {
   max_penetration_ = 0.0;
+  slave_force_ = master_force_ = Vec3::Zero();
+  slave_mass_ = master_mass_ = 0.0;
   int active = 0;
-  for (auto& s : sides_) {
+  for (size_t k = 0; k < sides_.size(); ++k) {
+    Side& s = sides_[k];
     if (step % search_interval_ == 0 || s.start.empty()) search(s, x);
-    active += side_forces(s, x, v, f);
+    active += side_forces(s, k == 0, x, v, f);
   }
   return active;
 }

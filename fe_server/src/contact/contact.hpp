@@ -37,6 +37,13 @@ class PenaltyContact {
   int apply(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f, long step);
   // Largest penetration of the last apply(), m.
   double max_penetration() const { return max_penetration_; }
+  // The last apply()'s resultant force on each side's nodes (slave: the
+  // slave set's, master: the master set's; equal and opposite) and the mass
+  // of that side's nodes in contact (LS-DYNA's rcforc).
+  const Vec3& slave_force() const { return slave_force_; }
+  const Vec3& master_force() const { return master_force_; }
+  double slave_mass() const { return slave_mass_; }
+  double master_mass() const { return master_mass_; }
   double element_size() const { return size_; }
   // Throws std::runtime_error naming the deepest node if, at positions x, a
   // node is already behind a segment of the other surface (beyond round-off).
@@ -76,10 +83,13 @@ class PenaltyContact {
   // (k = 0.1·m/Δt²); a tenth separates them from a corner's geometry.
   static constexpr double kCornerDepth = 0.1;
   void search(Side& s, const std::vector<Vec3>& x);
-  int side_forces(Side& s, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f);
+  // Side 0's nodes are the slave set's (or the slave node set), side 1's the master's.
+  int side_forces(Side& s, bool slave_nodes, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f);
   const std::vector<double>& mass_;
   double dt_, sfs_, damping_, size_ = 0.0, max_penetration_ = 0.0;
   std::vector<Side> sides_;
+  Vec3 slave_force_ = Vec3::Zero(), master_force_ = Vec3::Zero();
+  double slave_mass_ = 0.0, master_mass_ = 0.0;
   int search_interval_ = 20;
 };
 

@@ -637,18 +637,25 @@ struct Reader {
       // Field snapshots every DT, written as HDF5 + XDMF (not d3plot).
       if (!b.cards.empty()) m.snapshot_interval = fields_of(b.cards[0], kW10).real(0, "DT");
     } else if (kw == "*DATABASE_GLSTAT" || kw == "*DATABASE_RCFORC" || kw == "*DATABASE_NODOUT" ||
-               kw == "*DATABASE_ELOUT" || kw == "*DATABASE_SECFORC") {
-      // Card 1: DT (BINARY, LCUR, IOOPT: the file formats of LS-DYNA's ASCII
-      // output, not used). The history file's rows at DT (output/history.hpp);
-      // DT at or below the FE step: every step.
+               kw == "*DATABASE_ELOUT" || kw == "*DATABASE_SECFORC" || kw == "*DATABASE_MATSUM") {
+      // Card 1: DT (BINARY, LCUR, IOOPT: LS-DYNA's file options, not used).
+      // The history file's rows at DT (output/history.hpp); DT at or below
+      // the FE step: every step. GLSTAT, MATSUM, RCFORC, NODOUT and ELOUT
+      // also write LS-DYNA's ASCII file of that name (output/ascii_output.hpp).
       if (b.cards.empty()) b.fail(kw + " needs its card with DT");
       Card c = fields_of(b.cards[0], kW10);
       const double dt = c.real(0, "DT");
       if (!(dt > 0.0)) c.fail("DT must be positive");
-      double& to = kw == "*DATABASE_NODOUT"                                   ? m.history_dt_nodes
-                   : kw == "*DATABASE_ELOUT" || kw == "*DATABASE_SECFORC" ? m.history_dt_elements
-                                                                          : m.history_dt_global;
-      to = to > 0.0 ? std::min(to, dt) : dt;
+      if (kw != "*DATABASE_SECFORC") {
+        double& ascii = m.ascii_dt[config::to_lower(kw.substr(10))];
+        ascii = ascii > 0.0 ? std::min(ascii, dt) : dt;
+      }
+      if (kw != "*DATABASE_MATSUM") {  // the HDF5 has no per-part stream
+        double& to = kw == "*DATABASE_NODOUT"                                   ? m.history_dt_nodes
+                     : kw == "*DATABASE_ELOUT" || kw == "*DATABASE_SECFORC" ? m.history_dt_elements
+                                                                            : m.history_dt_global;
+        to = to > 0.0 ? std::min(to, dt) : dt;
+      }
     } else if (kw == "*DATABASE_HISTORY_NODE") {
       for (int id : id_list(b, 0, "ID")) m.history_nodes.push_back(m.index_of(id, b.where));
     } else if (kw == "*DATABASE_HISTORY_SOLID") {

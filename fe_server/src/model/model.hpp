@@ -290,6 +290,9 @@ struct Model {
   // nodes (*DATABASE_NODOUT), history elements and sections (*DATABASE_ELOUT,
   // *DATABASE_SECFORC).
   double history_dt_global = 0.0, history_dt_nodes = 0.0, history_dt_elements = 0.0;
+  // LS-DYNA's ASCII files asked for (glstat, matsum, rcforc, nodout, elout:
+  // their *DATABASE_ card) and their DT, s (output/ascii_output.hpp).
+  std::map<std::string, double> ascii_dt;
   double dt2ms = 0.0;              // *CONTROL_TIMESTEP DT2MS (< 0: mass scaling to |DT2MS|)
   double hourglass_q = 0.1;        // *CONTROL_HOURGLASS QH
   double bulk_q1 = 1.5, bulk_q2 = 0.06;  // *CONTROL_BULK_VISCOSITY (quadratic, linear)

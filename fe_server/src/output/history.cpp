@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
+#include "output/ascii_output.hpp"
 #include "output/field_output.hpp"
 
 namespace fe {
@@ -96,6 +98,8 @@ History::History(const std::string& path, const Model& model, const config::Port
   size_t widest = 0;
   for (size_t k : {stream_[0], stream_[1], stream_[2]}) widest = std::max(widest, writer_.columns(k));
   row_.resize(widest);
+  if (!model.ascii_dt.empty())
+    ascii_ = std::make_unique<AsciiOutput>(std::filesystem::path(path).parent_path().string(), model, fe_dt, resume);
   if (model.snapshot_interval > 0.0) {
     std::string base = path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0 ? path.substr(0, path.size() - 3) : path;
     fields_ = std::make_unique<FieldWriter>(base + "_fields.h5", model, resume);  // writes the snapshot at t = 0 unless resuming
@@ -105,12 +109,20 @@ History::History(const std::string& path, const Model& model, const config::Port
 
 History::~History() = default;
 
+void History::flush() {
+  writer_.flush();
+  if (ascii_) ascii_->flush();
+}
+
 void History::state(config::StateIO& io) {
   io.value("history energy scale", energy_scale_);
   io.value("history next snapshot", next_snapshot_);
   uint64_t has_fields = fields_ != nullptr;
   io.expect("history fields", has_fields, "field snapshots (*DATABASE_BINARY_D3PLOT)");
   if (fields_) fields_->state(io);
+  uint64_t has_ascii = ascii_ != nullptr;
+  io.expect("history ascii", has_ascii, "LS-DYNA ASCII files");
+  if (ascii_) ascii_->state(io);
   for (size_t k = 0; k < 3; ++k) {
     if (k > 0 && stream_[k] == 0) continue;  // a stream this model does not write
     uint64_t rows = writer_.rows(stream_[k]);
@@ -200,6 +212,7 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
     }
     writer_.append(row_, stream_[2]);
   }
+  if (ascii_) ascii_->record(s);
   if (fields_ && s.time() >= next_snapshot_ - 1e-12 * model_.snapshot_interval) {
     fields_->write(s);
     next_snapshot_ += model_.snapshot_interval;

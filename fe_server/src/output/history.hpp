@@ -41,7 +41,7 @@ class History {
   // Called after every FE step; writes the rows that are due.
   // inputs/outputs: the values of the table's to_fe/to_host variables, wire units.
   void record(const Solver& s, const std::vector<double>& inputs, const std::vector<double>& outputs);
-  void flush() { writer_.flush(); }
+  void flush();
   // The rows written so far and the energy scale (checkpoints; flush first).
   // Restoring cuts the resumed file back to the saved rows.
   void state(config::StateIO& io);
@@ -74,6 +74,7 @@ class History {
   long every_[3] = {1, 1, 1};
   size_t stream_[3] = {0, 0, 0};
   std::unique_ptr<class FieldWriter> fields_;
+  std::unique_ptr<class AsciiOutput> ascii_;  // LS-DYNA's ASCII files, when the deck asks for them
   double next_snapshot_ = 0.0;
   double energy_scale_ = 0.0;
 };

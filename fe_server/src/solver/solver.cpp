@@ -122,10 +122,12 @@ std::string hourglass_warning(const Energies& e) {
 
 StableStep Solver::stable_dt(const Model& m) {
   StableStep best;
-  auto consider = [&](double dt, const std::string& what) {
+  auto consider = [&](double dt, const std::string& what, const char* kind = "", int id = 0) {
     if (dt < best.dt) {
       best.dt = dt;
       best.limited_by = what;
+      best.element_kind = kind;
+      best.element_id = id;
     }
   };
   for (const auto& d : m.discretes) {
@@ -135,20 +137,21 @@ StableStep Solver::stable_dt(const Model& m) {
     if (!(inv > 0.0)) continue;
     std::ostringstream s;
     s << "discrete element " << d.id << " (" << d.where.str() << ", k = " << d.k << " N/m)";
-    consider(2.0 / std::sqrt(d.k * inv), s.str());
+    consider(2.0 / std::sqrt(d.k * inv), s.str(), "discrete", d.id);
   }
   for (const auto& e : m.bars) {
     if (in_rigid_part(m, e.part)) continue;
     const Material& mat = m.materials.at(m.parts.at(e.part).material);
     const double L = (m.x0[static_cast<size_t>(e.n2)] - m.x0[static_cast<size_t>(e.n1)]).norm();
-    consider(L / std::sqrt(mat.E / (mat.rho * e.mass_scale)), "bar element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
+    consider(L / std::sqrt(mat.E / (mat.rho * e.mass_scale)),
+             "bar element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")", "beam", e.id);
   }
   for (const auto& e : m.solids) {
     if (in_rigid_part(m, e.part)) continue;
     const Material& mat = m.materials.at(m.parts.at(e.part).material);
     const double dt_e = hex8_stable_step(hex8_gather(m.x0, e), mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2);
     if (dt_e > 0.0)  // 0: inverted, which the reader refuses
-      consider(dt_e, "solid element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
+      consider(dt_e, "solid element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")", "solid", e.id);
   }
   for (const auto& e : m.axis) {
     if (in_rigid_part(m, e.part)) continue;
@@ -158,7 +161,8 @@ StableStep Solver::stable_dt(const Model& m) {
     const double dt_e =
         axi4_stable_step(axi4_gather(m.x0, e), mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2, fixed_r);
     if (dt_e > 0.0)
-      consider(dt_e, "axisymmetric element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")");
+      consider(dt_e, "axisymmetric element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")", "shell",
+               e.id);
   }
   return best;
 }
@@ -197,6 +201,7 @@ Solver::Solver(const Model& model, double dt)
     for (const auto& [pid, part] : model.parts) energies_.part_ids.push_back(pid);
     energies_.part_hourglass.assign(model.parts.size(), 0.0);
     energies_.part_loading.assign(model.parts.size(), 0.0);
+    energies_.part_internal.assign(model.parts.size(), 0.0);
     part_internal_step_.assign(model.parts.size(), 0.0);
     part_hourglass_step_.assign(model.parts.size(), 0.0);
   }
@@ -425,6 +430,7 @@ void Solver::internal_forces() {
   energies_.hourglass += w.hourglass;
   for (size_t p = 0; p < part_internal_step_.size(); ++p) {
     energies_.part_hourglass[p] += part_hourglass_step_[p];
+    energies_.part_internal[p] += part_internal_step_[p];
     if (part_internal_step_[p] > 0.0) energies_.part_loading[p] += part_internal_step_[p];
   }
   damping_power_ = w.damping_power;
@@ -802,6 +808,7 @@ void Solver::state(config::StateIO& io) {
   io.array("energy part ids", energies_.part_ids);
   io.array("energy part hourglass", energies_.part_hourglass);
   io.array("energy part loading", energies_.part_loading);
+  io.array("energy part internal", energies_.part_internal);
   io.value("energy balance", energies_.balance_error);
   io.value("energy0", energy0_);
 }

@@ -62,6 +62,7 @@ struct Energies {
   // for a machine that strikes again and again).
   std::vector<int> part_ids;
   std::vector<double> part_hourglass, part_loading;
+  std::vector<double> part_internal;  // each part's internal energy now (the sum of its steps' increments)
   // kinetic + internal + spring + hourglass + contact + damping − external work − its value at t = 0
   double balance_error = 0.0;
 };
@@ -84,6 +85,10 @@ std::string hourglass_warning(const Energies& e);
 struct StableStep {
   double dt = 1e300;
   std::string limited_by;
+  // The limiting element as LS-DYNA's glstat names it ("solid", "shell" for
+  // a 2D solid, "beam", "discrete") and its id; empty and 0 if none.
+  std::string element_kind;
+  int element_id = 0;
 };
 
 class Solver {
@@ -173,6 +178,10 @@ class Solver {
   // at stress_time(), m/s.
   double bar_axial_velocity(size_t e) const;
   double contact_force() const { return contact_force_; }  // total normal force of the last step, N
+  // The contacts in deck order (their resultants: rcforc).
+  const std::vector<std::unique_ptr<PenaltyContact>>& contacts() const { return contacts_; }
+  // Velocities v_{n-1/2} of the last step's start (with v(), the acceleration at t_n).
+  const std::vector<Vec3>& v_previous() const { return v_prev_; }
   double max_penetration() const;
   // Largest stable step of the model (without safety factor) and what limits it.
   static StableStep stable_dt(const Model& model);

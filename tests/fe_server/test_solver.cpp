@@ -109,11 +109,11 @@ TEST(DeckReader, ErrorsAndWarningsNameTheLine) {
   EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n").find("has no mass"), std::string::npos);
   fe::DeckWarnings w;
   std::string unknown = std::string(kOscillator);
-  unknown.insert(unknown.find("*END"), "*DATABASE_MATSUM\n1e-4\n");
+  unknown.insert(unknown.find("*END"), "*DATABASE_BNDOUT\n1e-4\n");
   unknown.insert(unknown.find("*END"), "*CONTROL_SOLID\n0, 0,\n\n");  // defaults only
   fe::parse_deck(unknown, "deck.k", &w);
   ASSERT_EQ(w.messages.size(), 2u);
-  EXPECT_NE(w.messages[0].find("deck.k:22: warning: *DATABASE_MATSUM asks for LS-DYNA's output"), std::string::npos)
+  EXPECT_NE(w.messages[0].find("deck.k:22: warning: *DATABASE_BNDOUT asks for LS-DYNA's output"), std::string::npos)
       << w.messages[0];
   EXPECT_NE(w.messages[1].find("deck.k:24: warning: *CONTROL_SOLID is not supported; its cards hold only"),
             std::string::npos)

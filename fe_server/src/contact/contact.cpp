@@ -14,12 +14,6 @@ namespace fe {
 namespace {
 int corners(const Segment& s) { return s.corners(); }
 
-// A segment's length scale: the side of its area, or a line's length.
-double segment_size(const Segment& s, const std::vector<Vec3>& x) {
-  if (s.line()) return (x[static_cast<size_t>(s.n[1])] - x[static_cast<size_t>(s.n[0])]).norm();
-  return std::sqrt(segment_area_vector(s, x).norm());
-}
-
 std::vector<int> nodes_of(const std::vector<Segment>& segs) {
   std::set<int> n;
   for (const auto& s : segs)
@@ -40,6 +34,12 @@ bool barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, dou
   return w[0] >= tol && w[1] >= tol && w[2] >= tol;
 }
 }  // namespace
+
+// A segment's length scale: the side of its area, or a line's length.
+double segment_size(const Segment& s, const std::vector<Vec3>& x) {
+  if (s.line()) return (x[static_cast<size_t>(s.n[1])] - x[static_cast<size_t>(s.n[0])]).norm();
+  return std::sqrt(segment_area_vector(s, x).norm());
+}
 
 PenaltyContact::PenaltyContact(const Model& model, const ContactDef& def, double dt,
                                const std::vector<double>& nodal_mass)
@@ -96,49 +96,54 @@ void PenaltyContact::search(Side& s, const std::vector<Vec3>& x) {
   }
 }
 
-bool PenaltyContact::project(const Segment& seg, size_t node, const std::vector<Vec3>& x, double window,
-                             Contact& c) const {
+bool project_onto_segment(const Segment& seg, const Vec3& point, const std::vector<Vec3>& x, double window, double& g,
+                          Vec3& n, double w[4]) {
   const int nc = corners(seg);
-  for (int k = 0; k < nc; ++k)
-    if (static_cast<size_t>(seg.n[k]) == node) return false;
   if (seg.line()) {  // 2D: the outward normal lies to the right of n0 → n1 in the x–y plane
     const Vec3& a = x[static_cast<size_t>(seg.n[0])];
     const Vec3 d = x[static_cast<size_t>(seg.n[1])] - a;
     const double len2 = d.squaredNorm();
     if (!(len2 > 0.0)) return false;
-    c.n = Vec3(d.y(), -d.x(), 0.0) / std::sqrt(len2);
-    c.g = (x[node] - a).dot(c.n);
-    if (std::fabs(c.g) > window) return false;
-    const double t = (x[node] - a).dot(d) / len2;
+    n = Vec3(d.y(), -d.x(), 0.0) / std::sqrt(len2);
+    g = (point - a).dot(n);
+    if (std::fabs(g) > window) return false;
+    const double t = (point - a).dot(d) / len2;
     if (t < -1e-6 || t > 1.0 + 1e-6) return false;
-    c.w[0] = 1.0 - t, c.w[1] = t, c.w[2] = c.w[3] = 0.0;
+    w[0] = 1.0 - t, w[1] = t, w[2] = w[3] = 0.0;
     return true;
   }
   const Vec3 area = segment_area_vector(seg, x);
   const double a = area.norm();
   if (!(a > 0.0)) return false;
-  c.n = area / a;
+  n = area / a;
   Vec3 centre = Vec3::Zero();
   for (int k = 0; k < nc; ++k) centre += x[static_cast<size_t>(seg.n[k])];
   centre /= nc;
-  c.g = (x[node] - centre).dot(c.n);
-  if (std::fabs(c.g) > window) return false;  // too far in front, or too deep to be this segment
-  const Vec3 p = x[node] - c.g * c.n;
+  g = (point - centre).dot(n);
+  if (std::fabs(g) > window) return false;  // too far in front, or too deep to be this segment
+  const Vec3 p = point - g * n;
   // Weights over the segment's corners: split the quad into two triangles.
-  double w[3];
-  for (double& wk : c.w) wk = 0.0;
+  double t[3];
+  for (int k = 0; k < 4; ++k) w[k] = 0.0;
   const Vec3& x0 = x[static_cast<size_t>(seg.n[0])];
   const Vec3& x1 = x[static_cast<size_t>(seg.n[1])];
   const Vec3& x2 = x[static_cast<size_t>(seg.n[2])];
   const Vec3& x3 = x[static_cast<size_t>(seg.n[3])];
-  if (barycentric(p, x0, x1, x2, w)) {
-    c.w[0] = w[0], c.w[1] = w[1], c.w[2] = w[2];
-  } else if (nc == 4 && barycentric(p, x0, x2, x3, w)) {
-    c.w[0] = w[0], c.w[2] = w[1], c.w[3] = w[2];
+  if (barycentric(p, x0, x1, x2, t)) {
+    w[0] = t[0], w[1] = t[1], w[2] = t[2];
+  } else if (nc == 4 && barycentric(p, x0, x2, x3, t)) {
+    w[0] = t[0], w[2] = t[1], w[3] = t[2];
   } else {
     return false;
   }
   return true;
+}
+
+bool PenaltyContact::project(const Segment& seg, size_t node, const std::vector<Vec3>& x, double window,
+                             Contact& c) const {
+  for (int k = 0; k < corners(seg); ++k)
+    if (static_cast<size_t>(seg.n[k]) == node) return false;
+  return project_onto_segment(seg, x[node], x, window, c.g, c.n, c.w);
 }
 
 bool PenaltyContact::touching(const Side& s, size_t i, const std::vector<Vec3>& x, double window, bool reach_check,

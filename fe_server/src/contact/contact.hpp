@@ -30,6 +30,15 @@
 
 namespace fe {
 
+// Projects `point` onto segment `seg` at positions x: true if it lies within
+// `window` in front of or behind it (gap g along the outward unit normal n)
+// and its foot falls inside the segment, with the foot's weights w over the
+// corners (barycentric on the quad's two triangles; a line's two ends).
+bool project_onto_segment(const Segment& seg, const Vec3& point, const std::vector<Vec3>& x, double window, double& g,
+                          Vec3& n, double w[4]);
+// A segment's length scale: the side of its area, or a line's length.
+double segment_size(const Segment& s, const std::vector<Vec3>& x);
+
 class PenaltyContact {
  public:
   PenaltyContact(const Model& model, const ContactDef& def, double dt, const std::vector<double>& nodal_mass);

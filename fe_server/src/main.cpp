@@ -211,6 +211,7 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   prepare_step(model, dt, quiet);
   fe::Solver solver(model, dt);
   solver.set_threads(threads);
+  for (const auto& note : solver.notes()) std::cerr << "fe_server: note: " << note << "\n";
   std::unique_ptr<fe::SqueezeFilmLoad> films;
   try {
     films = std::make_unique<fe::SqueezeFilmLoad>(model);
@@ -403,6 +404,8 @@ int main(int argc, char** argv) {
       prepare_step(model, table.dt / table.subcycles, quiet);
       fe::Solver solver(model, table.dt / table.subcycles);
       solver.set_threads(threads);
+      if (!quiet)
+        for (const auto& note : solver.notes()) std::cerr << "fe_server: note: " << note << "\n";
       // Before the host's loads: they start with the transient. A host that
       // connected meanwhile waits (its handshake deadline is the port
       // table's timeout).

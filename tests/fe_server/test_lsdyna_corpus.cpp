@@ -105,6 +105,51 @@ TEST(DeckCorpus, ACurveDrivenSegmentPressureGivesTheUniaxialStress) {
   EXPECT_NEAR(lateral, 0.3 * p / E, 0.01 * 0.3 * p / E) << "Poisson's expansion";
 }
 
+// A tie across meshes that do not match carries a pull: every element sees
+// the uniaxial stress p, the column stretches by p/E (to 1 %: the 1 ms ramp
+// leaves a small ringing, as in the cube's test), and the lower block's
+// top nodes stay on the upper block's face (the weights interpolate a
+// uniform strain exactly, so to round-off). Without the tie the same pull
+// leaves the lower block unloaded: the tie, not the contact of coincident
+// faces, carries it.
+TEST(DeckCorpus, ATiedInterfaceCarriesTensionAcrossNonMatchingMeshes) {
+  const std::string text = config::read_text_file(kCorpus + "/tied_column.k");
+  const double p = 1e7, E = 2.1e11;
+  for (bool tied : {true, false}) {
+    SCOPED_TRACE(tied ? "tied" : "not tied");
+    std::string deck = text;
+    if (!tied) {  // the keyword and its card, not the header's mention of it
+      const size_t from = deck.find("\n*CONTACT_TIED_SURFACE_TO_SURFACE"), to = deck.find("\n*DEFINE_CURVE");
+      deck.erase(from, to - from);
+    }
+    const fe::Model m = fe::parse_deck(deck, "tied_column.k");
+    fe::Solver s(m, 1e-7);
+    ASSERT_EQ(s.ties().size(), tied ? 9u : 0u) << "the lower block's nine top nodes, each on the master face";
+    double worst_gap = 0.0;
+    while (s.time() < 2.5e-3) {
+      s.step();
+      for (const auto& t : s.ties()) {
+        fe::Vec3 on_face = fe::Vec3::Zero();
+        for (int k = 0; k < t.corners; ++k) on_face += t.w[k] * s.x()[static_cast<size_t>(t.master[k])];
+        worst_gap = std::max(worst_gap, (s.x()[static_cast<size_t>(t.slave)] - on_face).norm());
+      }
+      if (s.time() > 1.6e-3)
+        for (size_t e = 0; e < m.solids.size(); ++e) {
+          const bool lower = m.solids[e].part == 2;
+          if (!tied && !lower) continue;  // untied, the upper block is pulled away, its stress falling to 0 below
+          const double expect = tied ? p : 0.0;
+          ASSERT_NEAR(s.stress(e)(2), expect, 0.01 * p) << "element " << m.solids[e].id << " at t = " << s.time();
+        }
+    }
+    if (!tied) continue;
+    EXPECT_LT(worst_gap, 1e-15) << "the tied nodes never leave the face (round-off of 1e-5 m positions)";
+    const size_t top = static_cast<size_t>(idx(m, 112));  // a top corner; the bottom is held at z = 0
+    const double strain = (s.x()[top].z() - m.x0[top].z()) / 0.04;
+    EXPECT_NEAR(strain, p / E, 0.01 * p / E);
+    EXPECT_LT(std::fabs(s.energies().balance_error), 0.01 * s.energies().scale);
+  }
+}
+
 // A contact stiffness factor above the stable cap is said at start-up, with
 // its line, not capped silently (contact.hpp explains the cap).
 TEST(DeckCorpus, AContactStiffnessAboveTheCapIsSaid) {

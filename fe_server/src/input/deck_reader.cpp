@@ -451,6 +451,23 @@ struct Reader {
       // Measures the contact force on its surfaces and applies none: output only.
       warn(b.where, kw + " only measures contact forces for LS-DYNA's rcforc file: ignored (fe_server writes the "
                          "contacts' total force in contact/force)");
+    } else if (kw == "*CONTACT_TIED_SURFACE_TO_SURFACE" || kw == "*CONTACT_TIED_NODES_TO_SURFACE") {
+      // Card 1: SSID MSID SSTYP MSTYP (segment sets, or a slave node set:
+      // SSTYP 4, the default of _NODES_TO_SURFACE); cards 2 and 3 (friction,
+      // damping, SFS, thicknesses) mean nothing for a constraint and are read
+      // as LS-DYNA does: not used.
+      const bool nodes_to_surface = kw == "*CONTACT_TIED_NODES_TO_SURFACE";
+      if (b.cards.empty()) b.fail(kw + " needs card 1 (SSID, MSID, SSTYP, MSTYP)");
+      Card c1 = fields_of(b.cards[0], kW10);
+      TieDef d;
+      d.where = c1.where;
+      d.slave_set = static_cast<int>(c1.integer(0, "SSID"));
+      d.master_set = static_cast<int>(c1.integer(1, "MSID"));
+      const long sstyp = c1.integer_or(2, "SSTYP", nodes_to_surface ? 4 : 0);
+      if ((sstyp != 0 && sstyp != 4) || c1.integer_or(3, "MSTYP", 0) != 0)
+        c1.fail("SSTYP must be 0 (segment set) or 4 (node set) and MSTYP 0 (segment set) in this version");
+      d.slave_nodes = sstyp == 4;
+      m.ties.push_back(d);
     } else if (kw == "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE" || kw == "*CONTACT_NODES_TO_SURFACE" ||
                kw == "*CONTACT_AUTOMATIC_NODES_TO_SURFACE") {
       // _NODES_TO_SURFACE: the slave side is a node set unless SSTYP says
@@ -988,6 +1005,13 @@ struct Reader {
       for (int sid : {c.slave_set, c.master_set})
         if (!(c.slave_nodes && sid == c.slave_set) && !m.segment_sets.count(sid))
           throw InputError(c.where, "contact segment set " + std::to_string(sid) + " is not defined in *SET_SEGMENT");
+    }
+    for (const auto& t : m.ties) {
+      if (t.slave_nodes && !m.node_sets.count(t.slave_set))
+        throw InputError(t.where, "tied contact node set " + std::to_string(t.slave_set) + " is not defined in *SET_NODE_LIST");
+      for (int sid : {t.slave_set, t.master_set})
+        if (!(t.slave_nodes && sid == t.slave_set) && !m.segment_sets.count(sid))
+          throw InputError(t.where, "tied contact segment set " + std::to_string(sid) + " is not defined in *SET_SEGMENT");
     }
     warn_point_loads_on_the_axis();
     // Element ids → indices, and the history lists (read as ids) resolved.

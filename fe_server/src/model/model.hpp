@@ -127,6 +127,17 @@ struct ContactDef {
   config::SourceLocation where;
 };
 
+// *CONTACT_TIED_SURFACE_TO_SURFACE (or _NODES_TO_SURFACE: the slave side a
+// node set): each slave node lying on a master segment at t = 0 moves with
+// it from then on, as a constraint: its mass and force go to the segment's
+// nodes by its position's weights, and it takes their weighted velocity
+// (LS-DYNA's constraint-based tie; solver.hpp).
+struct TieDef {
+  int slave_set = 0, master_set = 0;  // segment sets (slave: a node set when slave_nodes)
+  bool slave_nodes = false;
+  config::SourceLocation where;
+};
+
 // A co-simulation port acting on a segment set (*USER_LOADING_SET); "along
 // the axis" below is Model::symmetry_axis (z in 3D, y in 2D axisymmetric decks).
 struct LoadingSet {
@@ -279,6 +290,7 @@ struct Model {
   std::vector<BarElement> bars;
   std::vector<AxiElement> axis;     // axisymmetric solids
   std::vector<ContactDef> contacts;
+  std::vector<TieDef> ties;
   std::map<int, std::vector<int>> part_sets;
   std::vector<int> history_solids;  // element indices into solids
   std::vector<int> history_bars;    // element indices into bars (*DATABASE_HISTORY_BEAM)

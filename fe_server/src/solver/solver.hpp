@@ -16,6 +16,9 @@
 //                          corrected velocity and added to f_ext and v_{n+1/2}
 //   6b prescribed_motions  prescribed DOFs get their curve's v_{n+1/2}; the
 //                          force that takes joins f_ext (its work is the loads')
+//   6c tied_nodes          a tied slave node takes its master segment's
+//                          weighted velocity (its force and mass went to the
+//                          segment's nodes in stage 5)
 //   7 external_work        the user loads' work over the last step
 //   8 positions            x_{n+1} = x_n + Δt·v_{n+1/2} and, in the same pass, the
 //                          kinetic energy at t_n; rigid bodies rotate and move
@@ -183,6 +186,17 @@ class Solver {
   // Velocities v_{n-1/2} of the last step's start (with v(), the acceleration at t_n).
   const std::vector<Vec3>& v_previous() const { return v_prev_; }
   double max_penetration() const;
+  // Said once at construction, for the user (slave nodes of a tie that lie
+  // on no master segment and stay free, ...); empty if nothing.
+  const std::vector<std::string>& notes() const { return notes_; }
+  // Tied slave nodes (*CONTACT_TIED_...), each with its master segment's
+  // nodes and weights.
+  struct Tie {
+    int slave = 0, corners = 0;
+    int master[4] = {0, 0, 0, 0};
+    double w[4] = {0, 0, 0, 0};
+  };
+  const std::vector<Tie>& ties() const { return ties_; }
   // Largest stable step of the model (without safety factor) and what limits it.
   static StableStep stable_dt(const Model& model);
 
@@ -194,6 +208,13 @@ class Solver {
   void velocities();
   void implicit_loads();
   void prescribed_motions();
+  void tied_nodes();
+  // The ties of one *CONTACT_TIED_ card: each slave node on the master
+  // segment it lies on (within a tenth of the segments' size); nodes on
+  // none are left free and said in notes().
+  void build_ties(const TieDef& def);
+  std::vector<Tie> ties_;
+  std::vector<std::string> notes_;
   void body_loads();
   void segment_pressures();  // *LOAD_SEGMENT(_SET)
   void nodal_loads();        // *LOAD_NODE_POINT, *LOAD_NODE_SET

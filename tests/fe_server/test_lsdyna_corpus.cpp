@@ -150,6 +150,78 @@ TEST(DeckCorpus, ATiedInterfaceCarriesTensionAcrossNonMatchingMeshes) {
   }
 }
 
+// One single surface over two blocks: block 1 hits block 2 and they
+// exchange velocities (each is a 1D bar with ν = 0; the soft penalty spring
+// leaves both ringing, so block means, to 2 % of v0), momentum is conserved
+// to round-off, and the run is bit for bit the run with a two-surface
+// contact between the faces that meet. With block 1 alone in the surface
+// nothing touches: no node of a body is in contact with its own faces.
+TEST(DeckCorpus, ASingleSurfaceContactBetweenTwoBlocksExchangesTheirVelocities) {
+  const std::string text = config::read_text_file(kCorpus + "/single_surface_blocks.k");
+  const size_t card = text.find("\n*CONTACT_AUTOMATIC_SINGLE_SURFACE") + 1, next = text.find("\n*INITIAL_VELOCITY") + 1;
+  struct Outcome {
+    fe::Model model;
+    std::vector<fe::Vec3> x, v;
+    double momentum_drift = 0.0, peak_force = 0.0, balance = 0.0, scale = 0.0;
+  };
+  auto run = [](const std::string& deck) {
+    Outcome o;
+    o.model = fe::parse_deck(deck, "blocks.k");
+    const fe::Model& m = o.model;
+    fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
+    auto momentum = [&] {
+      double p = 0.0;
+      for (size_t i = 0; i < m.x0.size(); ++i) p += m.mass[i] * s.v()[i].z();
+      return p;
+    };
+    const double p0 = momentum();
+    while (s.time() < 4e-4) {
+      s.step();
+      o.momentum_drift = std::max(o.momentum_drift, std::fabs(momentum() - p0));
+      o.peak_force = std::max(o.peak_force, s.contact_force());
+    }
+    o.x = s.x(), o.v = s.v();
+    o.balance = s.energies().balance_error, o.scale = s.energies().scale;
+    return o;
+  };
+  const Outcome single = run(text);
+  double m1 = 0.0, m2 = 0.0, p1 = 0.0, p2 = 0.0;
+  for (size_t i = 0; i < single.model.x0.size(); ++i) {
+    const bool falling = single.model.v0[i].z() < 0.0;
+    (falling ? m1 : m2) += single.model.mass[i];
+    (falling ? p1 : p2) += single.model.mass[i] * single.v[i].z();
+  }
+  EXPECT_NEAR(p1 / m1, 0.0, 0.04) << "block 1 stops";
+  EXPECT_NEAR(p2 / m2, -2.0, 0.04) << "block 2 takes its velocity";
+  EXPECT_LT(single.momentum_drift, 1e-12 * m1 * 2.0) << "momentum: the contact forces are equal and opposite";
+  EXPECT_GT(single.peak_force, 100.0) << "they met";
+  EXPECT_LT(std::fabs(single.balance), 0.01 * single.scale);
+
+  // The twin: a two-surface contact between block 1's bottom face (nodes
+  // 1–9, facing down) and block 2's top face (nodes 46–54, facing up).
+  auto faces = [](int base, bool up) {
+    std::string rows;
+    for (int iy = 0; iy < 2; ++iy)
+      for (int ix = 0; ix < 2; ++ix) {
+        int n[4] = {base + iy * 3 + ix, base + iy * 3 + ix + 1, base + (iy + 1) * 3 + ix + 1, base + (iy + 1) * 3 + ix};
+        if (!up) std::swap(n[1], n[3]);
+        rows += std::to_string(n[0]) + "," + std::to_string(n[1]) + "," + std::to_string(n[2]) + "," + std::to_string(n[3]) + "\n";
+      }
+    return rows;
+  };
+  const std::string twin = text.substr(0, card) + "*SET_SEGMENT\n11\n" + faces(1, false) + "*SET_SEGMENT\n12\n" + faces(46, true) +
+                           "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n11,12,0,0\n0,0,0,0,0\n" + text.substr(next);
+  const Outcome two = run(twin);
+  ASSERT_EQ(two.x.size(), single.x.size());
+  for (size_t i = 0; i < single.x.size(); ++i) ASSERT_EQ(single.x[i], two.x[i]) << "node index " << i;
+
+  // Block 1 alone in the surface: it passes into block 2 untouched, and
+  // nothing of it touches its own faces.
+  std::string alone = text;
+  alone.replace(alone.find("         1         2\n*CONTACT"), 20, "         1\n");
+  EXPECT_EQ(run(alone).peak_force, 0.0);
+}
+
 // A contact stiffness factor above the stable cap is said at start-up, with
 // its line, not capped silently (contact.hpp explains the cap).
 TEST(DeckCorpus, AContactStiffnessAboveTheCapIsSaid) {

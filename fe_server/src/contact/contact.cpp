@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -46,8 +47,32 @@ PenaltyContact::PenaltyContact(const Model& model, const ContactDef& def, double
     : mass_(nodal_mass), dt_(dt), sfs_(def.stiffness_factor), damping_(def.damping) {
   const auto& master = model.segment_sets.at(def.master_set);
   static const std::vector<Segment> none;
-  const auto& slave = def.slave_nodes ? none : model.segment_sets.at(def.slave_set);
-  if (def.slave_nodes) {
+  const auto& slave = def.slave_nodes || def.single_surface ? none : model.segment_sets.at(def.slave_set);
+  if (def.single_surface) {
+    // One side: every node of the surface against its faces; each face's
+    // element found once (the face's nodes are all among its eight).
+    single_ = true;
+    sides_.push_back(Side{master, nodes_of(master), {}, {}, {}, {}});
+    std::map<int, std::vector<size_t>> elements_of;  // node → solids that have it
+    const std::set<int> parts(def.part_ids.begin(), def.part_ids.end());
+    for (size_t e = 0; e < model.solids.size(); ++e)
+      if (parts.count(model.solids[e].part))
+        for (int n : model.solids[e].n) elements_of[n].push_back(e);
+    for (const Segment& seg : master) {
+      std::array<int, 8> owner{};
+      owner.fill(-1);
+      for (size_t e : elements_of[seg.n[0]]) {
+        const auto& en = model.solids[e].n;
+        bool all = true;
+        for (int k = 0; k < seg.corners(); ++k) all = all && std::find(en, en + 8, seg.n[k]) != en + 8;
+        if (all) {
+          std::copy(en, en + 8, owner.begin());
+          break;
+        }
+      }
+      owner_.push_back(owner);
+    }
+  } else if (def.slave_nodes) {
     std::vector<int> nodes;
     for (int id : model.node_sets.at(def.slave_set)) nodes.push_back(model.index_of(id, def.where));
     sides_.push_back(Side{master, nodes, {}, {}, {}, {}});  // one-sided: nodes against the master's segments
@@ -157,6 +182,8 @@ bool PenaltyContact::touching(const Side& s, size_t i, const std::vector<Vec3>& 
     const size_t j = static_cast<size_t>(s.cand[static_cast<size_t>(ci)]);
     if (reach_check && (x[node] - x[static_cast<size_t>(s.segments[j].n[0])]).squaredNorm() > s.reach2[j])
       continue;  // too far to touch
+    if (single_ && std::find(owner_[j].begin(), owner_[j].end(), static_cast<int>(node)) != owner_[j].end())
+      continue;  // a face of one of its own elements
     if (!project(s.segments[j], node, x, window, trial)) continue;
     if (trial.g >= 0.0) {
       on_or_in_front = true;
@@ -232,7 +259,10 @@ void PenaltyContact::refuse_initial_penetration(const Model& model, const Contac
     search(s, x);
     size_t j = 0;
     for (size_t i = 0; i < s.nodes.size(); ++i)
-      if (touching(s, i, x, 2.0 * size_, false, c, j) && -c.g > worst) {
+      // A single surface's own far faces lie within two sizes of its nodes
+      // (a body two elements thick): there, only what the step itself would
+      // take for a contact counts.
+      if (touching(s, i, x, (single_ ? 0.5 : 2.0) * size_, false, c, j) && -c.g > worst) {
         worst = -c.g;
         worst_node = s.nodes[i];
       }

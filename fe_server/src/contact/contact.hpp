@@ -23,6 +23,7 @@
 // Candidate segments are searched every `search_interval` steps.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "config/checkpoint.hpp"
@@ -97,6 +98,10 @@ class PenaltyContact {
   const std::vector<double>& mass_;
   double dt_, sfs_, damping_, size_ = 0.0, max_penetration_ = 0.0;
   std::vector<Side> sides_;
+  // Single surface: per segment, the nodes of the element it is a face of
+  // (a node is never in contact with its own elements' faces).
+  bool single_ = false;
+  std::vector<std::array<int, 8>> owner_;
   Vec3 slave_force_ = Vec3::Zero(), master_force_ = Vec3::Zero();
   double slave_mass_ = 0.0, master_mass_ = 0.0;
   int search_interval_ = 20;

@@ -6,6 +6,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -451,6 +452,29 @@ struct Reader {
       // Measures the contact force on its surfaces and applies none: output only.
       warn(b.where, kw + " only measures contact forces for LS-DYNA's rcforc file: ignored (fe_server writes the "
                          "contacts' total force in contact/force)");
+    } else if (kw == "*CONTACT_AUTOMATIC_SINGLE_SURFACE") {
+      // Card 1: SSID, MSID (not used), SSTYP (2: part set, 3: part; SSID 0:
+      // every part), MSTYP; card 2: FS FD DC VC VDC; card 3: SFS.
+      ContactDef d;
+      Card c1 = b.cards.empty() ? Card{} : fields_of(b.cards[0], kW10);
+      d.where = b.cards.empty() ? b.where : c1.where;
+      d.single_surface = true;
+      const long ssid = b.cards.empty() ? 0 : c1.integer_or(0, "SSID", 0);
+      const long sstyp = b.cards.empty() ? 2 : c1.integer_or(2, "SSTYP", 2);
+      if (ssid != 0 && sstyp != 2 && sstyp != 3)
+        c1.fail("SSTYP must be 2 (part set) or 3 (part) for a single surface in this version (SSID 0: all parts)");
+      d.slave_set = static_cast<int>(ssid);
+      d.slave_nodes = sstyp == 3;  // read here as: SSID names one part (resolved after the deck)
+      if (b.cards.size() > 1) {
+        Card c2 = fields_of(b.cards[1], kW10);
+        d.friction = c2.real_or(0, "FS", 0.0);
+        d.damping = c2.real_or(4, "VDC", 20.0) / 100.0;
+        if (d.friction != 0.0) warn(c2.where, "contact friction FS is not modelled yet (frictionless contact)");
+      }
+      if (b.cards.size() > 2) d.stiffness_factor = fields_of(b.cards[2], kW10).real_or(0, "SFS", 1.0);
+      if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
+      warn_stiffness_cap(d, "SFS");
+      m.contacts.push_back(d);
     } else if (kw == "*CONTACT_TIED_SURFACE_TO_SURFACE" || kw == "*CONTACT_TIED_NODES_TO_SURFACE") {
       // Card 1: SSID MSID SSTYP MSTYP (segment sets, or a slave node set:
       // SSTYP 4, the default of _NODES_TO_SURFACE); cards 2 and 3 (friction,
@@ -862,6 +886,40 @@ struct Reader {
     return out;
   }
 
+  // The outer faces of the solids of parts `pids`: the faces only one
+  // element has, their nodes ordered so the normal points out of it.
+  std::vector<Segment> outer_faces_of(const std::set<int>& pids, const config::SourceLocation& where) {
+    // Each face of a hex (nodes 0–3 one end, 4–7 the other), counter-clockwise seen from outside.
+    static constexpr int kFace[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+    std::map<std::array<int, 4>, int> count;
+    std::vector<Segment> faces;
+    for (const auto& e : m.solids) {
+      if (!pids.count(e.part)) continue;
+      for (const auto& f : kFace) {
+        Segment s;
+        for (int k = 0; k < 4; ++k) s.n[k] = e.n[f[k]];
+        std::array<int, 4> key{s.n[0], s.n[1], s.n[2], s.n[3]};
+        std::sort(key.begin(), key.end());
+        if (std::unique(key.begin(), key.end()) - key.begin() < 3) continue;  // a collapsed face of a wedge or tet
+        if (count[key]++ == 0) faces.push_back(s);
+      }
+    }
+    std::vector<Segment> out;
+    for (const Segment& s : faces) {
+      std::array<int, 4> key{s.n[0], s.n[1], s.n[2], s.n[3]};
+      std::sort(key.begin(), key.end());
+      if (count[key] != 1) continue;
+      Segment t = s;
+      // A triangle keeps its three corners with n[3] == n[2].
+      if (t.n[0] == t.n[1]) t = Segment{{t.n[1], t.n[2], t.n[3], t.n[3]}};
+      else if (t.n[1] == t.n[2]) t = Segment{{t.n[0], t.n[1], t.n[3], t.n[3]}};
+      else if (t.n[3] == t.n[0]) t = Segment{{t.n[0], t.n[1], t.n[2], t.n[2]}};
+      out.push_back(t);
+    }
+    if (out.empty()) throw InputError(where, "the single-surface contact's parts have no solid elements");
+    return out;
+  }
+
   void finish(const std::string& name) {
     if (m.node_ids.empty()) throw InputError({name, 1}, "the deck defines no nodes (*NODE)");
     const size_t n = m.node_ids.size();
@@ -992,6 +1050,27 @@ struct Reader {
     }
     int planar_sets = 0;
     for (auto& c : m.contacts) {
+      if (c.single_surface) {
+        // The parts: a part set, one part, or every part; their solids'
+        // outer faces become one built segment set (a negative id).
+        std::set<int> pids;
+        if (c.slave_set == 0) {
+          for (const auto& [pid, part] : m.parts) pids.insert(pid);
+        } else if (c.slave_nodes) {
+          if (!m.parts.count(c.slave_set)) throw InputError(c.where, "part " + std::to_string(c.slave_set) + " is not defined");
+          pids.insert(c.slave_set);
+        } else {
+          auto it = m.part_sets.find(c.slave_set);
+          if (it == m.part_sets.end()) throw InputError(c.where, "part set " + std::to_string(c.slave_set) + " is not defined");
+          pids.insert(it->second.begin(), it->second.end());
+        }
+        const int id = -(++planar_sets);
+        m.segment_sets[id] = outer_faces_of(pids, c.where);
+        c.part_ids.assign(pids.begin(), pids.end());
+        c.slave_set = c.master_set = id;
+        c.slave_nodes = false;
+        continue;
+      }
       if (!c.planar) continue;
       // Built segment sets get negative ids, which no deck can use.
       const int s_id = -(++planar_sets), m_id = -(++planar_sets);

@@ -121,6 +121,12 @@ struct ContactDef {
   // 2-node line segments (the boundaries of the parts of two part sets,
   // built by the reader), checked in the x–y plane.
   bool planar = false;
+  // *CONTACT_AUTOMATIC_SINGLE_SURFACE: one surface (the outer faces of the
+  // solids of its parts, a segment set the reader builds: master_set) in
+  // contact with itself: every node against every face but those of its own
+  // elements. part_ids holds the parts (empty: all).
+  bool single_surface = false;
+  std::vector<int> part_ids;
   double friction = 0.0;              // FS (not used yet: frictionless normal contact)
   double damping = 0.2;               // VDC as a fraction of critical
   double stiffness_factor = 1.0;      // SFS

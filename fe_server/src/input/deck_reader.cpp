@@ -109,6 +109,7 @@ struct Reader {
     Eigen::Matrix<bool, 3, 1> fixed_translation{false, false, false}, fixed_rotation{false, false, false};
   };
   std::vector<NodalRigidBodyCards> rigid_cards;
+  std::vector<Card> rigid_motion_cards;  // *BOUNDARY_PRESCRIBED_MOTION_RIGID
   std::vector<Card> discrete_cards, mass_cards, spc_cards, spc_set_cards, vel_cards, solid_cards,
       beam_cards, shell_cards, line_set_cards;
   std::vector<std::pair<Card, Card>> vel_set_cards, vel_gen_cards;
@@ -652,6 +653,10 @@ struct Reader {
       }
     } else if (kw == "*BOUNDARY_PRESCRIBED_MOTION_NODE" || kw == "*BOUNDARY_PRESCRIBED_MOTION_SET") {
       for (const Card& raw : b.cards) motion_cards.push_back({fields_of(raw, kW10), kw == "*BOUNDARY_PRESCRIBED_MOTION_SET"});
+    } else if (kw == "*BOUNDARY_PRESCRIBED_MOTION_RIGID") {
+      // PID DOF VAD LCID SF VID DEATH BIRTH: the part's rigid body translates
+      // as the curve says (resolved after the deck: the part's body).
+      for (const Card& raw : b.cards) rigid_motion_cards.push_back(fields_of(raw, kW10));
     } else if (kw == "*CONTROL_TERMINATION") {
       if (!b.cards.empty()) m.end_time = fields_of(b.cards[0], kW10).real(0, "ENDTIM");
     } else if (kw == "*CONTROL_TIMESTEP") {
@@ -957,6 +962,7 @@ struct Reader {
     for (const Card& c : spc_cards) spc(c, {m.index_of(static_cast<int>(c.integer(0, "NID")), c.where)});
     for (const Card& c : spc_set_cards) spc(c, nodes_of_set(static_cast<int>(c.integer(0, "NSID")), c));
     for (const auto& [c, is_set] : motion_cards) prescribed_motion(c, is_set);
+    for (const Card& c : rigid_motion_cards) prescribed_motion(c, false, true);
     for (const auto& [c, is_set] : pressure_cards) segment_pressure(c, is_set);
     for (const auto& [c, is_set] : nodal_load_cards) {
       NodalLoad l;
@@ -1304,11 +1310,19 @@ struct Reader {
   }
 
   // NID|NSID DOF VAD LCID SF VID DEATH BIRTH.
-  void prescribed_motion(const Card& c, bool is_set) {
+  void prescribed_motion(const Card& c, bool is_set, bool rigid = false) {
     PrescribedMotion p;
     p.where = c.where;
-    const int id = static_cast<int>(c.integer(0, is_set ? "NSID" : "NID"));
-    p.nodes = is_set ? nodes_of_set(id, c) : std::vector<int>{m.index_of(id, c.where)};
+    const int id = static_cast<int>(c.integer(0, rigid ? "PID" : is_set ? "NSID" : "NID"));
+    if (rigid) {
+      auto part = m.parts.find(id);
+      if (part == m.parts.end()) c.fail("part " + std::to_string(id) + " is not defined");
+      if (!m.materials.at(part->second.material).rigid)
+        c.fail("part " + std::to_string(id) + " is not of a *MAT_RIGID material: prescribe its nodes instead");
+      p.rigid_part = id;
+    } else {
+      p.nodes = is_set ? nodes_of_set(id, c) : std::vector<int>{m.index_of(id, c.where)};
+    }
     const long dof = c.integer(1, "DOF");
     if (dof < 1 || dof > 3)
       c.fail("DOF " + std::to_string(dof) + ": 1, 2 or 3 (x, y, z translation) are supported; rotations and "

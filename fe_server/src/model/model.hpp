@@ -203,7 +203,8 @@ struct Curve {
 // SF, between BIRTH and DEATH. The solver imposes it on the velocity of each
 // step and books the force that takes as work of the loads.
 struct PrescribedMotion {
-  std::vector<int> nodes;  // node indices
+  std::vector<int> nodes;  // node indices (empty for a rigid part's)
+  int rigid_part = 0;      // *BOUNDARY_PRESCRIBED_MOTION_RIGID: the part whose rigid body translates
   int dof = 0;             // 0 x, 1 y, 2 z
   int vad = 2;
   int curve_id = 0;  // in Model::curves

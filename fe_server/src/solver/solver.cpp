@@ -215,6 +215,18 @@ Solver::Solver(const Model& model, double dt)
   body_of_.assign(n, -1);
   for (size_t b = 0; b < model.rigid_bodies.size(); ++b)
     for (int i : model.rigid_bodies[b].nodes) body_of_[static_cast<size_t>(i)] = static_cast<int>(b);
+  for (size_t k = 0; k < model.prescribed.size(); ++k) {
+    const PrescribedMotion& p = model.prescribed[k];
+    if (p.rigid_part == 0) continue;
+    int body = -1;
+    for (const auto& e : model.solids)
+      if (e.part == p.rigid_part) body = body_of_[static_cast<size_t>(e.n[0])];
+    for (const auto& e : model.axis)
+      if (e.part == p.rigid_part) body = body_of_[static_cast<size_t>(e.n[0])];
+    if (body < 0)
+      throw std::runtime_error(p.where.str() + ": part " + std::to_string(p.rigid_part) + " has no rigid body elements to move");
+    rigid_motions_.push_back({k, static_cast<size_t>(body), 0.0, 0.0, 0.0});
+  }
   for (const PrescribedMotion& p : model.prescribed)
     for (int i : p.nodes)
       if (body_of_[static_cast<size_t>(i)] >= 0)
@@ -784,6 +796,26 @@ void Solver::prescribed_motions() {
   // so its work is booked with the loads' (a massless node: R balances the
   // others).
   const double h = n_ == 0 ? 0.5 * dt_ : dt_;
+  for (RigidMotion& r : rigid_motions_) {
+    const PrescribedMotion& p = m_.prescribed[r.motion];
+    r.reaction = 0.0;
+    if (t_ < p.birth || t_ > p.death || !curve_acts(p.curve_id)) continue;
+    const Curve& c = m_.curves.at(p.curve_id);
+    const RigidBodyState& b = bodies_[r.body];
+    const int d = p.dof;
+    double target;
+    if (p.vad == 0)
+      target = p.sf * c.value(t_ + 0.5 * dt_);
+    else if (p.vad == 1)
+      target = b.v_prev[d] + h * p.sf * c.value(t_);
+    else
+      target = (p.sf * c.value(t_ + dt_) - (b.com[d] - b.com0[d])) / dt_;
+    // The impulse that brings v_c to the target this step: its force is the reaction.
+    r.reaction = b.mass * (target - b.v[d]) / h;
+    Vec3 f = Vec3::Zero();
+    f[d] = r.reaction;
+    bodies_.add_impulse(r.body, f, Vec3::Zero(), h, dt_, x_, v_);
+  }
   for (const PrescribedMotion& p : m_.prescribed) {
     if (t_ < p.birth || t_ > p.death || !curve_acts(p.curve_id)) continue;
     const Curve& c = m_.curves.at(p.curve_id);
@@ -808,6 +840,15 @@ void Solver::external_work() {
   // Work of the user loads over the last step, f_n complete (stages 2 and 6),
   // while x_prev_ and x_ are still x_{n-1} and x_n.
   energies_.external_work += step_work(f_ext_prev_, f_ext_, ext_nodes_);
+  // A driven rigid body's reaction acts at its centre: trapezoidal over the
+  // same interval, x_c(t_n) − x_c(t_{n−1}).
+  for (RigidMotion& r : rigid_motions_) {
+    const int d = m_.prescribed[r.motion].dof;
+    const double com = bodies_[r.body].com[d];
+    if (n_ > 0) energies_.external_work += 0.5 * (r.reaction_prev + r.reaction) * (com - r.com_prev);
+    r.reaction_prev = r.reaction;
+    r.com_prev = com;
+  }
 }
 
 void Solver::positions() {
@@ -907,6 +948,12 @@ void Solver::state(config::StateIO& io) {
   io.array("bar force", bars_.force);
   io.array("bar length", bars_.length);
   for (auto& c : contacts_) c->state(io);
+  io.expect("rigid motions", rigid_motions_.size(), "the number of prescribed rigid-body motions");
+  for (RigidMotion& r : rigid_motions_) {
+    io.value("rigid motion reaction", r.reaction);
+    io.value("rigid motion reaction prev", r.reaction_prev);
+    io.value("rigid motion com prev", r.com_prev);
+  }
   io.value("damping power", damping_power_);
   io.value("contact force", contact_force_);
   io.value("energy kinetic", energies_.kinetic);

@@ -209,6 +209,15 @@ class Solver {
   void implicit_loads();
   void prescribed_motions();
   void tied_nodes();
+  // *BOUNDARY_PRESCRIBED_MOTION_RIGID: a rigid body's translation in one DOF
+  // from its curve (stage 6b); the force that takes (its reaction, applied
+  // at the centre of mass) is booked with the loads' work.
+  struct RigidMotion {
+    size_t motion = 0;  // in Model::prescribed
+    size_t body = 0;
+    double reaction = 0.0, reaction_prev = 0.0, com_prev = 0.0;
+  };
+  std::vector<RigidMotion> rigid_motions_;
   // The ties of one *CONTACT_TIED_ card: each slave node on the master
   // segment it lies on (within a tenth of the segments' size); nodes on
   // none are left free and said in notes().

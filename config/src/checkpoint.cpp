@@ -100,6 +100,11 @@ void StateWriter::write(const std::string& path) const {
     ::unlink(tmp.c_str());
     throw CheckpointError("cannot write checkpoint '" + tmp + "': " + why);
   }
+  // The previous checkpoint stays as FILE.prev: the other side of a
+  // co-simulation writes its own just after this one, and a node lost in
+  // between leaves this side a step ahead; the pair of that step is then
+  // FILE.prev and the other side's file.
+  std::rename(path.c_str(), (path + ".prev").c_str());  // none before the first
   if (std::rename(tmp.c_str(), path.c_str()) != 0)
     throw CheckpointError("cannot rename checkpoint '" + tmp + "' to '" + path + "': " + std::strerror(errno));
 }

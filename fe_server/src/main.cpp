@@ -429,7 +429,8 @@ int main(int argc, char** argv) {
         if (resume) {
           try {
             const uint64_t step = fe::load_checkpoint(ck.restart, id, solver, &loads, *history);
-            server.set_resume(step);
+            const std::string previous = ck.restart + ".prev";
+            server.set_resume(step, previous, fe::checkpoint_step(previous, id));
             if (!opt.quiet)
               std::cout << "fe_server: restarted from " << ck.restart << " after coupling step " << step << " (t = "
                         << solver.time() << " s); " << path << " continues after its row " << history->rows()

@@ -188,6 +188,10 @@ pcs_header CouplingClient::await_answer(uint16_t type, uint64_t k) {
 }
 
 std::string CouplingClient::checkpoint(uint64_t k) {
+  if (resume_pending_) {  // a checkpoint right after resuming: the RESUME's answer comes first
+    resume_pending_ = false;
+    await_answer(PCS_MSG_RESUME, resume_step_);
+  }
   send_request(PCS_MSG_CHECKPOINT, k);
   const pcs_header h = await_answer(PCS_MSG_CHECKPOINT, k);
   pcs_reader r{buf_.data(), h.payload_size, 0, 0};

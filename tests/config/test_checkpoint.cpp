@@ -139,6 +139,7 @@ TEST(Checkpoint, AFileThatDoesNotFitIsRefusedSayingWhy) {
 
 // A crash while a checkpoint is written leaves a partial FILE.tmp, never a
 // partial FILE: the name is given only to a whole, flushed file (rename).
+// The checkpoint a new one replaces stays as FILE.prev.
 TEST(Checkpoint, AWriteCutShortLeavesThePreviousCheckpointWhole) {
   const std::string path = temp_file("pcs_ckpt_atomic.ckpt");
   State s = sample();
@@ -159,5 +160,9 @@ TEST(Checkpoint, AWriteCutShortLeavesThePreviousCheckpointWhole) {
   config::StateReader again(path);
   r.io(again);
   EXPECT_EQ(r.name, "spool");
+  config::StateReader previous(path + ".prev");  // the one it replaced is kept
+  r.io(previous);
+  EXPECT_EQ(r.name, "piston");
   std::filesystem::remove(path);
+  std::filesystem::remove(path + ".prev");
 }

@@ -353,13 +353,15 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
     const config::PortTable t = config::read_port_table(archive->dir() + "/resources/ports.cfg");
     auto instance = connected_fmu(archive, "fe", port, k1);
     tlm::FmuInstance& fmu = *instance;
+    EXPECT_EQ(fmu.checkpoint(), dir.file("b_fe.ckpt"));  // at k1 again: becomes b_fe.ckpt.prev below
     for (long k = k1; k < k1 + 100; ++k) fmu.do_step(static_cast<double>(k) * t.dt, t.dt);  // the inputs' start values
     EXPECT_EQ(fmu.checkpoint(), dir.file("b_fe.ckpt"));
     fmu.terminate();
   }
   ASSERT_EQ(server.wait(kRunTimeout), 10) << server.output();
 
-  {  // the server at k1 + 100, the host at k1
+  {  // the server at k1 + 100, the host at k1 (as a node lost between the two sides' writes leaves them):
+     // both told, and told that fe_server's previous checkpoint is of the host's step
     fs::copy_file(dir.file("a_host.h5"), dir.file("b_host.h5"));
     CoSim c = start(dir, "b", {"--restart", dir.file("b_fe.ckpt")}, {"--restart", dir.file("a_host.ckpt")});
     EXPECT_NE(c.host->wait(kRunTimeout), 0);
@@ -369,7 +371,12 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
                             ": both sides must restart from checkpoints of the same step";
     EXPECT_NE(c.server->output().find(why), std::string::npos) << c.server->output();
     EXPECT_NE(c.host->output().find(why), std::string::npos) << "the host is told:\n" << c.host->output();
+    EXPECT_NE(c.server->output().find(dir.file("b_fe.ckpt.prev") + " is fe_server's checkpoint of step " +
+                                      std::to_string(k1) + ": restart fe_server with --restart " + dir.file("b_fe.ckpt.prev")),
+              std::string::npos)
+        << c.server->output();
   }
+
   {  // another deck: the same mesh, one comment more
     std::ofstream(dir.file("deck.k")) << std::ifstream(kHammerBuilt + "/deck.k").rdbuf() << "$ changed\n";
     for (const char* mesh : {"piston_mesh.k", "spool_mesh.k", "tool_rock.k"}) fs::copy_file(kHammerBuilt + "/" + mesh, dir.file(mesh));

@@ -11,7 +11,8 @@
 //
 // File: "PCS-CKPT", format version (u32), the records, then the SHA-256 of
 // everything before it (libsodium). Written to FILE.tmp, flushed to disk
-// and renamed: a crash while writing leaves the previous checkpoint intact.
+// and renamed: a crash while writing leaves the previous checkpoint intact;
+// the one it replaces stays as FILE.prev.
 #pragma once
 
 #include <cstdint>

@@ -451,7 +451,11 @@ ExitCode CouplingServer::resume_clients(std::string& message) {
             ": restart the host from its checkpoint of that step (tlm_host --restart)";
     else if (h.step != resume_step_)
       why = "the host" + name_of(c) + " resumes after step " + std::to_string(h.step) + ", this fe_server's checkpoint is after step " +
-            std::to_string(resume_step_) + ": both sides must restart from checkpoints of the same step";
+            std::to_string(resume_step_) + ": both sides must restart from checkpoints of the same step" +
+            (previous_step_ >= 0 && static_cast<uint64_t>(previous_step_) == h.step
+                 ? " (" + previous_ + " is fe_server's checkpoint of step " + std::to_string(h.step) +
+                       ": restart fe_server with --restart " + previous_ + ")"
+                 : std::string());
     if (!why.empty()) {
       message = why;
       abort_all(resume_step_, SL_EUNEXPECTED, why);

@@ -90,9 +90,13 @@ class CouplingServer {
   void set_checkpointer(std::function<std::string(uint64_t)> save) { checkpointer_ = std::move(save); }
   // A server restarted from a checkpoint after `step` coupling steps: every
   // client must open the session with RESUME step.
-  void set_resume(uint64_t step) {
+  // `previous`: a checkpoint of an earlier step (FILE.prev) and its step,
+  // named in the refusal when the host resumes at that step instead.
+  void set_resume(uint64_t step, const std::string& previous = "", long previous_step = -1) {
     resume_ = true;
     resume_step_ = step;
+    previous_ = previous;
+    previous_step_ = previous_step;
   }
   // Serve one session. Returns an exit code; `message` says what happened.
   ExitCode run(Solver& solver, PortMap& ports, History& history, std::string& message);
@@ -165,6 +169,8 @@ class CouplingServer {
   std::function<std::string(uint64_t)> checkpointer_;
   bool resume_ = false;
   uint64_t resume_step_ = 0;
+  std::string previous_;
+  long previous_step_ = -1;
   const ServerOptions opt_;
   const std::vector<config::PortTable> tables_;
   std::vector<Client> clients_;

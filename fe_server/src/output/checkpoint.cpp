@@ -47,6 +47,15 @@ void check_checkpoint(const std::string& path, const CheckpointIdentity& expecte
   }
 }
 
+long checkpoint_step(const std::string& path, const CheckpointIdentity& expected) {
+  try {
+    config::StateReader r(path);
+    return static_cast<long>(identity(r, expected));
+  } catch (const std::exception&) {
+    return -1;
+  }
+}
+
 uint64_t load_checkpoint(const std::string& path, const CheckpointIdentity& expected, Solver& solver,
                          UserLoad* loads, History& history) {
   config::StateReader r(path);

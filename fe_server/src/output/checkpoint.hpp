@@ -31,6 +31,9 @@ void save_checkpoint(const std::string& path, const CheckpointIdentity& id, Solv
 // Reads only the identity records: throws config::CheckpointError naming
 // what differs (before anything is opened to continue).
 void check_checkpoint(const std::string& path, const CheckpointIdentity& expected);
+// The coupling step of a checkpoint file, or -1 if it is none of this deck
+// and port table (for naming FILE.prev in a refusal).
+long checkpoint_step(const std::string& path, const CheckpointIdentity& expected);
 // Restores into a solver, loads and history built from the same deck (the
 // history opened to resume). Throws config::CheckpointError naming what
 // differs. Returns the coupling step.

@@ -214,7 +214,7 @@ TEST(Restart, AStandaloneRunKilledMinus9ContinuesFromItsLastCheckpointBitForBit)
 }
 
 TEST(Restart, AStandaloneRunStoppedBySigtermWritesItsCheckpointAndContinuesBitForBit) {
-  Standalone s(0.0015, true);
+  Standalone s(0.003, true);  // about 2.7 s: the results' first flush (after 1 s) comes mid-run
   // Each run in its own folder: the ASCII files (glstat, ...) go next to the results.
   fs::create_directories(s.dir.file("full"));
   fs::create_directories(s.dir.file("part"));
@@ -222,7 +222,7 @@ TEST(Restart, AStandaloneRunStoppedBySigtermWritesItsCheckpointAndContinuesBitFo
   ASSERT_EQ(full.wait(kRunTimeout), 0) << full.output();
   const std::string ckpt = s.dir.file("part.ckpt");
   ChildProcess stopped(s.args("part/fe.h5", {"--checkpoint", ckpt}));
-  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  wait_for_rows(s.dir.file("part/fe.h5"), 0, kRunTimeout);  // stepping, whatever the machine's load
   ::kill(stopped.pid(), SIGTERM);
   ASSERT_EQ(stopped.wait(kRunTimeout), 128 + SIGTERM) << stopped.output();
   EXPECT_NE(stopped.output().find("checkpoint in " + ckpt), std::string::npos) << stopped.output();

@@ -20,8 +20,10 @@
 
 #include "../fe_server/impact_decks.hpp"
 #include "../scenes/hammer_two_fmus.hpp"
+#include "config/checkpoint.hpp"
 #include "h5io/timeseries.hpp"
 #include "integration_support.hpp"
+#include "output/checkpoint.hpp"
 
 namespace {
 
@@ -322,6 +324,43 @@ TEST(Restart, TwoFmusOnOneSessionCheckpointAndResumeTogetherBitForBit) {
   ASSERT_EQ(c.host->wait(kRunTimeout), 10) << c.host->output();
   EXPECT_EQ(c.server->wait(kRunTimeout), 128 + SIGTERM) << c.server->output();
   CoSim r = run("run", {"--restart", dir.file("run_fe.ckpt")}, {"--restart", dir.file("run_host.ckpt")});
+  expect_completed(r);
+  expect_identical_files(dir.file("ref_host.h5"), dir.file("run_host.h5"));
+  expect_identical_files(dir.file("ref_fe.h5"), dir.file("run_fe.h5"));
+}
+
+// A lost node: both processes killed outright (kill -9) after the host's
+// periodic checkpoints (--checkpoint-every) have begun. The pair of files of
+// one step restarts the run, bit for bit: the host's checkpoint and
+// fe_server's of its step (its newest, or FILE.prev when the kill came
+// between the two sides' writes). Both results files were left marked as
+// being written; the restart continues them.
+TEST(Restart, ACoSimulationKilledMinus9ContinuesFromItsLastPeriodicCheckpointsBitForBit) {
+  TempDir dir;
+  const size_t rows = reference(dir);
+  const std::string host_ckpt = dir.file("run_host.ckpt");
+  CoSim c = start(dir, "run", {}, {"--checkpoint", host_ckpt, "--checkpoint-every", "0.002"});  // every 0.12 s
+  wait_for_file(host_ckpt, kRunTimeout);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ASSERT_LT(rows_on_disk(dir.file("run_host.h5")), rows) << "the run must still be going";
+  ::kill(c.host->pid(), SIGKILL);
+  ::kill(c.server->pid(), SIGKILL);
+  c.host->wait(kRunTimeout);
+  c.server->wait(kRunTimeout);
+  // The steps the two sides' files hold (their identity records).
+  config::StateReader host(host_ckpt);
+  host.expect("kind", std::string("tlm_host"), "program");
+  host.expect("model digest", config::file_sha256(kHammer + "/model.tlm"), "model");
+  uint64_t fs = 0;
+  host.value("timestep", fs);
+  long step = 0;
+  host.value("step", step);
+  const fe::CheckpointIdentity id{config::file_sha256(kHammerBuilt + "/deck.k"),
+                                  config::read_port_table(kHammer + "/ports.cfg").hash(), 0};
+  std::string fe_ckpt = dir.file("run_fe.ckpt");
+  if (fe::checkpoint_step(fe_ckpt, id) != step) fe_ckpt += ".prev";
+  ASSERT_EQ(fe::checkpoint_step(fe_ckpt, id), step) << "fe_server's checkpoint of the host's step";
+  CoSim r = start(dir, "run", {"--restart", fe_ckpt}, {"--restart", host_ckpt});
   expect_completed(r);
   expect_identical_files(dir.file("ref_host.h5"), dir.file("run_host.h5"));
   expect_identical_files(dir.file("ref_fe.h5"), dir.file("run_fe.h5"));

@@ -62,6 +62,10 @@ std::string PortTable::canonical() const {
   std::snprintf(num, sizeof num, "|dt=%.17g", dt);
   s += num;
   s += std::string("|mode=") + to_string(mode) + "|subcycles=" + std::to_string(subcycles);
+  if (hopsan) {  // only when set: every other table keeps its hash (and its FMUs their GUID)
+    std::snprintf(num, sizeof num, "|hopsan:T=%.17g", hopsan_temperature);
+    s += num;
+  }
   for (const auto& p : ports)
     s += "|port:" + std::to_string(p.id) + "," + p.label + "," + to_string(p.type);
   auto vars = [&](const char* dir, const std::vector<Variable>& vs) {
@@ -178,13 +182,21 @@ PortTable parse_port_table(const std::string& text, const std::string& name) {
           long k = c.integer(1, "subcycles");
           if (k < 1 || k > 100000) c.fail("subcycles must be between 1 and 100000");
           t.subcycles = static_cast<int>(k);
+        } else if (key == "host_convention") {
+          const std::string v = to_lower(val);
+          if (v == "hopsan") t.hopsan = true;
+          else if (v != "pcs") c.fail("host_convention '" + val + "': expected pcs (the default) or hopsan");
+        } else if (key == "hopsan_temperature") {
+          t.hopsan_temperature = c.real(1, "hopsan_temperature");
+          if (!(t.hopsan_temperature > 0.0 && t.hopsan_temperature < 1e4)) c.fail("hopsan_temperature must be in kelvin, above 0");
         } else if (key == "timeout") {
           t.timeout = c.real(1, "timeout");
           if (!(t.timeout > 0.0 && t.timeout <= 1e6))
             c.fail("timeout must be from 0 to 1e6 seconds (deadlines are kept in milliseconds)");
         } else {
           c.fail("unknown setting '" + c.fields[0] +
-                 "': expected model, server, timestep, mode, subcycles or timeout");
+                 "': expected model, server, timestep, mode, subcycles, timeout, host_convention or "
+                 "hopsan_temperature");
         }
       }
     } else if (b.keyword == "$FMU_HOPSAN_PORTS") {
@@ -231,6 +243,16 @@ PortTable parse_port_table(const std::string& text, const std::string& name) {
     if (!has(t.to_host, p.id, Quantity::Flow))
       throw InputError(p.where, "hydraulic port '" + p.label + "' must receive flow");
   }
+  if (t.hopsan) {
+    if (t.mode != CouplingMode::Tlm)
+      throw InputError(top, "host_convention hopsan needs mode tlm: Hopsan's FMIWrapperQ is a Q-type component "
+                            "that sends each port's wave variable c and impedance Zc");
+    for (const auto& p : t.ports)
+      if (p.type == PortType::Mechanic)
+        throw InputError(p.where, "port '" + p.label + "': host_convention hopsan maps hydraulic ports (Hopsan's "
+                                  "NodeHydraulic) and signals; a mechanical port (NodeMechanic: v, f, x, c, Zc, me) "
+                                  "is not offered yet");
+  }
   return t;
 }
 
@@ -254,6 +276,39 @@ std::vector<FmuVariable> fmu_variables(const PortTable& t) {
                        v.port_label,
                    static_cast<int>(i)});
   }
+  if (t.hopsan) {
+    // Hopsan's node variables the FE side does not send: computed here.
+    // Outputs from the wire start at 0 before the first step ("exact").
+    for (auto& v : out)
+      if (v.causality == FmuCausality::Output) v.start = "0", v.initial = "exact";
+    auto wire = [](const std::vector<Variable>& vs, int port, Quantity q) {
+      for (size_t i = 0; i < vs.size(); ++i)
+        if (vs[i].port_id == port && vs[i].quantity == q) return static_cast<int>(i);
+      return -1;
+    };
+    char num[64];
+    for (const auto& p : t.ports) {
+      if (p.type != PortType::Hydraulic) continue;
+      if (wire(t.to_host, p.id, Quantity::Pressure) < 0) {
+        FmuVariable pv{p.label + ".p", vr++, FmuCausality::Output, FmuType::Real, "", "Pa",
+                       "pressure at port " + p.label + ", p = c + Zc*q (Hopsan's node pressure)", -1};
+        pv.derived = FmuVariable::Derived::Pressure;
+        pv.wire_c = wire(t.to_fe, p.id, Quantity::Wave);
+        pv.wire_zc = wire(t.to_fe, p.id, Quantity::Impedance);
+        pv.wire_q = wire(t.to_host, p.id, Quantity::Flow);
+        out.push_back(pv);
+      }
+      std::snprintf(num, sizeof num, "%.17g", t.hopsan_temperature);
+      FmuVariable T{p.label + ".T", vr++, FmuCausality::Output, FmuType::Real, num, "K",
+                    "oil temperature at port " + p.label + " (isothermal: constant)", -1};
+      T.derived = FmuVariable::Derived::Constant, T.constant = t.hopsan_temperature, T.initial = "exact";
+      out.push_back(T);
+      FmuVariable Q{p.label + ".Qdot", vr++, FmuCausality::Output, FmuType::Real, "0", "W",
+                    "heat flow at port " + p.label + " (isothermal: none)", -1};
+      Q.derived = FmuVariable::Derived::Constant, Q.initial = "exact";
+      out.push_back(Q);
+    }
+  }
   out.push_back({"server.host", kVrServerHost, FmuCausality::Parameter, FmuType::String, "", "",
                  "fe_server host; empty: $PCS_SERVER_HOST, else the port configuration", -1});
   out.push_back({"server.port", kVrServerPort, FmuCausality::Parameter, FmuType::Integer, "0", "",
@@ -265,6 +320,18 @@ std::vector<FmuVariable> fmu_variables(const PortTable& t) {
   out.push_back({"server.timeout", kVrTimeout, FmuCausality::Parameter, FmuType::Real, num, "s",
                  "deadline for connect, handshake and each step's result", -1});
   return out;
+}
+
+std::string hopsan_portspecs(const PortTable& t) {
+  if (!t.hopsan) return "";
+  std::string s;
+  for (const auto& p : t.ports) {
+    if (p.type != PortType::Hydraulic) continue;
+    const std::string& l = p.label;
+    s += (s.empty() ? "" : ";") + std::string("NodeHydraulic:") + l + "," + l + ".q," + l + ".p," + l + ".T," + l +
+         ".c," + l + ".Zc," + l + ".Qdot";
+  }
+  return s;
 }
 
 std::string fmu_guid(const PortTable& t) {

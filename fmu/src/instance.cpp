@@ -85,6 +85,13 @@ double Instance::get_real(fmi2ValueReference vr) const {
   const auto& v = variable(vr);
   if (v.type != config::FmuType::Real) throw FmuError(fmi2Error, v.name + " is not a Real");
   if (v.causality == config::FmuCausality::Input) return inputs_[static_cast<size_t>(v.wire_index)];
+  // Hopsan's node variables: the pressure the port's characteristic gives
+  // for the flow of the last step (p = c + Zc·q, as a Q component solves
+  // its node; before the first step q = 0, p = c), and constants.
+  if (v.derived == config::FmuVariable::Derived::Pressure)
+    return inputs_[static_cast<size_t>(v.wire_c)] +
+           inputs_[static_cast<size_t>(v.wire_zc)] * outputs_[static_cast<size_t>(v.wire_q)];
+  if (v.derived == config::FmuVariable::Derived::Constant) return v.constant;
   if (v.causality == config::FmuCausality::Output) return outputs_[static_cast<size_t>(v.wire_index)];
   return timeout_;
 }

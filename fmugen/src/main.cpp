@@ -88,6 +88,8 @@ int main(int argc, char** argv) {
     std::cout << "fmugen: wrote " << out << " (model " << table.model_name << ", "
               << table.to_fe.size() << " inputs, " << table.to_host.size() << " outputs, guid "
               << config::fmu_guid(table) << ")\n";
+    if (table.hopsan)  // what a Hopsan user pastes into FMIWrapperQ (also in documentation/externalDependencies.txt)
+      std::cout << "fmugen: Hopsan FMIWrapperQ portspecs: " << config::hopsan_portspecs(table) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "fmugen: " << e.what() << "\n";
     return 1;

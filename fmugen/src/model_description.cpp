@@ -25,11 +25,12 @@ std::string xml_escape(const std::string& s) {
 // SI base-unit exponents of the units the port table uses (FMI 2.0 2.2.2).
 struct UnitDef {
   const char* name;
-  int kg, m, s;
+  int kg, m, s, K;
 };
 constexpr UnitDef kUnits[] = {
-    {"Pa", 1, -1, -2}, {"m3/s", 0, 3, -1}, {"Pa.s/m3", 1, -4, -1}, {"m", 0, 1, 0},
-    {"m/s", 0, 1, -1}, {"N", 1, 1, -2},    {"s", 0, 0, 1},
+    {"Pa", 1, -1, -2, 0}, {"m3/s", 0, 3, -1, 0}, {"Pa.s/m3", 1, -4, -1, 0}, {"m", 0, 1, 0, 0},
+    {"m/s", 0, 1, -1, 0}, {"N", 1, 1, -2, 0},    {"s", 0, 0, 1, 0},         {"K", 0, 0, 0, 1},
+    {"W", 1, 2, -3, 0},
 };
 
 const char* causality_name(config::FmuCausality c) {
@@ -68,6 +69,7 @@ std::string model_description_xml(const config::PortTable& t, const std::string&
     if (u.kg) x << " kg=\"" << u.kg << "\"";
     if (u.m) x << " m=\"" << u.m << "\"";
     if (u.s) x << " s=\"" << u.s << "\"";
+    if (u.K) x << " K=\"" << u.K << "\"";
     x << "/></Unit>\n";
   }
   x << "  </UnitDefinitions>\n";
@@ -89,7 +91,8 @@ std::string model_description_xml(const config::PortTable& t, const std::string&
     x << "    <!-- index " << i + 1 << " -->\n"
       << "    <ScalarVariable name=\"" << xml_escape(v.name) << "\" valueReference=\""
       << v.value_reference << "\" causality=\"" << causality_name(v.causality)
-      << "\" variability=\"" << (parameter ? "fixed" : "continuous") << "\"\n      description=\""
+      << "\" variability=\"" << (parameter ? "fixed" : "continuous") << "\""
+      << (v.initial.empty() ? "" : " initial=\"" + v.initial + "\"") << "\n      description=\""
       << xml_escape(v.description) << "\">\n      ";
     switch (v.type) {
       case config::FmuType::Real:
@@ -99,7 +102,8 @@ std::string model_description_xml(const config::PortTable& t, const std::string&
       case config::FmuType::Integer: x << "<Integer"; break;
       case config::FmuType::String: x << "<String"; break;
     }
-    bool has_start = v.causality != config::FmuCausality::Output;
+    // Outputs have a start only where it holds before the first step (initial="exact").
+    bool has_start = v.causality != config::FmuCausality::Output || !v.initial.empty();
     if (has_start) x << " start=\"" << xml_escape(v.start) << "\"";
     x << "/>\n    </ScalarVariable>\n";
   }
@@ -108,9 +112,10 @@ std::string model_description_xml(const config::PortTable& t, const std::string&
     if (vars[i].causality == config::FmuCausality::Output)
       x << "      <Unknown index=\"" << i + 1 << "\"/>\n";
   x << "    </Outputs>\n    <InitialUnknowns>\n";
-  // Outputs are "calculated" (the default for continuous outputs), so they are initial unknowns.
+  // Outputs are "calculated" (the default for continuous outputs), so they
+  // are initial unknowns; an "exact" one (a start value) is not.
   for (size_t i = 0; i < vars.size(); ++i)
-    if (vars[i].causality == config::FmuCausality::Output)
+    if (vars[i].causality == config::FmuCausality::Output && vars[i].initial.empty())
       x << "      <Unknown index=\"" << i + 1 << "\"/>\n";
   x << "    </InitialUnknowns>\n  </ModelStructure>\n</fmiModelDescription>\n";
   return x.str();
@@ -130,6 +135,13 @@ std::string external_dependencies_text(const config::PortTable& t) {
        "refuses a mismatch. Coupling: "
     << config::to_string(t.mode) << " mode, time step " << t.dt << " s, " << t.subcycles
     << " FE step(s) per coupling step.\n";
+  if (t.hopsan)
+    s << "\nHopsan: load this FMU in an FMIWrapperQ component and set its parameter\n"
+         "portspecs to\n\n  "
+      << config::hopsan_portspecs(t)
+      << "\n\nEach hydraulic port is Hopsan's NodeHydraulic: q (flow out of the FMU into the\n"
+         "node), p = c + Zc*q, T (the oil's temperature, constant: the model is isothermal),\n"
+         "c and Zc (Hopsan's wave variable and impedance, in), Qdot (heat flow, 0).\n";
   return s.str();
 }
 

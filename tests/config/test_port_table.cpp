@@ -56,6 +56,17 @@ TEST(PortTable, HashChangesWithWhatTheSidesMustAgreeOn) {
   EXPECT_NE(base.hash(), scale.hash());
   EXPECT_NE(base.hash(), dt.hash());
   EXPECT_EQ(base.hash(), server.hash()) << "the server address may differ between cluster and workstation";
+  // The host's convention: pcs (the default, said or not) keeps every
+  // existing table's hash and its FMUs' GUIDs; hopsan changes the FMU's variables, so the hash.
+  const size_t settings_end = t.find("$FMU_HOPSAN_PORTS");
+  auto pcs = parse_port_table(std::string(t).insert(settings_end, "host_convention, pcs\n"), "e.cfg");
+  EXPECT_EQ(base.hash(), pcs.hash());
+  EXPECT_NE(error_of(std::string(t).insert(settings_end, "host_convention, hopsan\n")).find("needs mode tlm"),
+            std::string::npos);
+  const std::string tlm = config::read_text_file(PCS_SCENES_DIR "/one_dof_tlm/ports.cfg", "ports");
+  const size_t at = tlm.find("$FMU_HOPSAN_PORTS");
+  EXPECT_NE(parse_port_table(tlm, "g.cfg").hash(),
+            parse_port_table(std::string(tlm).insert(at, "host_convention, hopsan\n"), "h.cfg").hash());
 }
 
 TEST(PortTable, ErrorsSayWhatAndWhere) {

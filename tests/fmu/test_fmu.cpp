@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <fstream>
 
 #include <chrono>
 #include <cstdarg>
@@ -15,6 +16,7 @@
 #include "config/port_table.hpp"
 #include "fmi2/fmi2.h"
 #include "fmu_importer.hpp"
+#include "process.hpp"
 #include "test_peer.hpp"
 
 using testing_support::TestPeer;
@@ -275,4 +277,58 @@ TEST_F(FmuTest, HeartbeatsKeepASlowStepAlive) {
   ASSERT_EQ(api->fmi2ExitInitializationMode(fmu), fmi2OK);
   EXPECT_EQ(api->fmi2DoStep(fmu, 0.0, table.dt, fmi2True), fmi2OK) << log.all();
   api->fmi2FreeInstance(fmu);
+}
+
+// The Hopsan convention (host_convention, hopsan): every variable Hopsan's
+// FMIWrapperQ reads for a NodeHydraulic port is there and means what Hopsan
+// means: p = c + Zc·q (the node pressure a Q component gives, here with the
+// flow the step returned; before the first step q = 0, so p = c), T the oil's
+// temperature, Qdot = 0 (isothermal). Exact: the same three operations as
+// the host does.
+TEST(FmuHopsan, EveryNodeHydraulicVariableIsThereAndMeansWhatHopsanMeans) {
+  testing_support::TempDir dir;
+  std::string cfg = config::read_text_file(PCS_SCENES_DIR "/one_dof_tlm/ports.cfg", "ports");
+  cfg.replace(cfg.find("one_dof_tlm"), 11, "one_dof_hopsan");
+  cfg.insert(cfg.find("$FMU_HOPSAN_PORTS"), "host_convention, hopsan\nhopsan_temperature, 313.0\n");
+  std::ofstream(dir.file("ports.cfg")) << cfg;
+  testing_support::ChildProcess gen({PCS_FMUGEN_EXE, dir.file("ports.cfg"), "-o", dir.file("h.fmu")});
+  ASSERT_EQ(gen.wait(30.0), 0) << gen.output();
+  EXPECT_NE(gen.output().find("portspecs: NodeHydraulic:cavity,cavity.q,cavity.p,cavity.T,cavity.c,cavity.Zc,cavity.Qdot"),
+            std::string::npos)
+      << gen.output();
+  auto archive = std::make_shared<tlm::FmuArchive>(dir.file("h.fmu"));
+  const config::PortTable table = config::read_port_table(archive->dir() + "/resources/ports.cfg");
+  TestPeer peer(table);
+  {
+    tlm::FmuInstance fmu(archive, "hopsan", false);
+    fmu.set_string(fmu.vr("server.host"), "127.0.0.1");
+    fmu.set_integer(fmu.vr("server.port"), peer.port());
+    fmu.setup_experiment(0.0, 0.0);
+    fmu.enter_initialization();
+    const unsigned c = fmu.vr("cavity.c"), zc = fmu.vr("cavity.Zc"), q = fmu.vr("cavity.q"), p = fmu.vr("cavity.p");
+    fmu.set_real(c, 2.0e6);
+    fmu.set_real(zc, 3.0e9);
+    fmu.exit_initialization();
+    EXPECT_EQ(fmu.get_real(q), 0.0) << "its start value";
+    EXPECT_EQ(fmu.get_real(p), 2.0e6) << "p = c before the first step";
+    EXPECT_EQ(fmu.get_real(fmu.vr("cavity.T")), 313.0);
+    EXPECT_EQ(fmu.get_real(fmu.vr("cavity.Qdot")), 0.0);
+    fmu.do_step(0.0, table.dt);
+    const double flow = fmu.get_real(q);
+    EXPECT_EQ(flow, 2.0 * (2.0e6 + 3.0e9)) << "the peer's echo";
+    EXPECT_EQ(fmu.get_real(p), 2.0e6 + 3.0e9 * flow);
+    fmu.terminate();
+  }
+  peer.join();
+  // Pressure coupling has no c and Zc to give Hopsan: refused, with its line.
+  std::string pressure = cfg;
+  pressure.replace(pressure.find("tlm", pressure.find("\nmode,")), 3, "pressure");
+  pressure.replace(pressure.find("1,         wave"), pressure.find("$FMU_HOPSAN_RECEIVE") - pressure.find("1,         wave"),
+                   "1, pressure, 1.0\n");
+  try {
+    config::parse_port_table(pressure, "p.cfg");
+    ADD_FAILURE() << "a pressure-mode Hopsan table was accepted";
+  } catch (const config::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("host_convention hopsan needs mode tlm"), std::string::npos) << e.what();
+  }
 }

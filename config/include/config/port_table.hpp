@@ -3,7 +3,8 @@
 // the FMU's variables and value references (fmu_variables), the HELLO hash
 // and the FE server's port map all derive from it.
 //
-//   $FMU_SETTINGS        key, value   (model, server, timestep, mode, subcycles, timeout)
+//   $FMU_SETTINGS        key, value   (model, server, timestep, mode, subcycles, timeout,
+//                                      host_convention)
 //   $FMU_HOPSAN_PORTS    id, label, type          (Hydraulic | Mechanic | Signal)
 //   $FMU_HOPSAN_SEND     port id, quantity, scale (host → FE)
 //   $FMU_HOPSAN_RECEIVE  port id, quantity, scale (FE → host)
@@ -54,6 +55,12 @@ struct PortTable {
   CouplingMode mode = CouplingMode::Pressure;
   int subcycles = 1;     // FE steps per coupling step
   double timeout = 60.0; // per-step receive deadline, s
+  // host_convention, hopsan: the FMU's hydraulic ports follow Hopsan's node
+  // (FMIWrapperQ reads q, p, T, c, Zc, Qdot per port): TLM mode, and each
+  // port offers its pressure p = c + Zc·q, its temperature T and heat flow
+  // Qdot besides; outputs carry start values. Part of the hash only when set.
+  bool hopsan = false;
+  double hopsan_temperature = 293.0;  // K, the oil's (isothermal)
   std::vector<Port> ports;
   std::vector<Variable> to_fe;    // host → FE, in wire order
   std::vector<Variable> to_host;  // FE → host, in wire order
@@ -88,6 +95,14 @@ struct FmuVariable {
   std::string unit;
   std::string description;
   int wire_index = -1;  // index into to_fe (inputs) or to_host (outputs)
+  // Outputs the FMU computes itself (Hopsan convention): p = c + Zc·q from
+  // the inputs c, Zc and the output q at these wire indices; or a constant
+  // (T, Qdot). `initial` is "exact" when the start value holds before the
+  // first step (FMI 2.0 2.2.7), else empty.
+  enum class Derived { None, Pressure, Constant } derived = Derived::None;
+  int wire_c = -1, wire_zc = -1, wire_q = -1;
+  double constant = 0.0;
+  std::string initial;
 };
 
 // Value references of the fixed parameters; port variables count from 0.
@@ -97,6 +112,11 @@ constexpr unsigned kVrServerToken = 1000002;
 constexpr unsigned kVrTimeout = 1000003;
 
 std::vector<FmuVariable> fmu_variables(const PortTable& table);
+
+// Hopsan's FMIWrapperQ "portspecs" for an FMU of the Hopsan convention:
+// "NodeHydraulic:label,label.q,label.p,label.T,label.c,label.Zc,label.Qdot;..."
+// (empty for another table).
+std::string hopsan_portspecs(const PortTable& table);
 
 // "pcs-" + 16 hex digits of the hash: the FMU's GUID, tying
 // modelDescription.xml to the resources/ports.cfg it was made from.

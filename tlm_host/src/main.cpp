@@ -11,12 +11,14 @@
 #include "config/cli.hpp"
 #include "config/stop_signal.hpp"
 #include "config/token.hpp"
+#include "hopsan_loader.hpp"
 #include "model.hpp"
 
 namespace {
 
 int usage(std::ostream& os, int rc) {
   os << "usage: tlm_host MODEL [options]\n"
+        "  MODEL               our model file (model.tlm), or a Hopsan model file (.hmf)\n"
         "  --fmu FILE          FMU for every FmuQ component that names none\n"
         "  --server HOST:PORT  fe_server address for every FmuQ component\n"
         "  --token-file FILE   session token for fe_server, first line of FILE (mode 600, yours);\n"
@@ -87,7 +89,16 @@ int main(int argc, char** argv) {
   tlm::ReportSettings report;
   bool want_report = false;
   try {
-    tlm::ModelSpec spec = tlm::read_model(model_path);
+    // A Hopsan model file (.hmf) or ours (model.tlm).
+    const bool hmf = model_path.size() > 4 && model_path.compare(model_path.size() - 4, 4, ".hmf") == 0;
+    tlm::ModelSpec spec;
+    if (hmf) {
+      tlm::HmfModel h = tlm::read_hmf(model_path);
+      for (const auto& note : h.notes) std::cerr << "tlm_host: note: " << note << "\n";
+      spec = std::move(h.spec);
+    } else {
+      spec = tlm::read_model(model_path);
+    }
     for (auto& c : spec.components) {
       if (c.type != "FmuQ") continue;
       config::SourceLocation cli{"command line", 0};

@@ -1,0 +1,216 @@
+#include "hopsan_loader.hpp"
+
+#include <libxml/parser.h>
+#include <libxml/tree.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <set>
+
+namespace tlm {
+
+namespace {
+
+// One Hopsan component type and how it becomes ours. Hopsan's parameter
+// names: "X" for a constant, "X::Value" for an input variable's default
+// (Hopsan's default library, componentLibraries/defaultLibrary/Hydraulic).
+struct Mapping {
+  const char* ours;
+  std::vector<std::pair<const char*, const char*>> params;  // Hopsan name → our key
+  std::vector<std::pair<const char*, const char*>> fixed;   // our key → value
+  std::set<std::string> ignored;  // Hopsan parameters without effect on the result (animation)
+  const char* note;               // how ours differs by design; "" if it does not
+};
+
+const std::map<std::string, Mapping>& mappings() {
+  static const std::map<std::string, Mapping> m = {
+      {"HydraulicVolume",
+       {"HydraulicVolumeC",
+        {{"V", "V"}, {"Beta_e", "beta"}, {"alpha::Value", "alpha"}},
+        {{"ports", "2"}},
+        {"P_high"},
+        "its oil is conserved when the pressure falls to the vapour pressure (the void is tracked); Hopsan's "
+        "volume lets the pressure go below it"}},
+      {"HydraulicTurbulentOrifice",
+       {"HydraulicTurbulentOrificeQ", {{"A::Value", "A"}, {"C_q::Value", "Cd"}, {"rho::Value", "rho"}}, {}, {}, ""}},
+      {"HydraulicLaminarOrifice", {"LaminarOrificeQ", {{"Kc::Value", "Kc"}}, {}, {}, ""}},
+      {"HydraulicPressureSourceC", {"PressureSourceC", {{"p::Value", "p"}}, {}, {}, ""}},
+      {"HydraulicTankC", {"PressureSourceC", {{"p", "p"}}, {}, {}, ""}},
+      {"HydraulicFlowSourceQ", {"FlowSourceQ", {{"q::Value", "q"}}, {}, {}, ""}},
+  };
+  return m;
+}
+
+// Hopsan's sensors read a node; their nodes are logged anyway.
+const std::set<std::string> kSensors = {"HydraulicPressureSensor", "HydraulicFlowSensor", "HydraulicNodeSensor"};
+
+std::string attr(xmlNode* n, const char* name) {
+  xmlChar* v = xmlGetProp(n, reinterpret_cast<const xmlChar*>(name));
+  if (!v) return "";
+  std::string s(reinterpret_cast<const char*>(v));
+  xmlFree(v);
+  return s;
+}
+
+bool is(xmlNode* n, const char* name) {
+  return n->type == XML_ELEMENT_NODE && xmlStrcmp(n->name, reinterpret_cast<const xmlChar*>(name)) == 0;
+}
+
+xmlNode* child(xmlNode* n, const char* name) {
+  for (xmlNode* c = n->children; c; c = c->next)
+    if (is(c, name)) return c;
+  return nullptr;
+}
+
+bool number(const std::string& s, double& v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  v = std::strtod(s.c_str(), &end);
+  return end && *end == '\0' && std::isfinite(v);
+}
+
+}  // namespace
+
+HmfModel read_hmf(const std::string& path) {
+  using config::InputError;
+  using config::SourceLocation;
+  std::unique_ptr<xmlDoc, void (*)(xmlDoc*)> doc(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR |
+                                                                                     XML_PARSE_NOWARNING),
+                                                 xmlFreeDoc);
+  if (!doc) throw InputError({path, 1}, "not a readable XML file (a Hopsan model is XML: .hmf)");
+  xmlNode* root = xmlDocGetRootElement(doc.get());
+  auto where = [&](xmlNode* n) { return SourceLocation{path, static_cast<int>(xmlGetLineNo(n))}; };
+  if (!root || !is(root, "hopsanmodelfile")) throw InputError({path, 1}, "not a Hopsan model file (no <hopsanmodelfile>)");
+  xmlNode* system = child(root, "system");
+  if (!system) throw InputError(where(root), "the model has no <system>");
+
+  HmfModel out;
+  ModelSpec& m = out.spec;
+  m.source = path;
+  m.simulation_where = where(system);
+  // Simulation settings.
+  xmlNode* sim = child(system, "simulationtime");
+  if (!sim) throw InputError(where(system), "<system> has no <simulationtime>");
+  double start = 0.0;
+  if (!number(attr(sim, "timestep"), m.dt) || !number(attr(sim, "stop"), m.stop_time) ||
+      !number(attr(sim, "start"), start))
+    throw InputError(where(sim), "<simulationtime>: start, stop and timestep must be numbers");
+  if (start != 0.0) throw InputError(where(sim), "<simulationtime> start " + attr(sim, "start") + ": runs start at t = 0");
+  double samples = 0.0;
+  if (number(attr(system, "logsamples"), samples) && samples >= 1.0) {
+    const double steps = std::round(m.stop_time / m.dt);
+    m.log_every = static_cast<int>(std::max(1.0, std::floor(steps / samples)));
+  }
+  // System parameters: numbers by name.
+  std::map<std::string, double> system_params;
+  if (xmlNode* ps = child(system, "parameters"))
+    for (xmlNode* p = ps->children; p; p = p->next) {
+      if (!is(p, "parameter")) continue;
+      double v = 0.0;
+      if (!number(attr(p, "value"), v))
+        throw InputError(where(p), "system parameter '" + attr(p, "name") + "' = '" + attr(p, "value") +
+                                       "': only numbers are supported as system parameters");
+      system_params[attr(p, "name")] = v;
+    }
+  auto value_of = [&](xmlNode* p, const std::string& component, const std::string& type) {
+    const std::string text = attr(p, "value");
+    double v = 0.0;
+    if (number(text, v)) return v;
+    if (auto it = system_params.find(text); it != system_params.end()) return it->second;
+    throw InputError(where(p), component + " (" + type + "): parameter '" + attr(p, "name") + "' = '" + text +
+                                   "': a number or a system parameter's name is supported, not an expression");
+  };
+  // Components.
+  std::set<std::string> dropped_sensors;  // name → its signal must not be used
+  xmlNode* objects = child(system, "objects");
+  if (objects)
+    for (xmlNode* c = objects->children; c; c = c->next) {
+      if (c->type != XML_ELEMENT_NODE) continue;
+      const std::string name = attr(c, "name"), type = attr(c, "typename");
+      if (!is(c, "component"))
+        throw InputError(where(c), "'" + name + "' (<" + std::string(reinterpret_cast<const char*>(c->name)) +
+                                       ">): nested subsystems and other objects are not read yet; flatten the model");
+      if (name.empty() || name.find_first_of(". /") != std::string::npos)
+        throw InputError(where(c), "component name '" + name + "': ours may not contain dots, spaces or slashes");
+      if (kSensors.count(type)) {
+        dropped_sensors.insert(name);
+        continue;
+      }
+      auto map = mappings().find(type);
+      if (map == mappings().end()) {
+        std::string known;
+        for (const auto& [t, mp] : mappings()) known += (known.empty() ? "" : ", ") + t;
+        throw InputError(where(c), "component '" + name + "' of Hopsan type " + type +
+                                       " has no counterpart here yet (mapped: " + known + ")");
+      }
+      const Mapping& mp = map->second;
+      ComponentSpec s;
+      s.name = name;
+      s.type = mp.ours;
+      s.where = where(c);
+      s.params.set_where(s.where);
+      for (const auto& [key, value] : mp.fixed) s.params.set(key, value, s.where);
+      if (xmlNode* ps = child(c, "parameters"))
+        for (xmlNode* p = ps->children; p; p = p->next) {
+          if (!is(p, "parameter")) continue;
+          const std::string pname = attr(p, "name");
+          const size_t sep = pname.find("::");
+          const std::string variable = sep == std::string::npos ? "" : pname.substr(sep + 2);
+          if (mp.ignored.count(pname)) continue;
+          bool mapped = false;
+          for (const auto& [hopsan, ours] : mp.params)
+            if (pname == hopsan) {
+              char num[64];
+              std::snprintf(num, sizeof num, "%.17g", value_of(p, name, type));
+              s.params.set(ours, num, where(p));
+              mapped = true;
+            }
+          if (mapped) continue;
+          // A node variable's start value: the volume's pressure is its
+          // initial pressure; temperature and heat flow mean nothing to an
+          // isothermal model; the wave variable and impedance are computed;
+          // a flow must keep Hopsan's default (0) to start as Hopsan starts.
+          if (variable == "Pressure") {
+            if (s.type == "HydraulicVolumeC" && pname.rfind("P1::", 0) == 0) {
+              char num[64];
+              std::snprintf(num, sizeof num, "%.17g", value_of(p, name, type));
+              s.params.set("p0", num, where(p));
+            }
+            continue;
+          }
+          if (variable == "Temperature" || variable == "HeatFlow" || variable == "WaveVariable" ||
+              variable == "CharImpedance")
+            continue;
+          if (variable == "Flow" && value_of(p, name, type) == 0.0) continue;
+          throw InputError(where(p), name + " (" + type + "): parameter '" + pname + "' = '" + attr(p, "value") +
+                                         "' has no counterpart in " + mp.ours);
+        }
+      if (std::string(mp.note).size())
+        out.notes.push_back(path + ":" + std::to_string(s.where.line) + ": " + name + " (" + type + " → " + mp.ours +
+                            "): " + mp.note);
+      m.components.push_back(std::move(s));
+    }
+  // Connections: "component.port" pairs.
+  if (xmlNode* cs = child(system, "connections"))
+    for (xmlNode* c = cs->children; c; c = c->next) {
+      if (!is(c, "connect")) continue;
+      const std::string a = attr(c, "startcomponent"), b = attr(c, "endcomponent");
+      for (const std::string& sensor : {a, b})
+        if (dropped_sensors.count(sensor)) {
+          const std::string port = sensor == a ? attr(c, "startport") : attr(c, "endport");
+          if (port != "P1")
+            throw InputError(where(c), "sensor " + sensor + ": its signal '" + port +
+                                           "' is used; sensors are read only where nothing uses them (their node is logged)");
+        }
+      if (dropped_sensors.count(a) || dropped_sensors.count(b)) continue;  // the sensor's tap on the node
+      m.connections.push_back({a + "." + attr(c, "startport"), b + "." + attr(c, "endport"), where(c)});
+    }
+  for (const std::string& sensor : dropped_sensors)
+    out.notes.push_back(path + ": " + sensor + ": a Hopsan sensor; its node's pressure and flow are in the results");
+  m.check_simulation();
+  return out;
+}
+
+}  // namespace tlm

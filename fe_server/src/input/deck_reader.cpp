@@ -466,15 +466,7 @@ struct Reader {
         c1.fail("SSTYP must be 2 (part set) or 3 (part) for a single surface in this version (SSID 0: all parts)");
       d.slave_set = static_cast<int>(ssid);
       d.slave_nodes = sstyp == 3;  // read here as: SSID names one part (resolved after the deck)
-      if (b.cards.size() > 1) {
-        Card c2 = fields_of(b.cards[1], kW10);
-        d.friction = c2.real_or(0, "FS", 0.0);
-        d.damping = c2.real_or(4, "VDC", 20.0) / 100.0;
-        if (d.friction != 0.0) warn(c2.where, "contact friction FS is not modelled yet (frictionless contact)");
-      }
-      if (b.cards.size() > 2) d.stiffness_factor = fields_of(b.cards[2], kW10).real_or(0, "SFS", 1.0);
-      if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
-      warn_stiffness_cap(d, "SFS");
+      contact_cards_2_and_3(b, d);
       m.contacts.push_back(d);
     } else if (kw == "*CONTACT_TIED_SURFACE_TO_SURFACE" || kw == "*CONTACT_TIED_NODES_TO_SURFACE") {
       // Card 1: SSID MSID SSTYP MSTYP (segment sets, or a slave node set:
@@ -509,15 +501,7 @@ struct Reader {
         c1.fail("SSTYP must be 0 (segment set) or 4 (node set) and MSTYP 0 (segment set) in this version");
       if (nodes_to_surface && sstyp != 4) c1.fail(kw + ": the slave side must be a node set (SSTYP 4)");
       d.slave_nodes = sstyp == 4;
-      if (b.cards.size() > 1) {
-        Card c2 = fields_of(b.cards[1], kW10);
-        d.friction = c2.real_or(0, "FS", 0.0);
-        d.damping = c2.real_or(4, "VDC", 20.0) / 100.0;
-        if (d.friction != 0.0) warn(c2.where, "contact friction FS is not modelled yet (frictionless contact)");
-      }
-      if (b.cards.size() > 2) d.stiffness_factor = fields_of(b.cards[2], kW10).real_or(0, "SFS", 1.0);
-      if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
-      warn_stiffness_cap(d, "SFS");
+      contact_cards_2_and_3(b, d);
       m.contacts.push_back(d);
     } else if (kw == "*USER_LOADING_SET") {
       // Co-simulation port on a segment set: SID, LTYPE (PRESSS), PORT, and
@@ -889,6 +873,21 @@ struct Reader {
     if (out.empty())
       throw InputError(where, "part set " + std::to_string(sid) + " has no axisymmetric elements to contact");
     return out;
+  }
+
+  // A contact's card 2 (FS ... VDC: friction, not modelled yet, and the
+  // damping in % of critical, 20 when not given) and card 3 (SFS), shared by
+  // the 3D contacts.
+  void contact_cards_2_and_3(const Block& b, ContactDef& d) {
+    if (b.cards.size() > 1) {
+      Card c2 = fields_of(b.cards[1], kW10);
+      d.friction = c2.real_or(0, "FS", 0.0);
+      d.damping = c2.real_or(4, "VDC", 20.0) / 100.0;
+      if (d.friction != 0.0) warn(c2.where, "contact friction FS is not modelled yet (frictionless contact)");
+    }
+    if (b.cards.size() > 2) d.stiffness_factor = fields_of(b.cards[2], kW10).real_or(0, "SFS", 1.0);
+    if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
+    warn_stiffness_cap(d, "SFS");
   }
 
   // The outer faces of the solids of parts `pids`: the faces only one

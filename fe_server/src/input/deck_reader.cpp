@@ -473,34 +473,17 @@ struct Reader {
       // SSTYP 4, the default of _NODES_TO_SURFACE); cards 2 and 3 (friction,
       // damping, SFS, thicknesses) mean nothing for a constraint and are read
       // as LS-DYNA does: not used.
-      const bool nodes_to_surface = kw == "*CONTACT_TIED_NODES_TO_SURFACE";
-      if (b.cards.empty()) b.fail(kw + " needs card 1 (SSID, MSID, SSTYP, MSTYP)");
-      Card c1 = fields_of(b.cards[0], kW10);
       TieDef d;
-      d.where = c1.where;
-      d.slave_set = static_cast<int>(c1.integer(0, "SSID"));
-      d.master_set = static_cast<int>(c1.integer(1, "MSID"));
-      const long sstyp = c1.integer_or(2, "SSTYP", nodes_to_surface ? 4 : 0);
-      if ((sstyp != 0 && sstyp != 4) || c1.integer_or(3, "MSTYP", 0) != 0)
-        c1.fail("SSTYP must be 0 (segment set) or 4 (node set) and MSTYP 0 (segment set) in this version");
-      d.slave_nodes = sstyp == 4;
+      contact_card_1(b, kw == "*CONTACT_TIED_NODES_TO_SURFACE", d.slave_set, d.master_set, d.slave_nodes, d.where);
       m.ties.push_back(d);
     } else if (kw == "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE" || kw == "*CONTACT_NODES_TO_SURFACE" ||
                kw == "*CONTACT_AUTOMATIC_NODES_TO_SURFACE") {
       // _NODES_TO_SURFACE: the slave side is a node set unless SSTYP says
       // otherwise, checked against the master's segments only (one-sided).
       const bool nodes_to_surface = kw != "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE";
-      if (b.cards.empty()) b.fail(kw + " needs at least card 1 (SSID, MSID, SSTYP, MSTYP)");
-      Card c1 = fields_of(b.cards[0], kW10);
       ContactDef d;
-      d.where = c1.where;
-      d.slave_set = static_cast<int>(c1.integer(0, "SSID"));
-      d.master_set = static_cast<int>(c1.integer(1, "MSID"));
-      const long sstyp = c1.integer_or(2, "SSTYP", nodes_to_surface ? 4 : 0);
-      if ((sstyp != 0 && sstyp != 4) || c1.integer_or(3, "MSTYP", 0) != 0)
-        c1.fail("SSTYP must be 0 (segment set) or 4 (node set) and MSTYP 0 (segment set) in this version");
-      if (nodes_to_surface && sstyp != 4) c1.fail(kw + ": the slave side must be a node set (SSTYP 4)");
-      d.slave_nodes = sstyp == 4;
+      contact_card_1(b, nodes_to_surface, d.slave_set, d.master_set, d.slave_nodes, d.where);
+      if (nodes_to_surface && !d.slave_nodes) throw InputError(d.where, kw + ": the slave side must be a node set (SSTYP 4)");
       contact_cards_2_and_3(b, d);
       m.contacts.push_back(d);
     } else if (kw == "*USER_LOADING_SET") {
@@ -873,6 +856,21 @@ struct Reader {
     if (out.empty())
       throw InputError(where, "part set " + std::to_string(sid) + " has no axisymmetric elements to contact");
     return out;
+  }
+
+  // A two-sided contact's card 1: SSID MSID SSTYP MSTYP, segment sets or a
+  // slave node set (SSTYP 4, the default of the _NODES_TO_SURFACE forms).
+  void contact_card_1(const Block& b, bool nodes_to_surface, int& slave, int& master, bool& slave_nodes,
+                      config::SourceLocation& where) {
+    if (b.cards.empty()) b.fail(b.keyword + " needs card 1 (SSID, MSID, SSTYP, MSTYP)");
+    Card c1 = fields_of(b.cards[0], kW10);
+    where = c1.where;
+    slave = static_cast<int>(c1.integer(0, "SSID"));
+    master = static_cast<int>(c1.integer(1, "MSID"));
+    const long sstyp = c1.integer_or(2, "SSTYP", nodes_to_surface ? 4 : 0);
+    if ((sstyp != 0 && sstyp != 4) || c1.integer_or(3, "MSTYP", 0) != 0)
+      c1.fail("SSTYP must be 0 (segment set) or 4 (node set) and MSTYP 0 (segment set) in this version");
+    slave_nodes = sstyp == 4;
   }
 
   // A contact's card 2 (FS ... VDC: friction, not modelled yet, and the

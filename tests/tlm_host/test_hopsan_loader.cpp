@@ -102,3 +102,24 @@ TEST(HopsanLoader, WhatItCannotReadExactlyIsRefusedWithItsLine) {
   EXPECT_NE(e.find("runs start at t = 0"), std::string::npos) << e;
   EXPECT_NE(error_of("<notxml").find("not a readable XML file"), std::string::npos);
 }
+
+// Hopsan's signal blocks feed a component: a step (0, then 1e-5 m³/s at
+// 10 ms) times a gain of 2 drives a flow source into a shut 100 cm³ volume.
+// Before the step nothing moves; after it the pressure rises at β·q/V =
+// 2.8e8 Pa/s. Tolerance: one step's worth of that rise (the step's value
+// holds from the end of the step it falls in, as in Hopsan) and the seal's
+// leak (Kc = 1e-16: 3e-10 m³/s at 29 bar, 1e-5 of the flow).
+TEST(HopsanLoader, SignalsDriveAFlowSourceIntoAVolume) {
+  testing_support::TempDir dir;
+  tlm::HmfModel hmf = tlm::read_hmf(kDir + "/step_flow.hmf");
+  const double dt = hmf.spec.dt;
+  tlm::System(std::move(hmf.spec)).run(dir.file("sf.h5"), false);
+  const auto t = h5io::read_series(dir.file("sf.h5"), "time");
+  const auto p = h5io::read_series(dir.file("sf.h5"), "nodes/chamber.P1/p");
+  const double rate = 1.4e9 * 2e-5 / 1e-4;
+  for (size_t i = 0; i < t.size(); ++i) {
+    const double expect = 1e5 + rate * std::max(0.0, t[i] - 0.01);
+    EXPECT_NEAR(p[i], expect, 1.01 * rate * dt) << "t = " << t[i];
+  }
+  EXPECT_GT(p.back(), 2.8e6) << "the pump ran";
+}

@@ -18,27 +18,60 @@ namespace {
 // (Hopsan's default library, componentLibraries/defaultLibrary/Hydraulic).
 struct Mapping {
   const char* ours;
-  std::vector<std::pair<const char*, const char*>> params;  // Hopsan name → our key
-  std::vector<std::pair<const char*, const char*>> fixed;   // our key → value
+  // Hopsan name → our key, with Hopsan's default (what Hopsan uses when the
+  // file does not list the parameter: ours may differ).
+  struct Param {
+    const char* hopsan;
+    const char* key;
+    double hopsan_default;
+  };
+  std::vector<Param> params;
+  std::vector<std::pair<const char*, const char*>> fixed;  // our key → value
   std::set<std::string> ignored;  // Hopsan parameters without effect on the result (animation)
   const char* note;               // how ours differs by design; "" if it does not
+  std::map<std::string, std::string> ports = {};  // Hopsan port → ours, where they differ
+  // Our key ← the sum of two Hopsan parameters (a step's final value: base + amplitude).
+  std::vector<std::pair<const char*, std::pair<const char*, const char*>>> sums = {};
 };
 
 const std::map<std::string, Mapping>& mappings() {
   static const std::map<std::string, Mapping> m = {
       {"HydraulicVolume",
        {"HydraulicVolumeC",
-        {{"V", "V"}, {"Beta_e", "beta"}, {"alpha::Value", "alpha"}},
+        {{"V", "V", 1e-3}, {"Beta_e", "beta", 1e9}, {"alpha::Value", "alpha", 0.1}},
         {{"ports", "2"}},
         {"P_high"},
         "its oil is conserved when the pressure falls to the vapour pressure (the void is tracked); Hopsan's "
         "volume lets the pressure go below it"}},
       {"HydraulicTurbulentOrifice",
-       {"HydraulicTurbulentOrificeQ", {{"A::Value", "A"}, {"C_q::Value", "Cd"}, {"rho::Value", "rho"}}, {}, {}, ""}},
-      {"HydraulicLaminarOrifice", {"LaminarOrificeQ", {{"Kc::Value", "Kc"}}, {}, {}, ""}},
-      {"HydraulicPressureSourceC", {"PressureSourceC", {{"p::Value", "p"}}, {}, {}, ""}},
-      {"HydraulicTankC", {"PressureSourceC", {{"p", "p"}}, {}, {}, ""}},
-      {"HydraulicFlowSourceQ", {"FlowSourceQ", {{"q::Value", "q"}}, {}, {}, ""}},
+       {"HydraulicTurbulentOrificeQ",
+        {{"A::Value", "A", 1e-5}, {"C_q::Value", "Cd", 0.67}, {"rho::Value", "rho", 870}},
+        {},
+        {},
+        ""}},
+      {"HydraulicLaminarOrifice", {"LaminarOrificeQ", {{"Kc::Value", "Kc", 1e-11}}, {}, {}, ""}},
+      {"HydraulicPressureSourceC", {"PressureSourceC", {{"p::Value", "p", 1e5}}, {}, {}, ""}},
+      {"HydraulicTankC", {"PressureSourceC", {{"p", "p", 1e5}}, {}, {}, ""}},
+      {"HydraulicFlowSourceQ", {"FlowSourceQ", {{"q::Value", "q", 1e-3}}, {}, {}, ""}},
+      // Signals (Hopsan evaluates them at the step's end time, as ours do).
+      {"SignalConstant", {"SignalStep", {{"y::Value", "y0", 1.0}, {"y::Value", "y1", 1.0}}, {}, {}, "", {}}},
+      {"SignalStep",
+       {"SignalStep",
+        {{"y_0::Value", "y0", 0.0}, {"t_step::Value", "t_step", 1.0}, {"y_A::Value", "", 1.0}},
+        {},
+        {},
+        "",
+        {{"out", "y"}},
+        {{"y1", {"y_0::Value", "y_A::Value"}}}}},
+      {"SignalRamp",
+       {"SignalRamp",
+        {{"y_0::Value", "y0", 0.0}, {"t_start::Value", "t0", 1.0}, {"t_end::Value", "t1", 2.0}, {"y_A::Value", "", 1.0}},
+        {},
+        {},
+        "",
+        {{"out", "y"}},
+        {{"y1", {"y_0::Value", "y_A::Value"}}}}},
+      {"SignalGain", {"SignalGain", {{"k::Value", "k", 1.0}}, {}, {}, "", {{"in", "u"}, {"out", "y"}}}},
   };
   return m;
 }
@@ -124,6 +157,7 @@ HmfModel read_hmf(const std::string& path) {
   };
   // Components.
   std::set<std::string> dropped_sensors;  // name → its signal must not be used
+  std::map<std::string, const std::map<std::string, std::string>*> port_names;  // component → Hopsan port → ours
   xmlNode* objects = child(system, "objects");
   if (objects)
     for (xmlNode* c = objects->children; c; c = c->next) {
@@ -152,6 +186,9 @@ HmfModel read_hmf(const std::string& path) {
       s.where = where(c);
       s.params.set_where(s.where);
       for (const auto& [key, value] : mp.fixed) s.params.set(key, value, s.where);
+      // Every mapped parameter gets Hopsan's value: the file's, else Hopsan's default.
+      std::map<std::string, std::pair<double, SourceLocation>> vals;
+      for (const auto& prm : mp.params) vals.emplace(prm.hopsan, std::make_pair(prm.hopsan_default, s.where));
       if (xmlNode* ps = child(c, "parameters"))
         for (xmlNode* p = ps->children; p; p = p->next) {
           if (!is(p, "parameter")) continue;
@@ -159,15 +196,10 @@ HmfModel read_hmf(const std::string& path) {
           const size_t sep = pname.find("::");
           const std::string variable = sep == std::string::npos ? "" : pname.substr(sep + 2);
           if (mp.ignored.count(pname)) continue;
-          bool mapped = false;
-          for (const auto& [hopsan, ours] : mp.params)
-            if (pname == hopsan) {
-              char num[64];
-              std::snprintf(num, sizeof num, "%.17g", value_of(p, name, type));
-              s.params.set(ours, num, where(p));
-              mapped = true;
-            }
-          if (mapped) continue;
+          if (auto it = vals.find(pname); it != vals.end()) {
+            it->second = {value_of(p, name, type), where(p)};
+            continue;
+          }
           // A node variable's start value: the volume's pressure is its
           // initial pressure; temperature and heat flow mean nothing to an
           // isothermal model; the wave variable and impedance are computed;
@@ -187,6 +219,16 @@ HmfModel read_hmf(const std::string& path) {
           throw InputError(where(p), name + " (" + type + "): parameter '" + pname + "' = '" + attr(p, "value") +
                                          "' has no counterpart in " + mp.ours);
         }
+      auto set = [&](const char* key, double v, const SourceLocation& at) {
+        char num[64];
+        std::snprintf(num, sizeof num, "%.17g", v);
+        s.params.set(key, num, at);
+      };
+      for (const auto& prm : mp.params)
+        if (*prm.key) set(prm.key, vals.at(prm.hopsan).first, vals.at(prm.hopsan).second);
+      for (const auto& [key, terms] : mp.sums)
+        set(key, vals.at(terms.first).first + vals.at(terms.second).first, vals.at(terms.first).second);
+      port_names[name] = &mp.ports;
       if (std::string(mp.note).size())
         out.notes.push_back(path + ":" + std::to_string(s.where.line) + ": " + name + " (" + type + " → " + mp.ours +
                             "): " + mp.note);
@@ -205,7 +247,13 @@ HmfModel read_hmf(const std::string& path) {
                                            "' is used; sensors are read only where nothing uses them (their node is logged)");
         }
       if (dropped_sensors.count(a) || dropped_sensors.count(b)) continue;  // the sensor's tap on the node
-      m.connections.push_back({a + "." + attr(c, "startport"), b + "." + attr(c, "endport"), where(c)});
+      auto ours = [&](const std::string& comp, const std::string& port) {
+        auto it = port_names.find(comp);
+        if (it == port_names.end()) return comp + "." + port;
+        auto renamed = it->second->find(port);
+        return comp + "." + (renamed == it->second->end() ? port : renamed->second);
+      };
+      m.connections.push_back({ours(a, attr(c, "startport")), ours(b, attr(c, "endport")), where(c)});
     }
   for (const std::string& sensor : dropped_sensors)
     out.notes.push_back(path + ": " + sensor + ": a Hopsan sensor; its node's pressure and flow are in the results");

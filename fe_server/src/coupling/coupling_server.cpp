@@ -527,17 +527,18 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
   uint64_t expected = resume_ ? resume_step_ : 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (;;) {
-    const std::string here = "at coupling step " + std::to_string(expected) + " (t = " + std::to_string(solver.time()) + " s)";
-    if (config::stop_signal() && !stopping_ && !ask_for_checkpoint(expected)) return stop(expected, here, message);
-    if (stopping_ && sl_now_ms() >= stop_deadline_)
-      return stop(expected, here + "; the host did not checkpoint within " + std::to_string(opt_.stop_grace) + " s", message);
+    // Only on the way out: no string is built on the per-step path.
+    auto here = [&] {
+      return "at coupling step " + std::to_string(expected) + " (t = " + std::to_string(solver.time()) + " s)";
+    };
+    auto no_checkpoint = [&] { return here() + "; the host did not checkpoint within " + std::to_string(opt_.stop_grace) + " s"; };
+    if (config::stop_signal() && !stopping_ && !ask_for_checkpoint(expected)) return stop(expected, here(), message);
+    if (stopping_ && sl_now_ms() >= stop_deadline_) return stop(expected, no_checkpoint(), message);
     size_t byes = 0, checkpoints = 0;
     for (Client& c : clients_) {
       pcs_header h{};
       int rc = receive(c, h, expected, deadline_after(timeout_));
-      if (rc == SL_ETIMEDOUT && stopping_ && sl_now_ms() >= stop_deadline_)
-        return stop(expected, here + "; the host did not checkpoint within " + std::to_string(opt_.stop_grace) + " s",
-                    message);
+      if (rc == SL_ETIMEDOUT && stopping_ && sl_now_ms() >= stop_deadline_) return stop(expected, no_checkpoint(), message);
       if (rc == SL_EINTERRUPTED)
         return stop(expected, "waiting for STEP " + std::to_string(expected) + name_of(c), message);
       if (rc != SL_OK) {

@@ -38,9 +38,14 @@ std::string file_sha256(const std::string& path) {
   return out;
 }
 
+void StateIO::mismatch(const char* name, uint64_t in_file, size_t in_run) {
+  throw CheckpointError("record '" + std::string(name) + "': " + std::to_string(in_file) + " elements, this run has " +
+                        std::to_string(in_run) + " (another model?)");
+}
+
 void StateIO::text(const char* name, std::string& s) {
   std::vector<char> v(s.begin(), s.end());
-  array(name, v);
+  list(name, v);  // a text may differ in length: expect() says how
   if (!saving()) s.assign(v.begin(), v.end());
 }
 

@@ -32,8 +32,8 @@ struct State {
     io.value("x", x);
     io.value("n", n);
     io.value("flag", flag);
-    io.array("values", values);
-    io.array("pairs", pairs);
+    io.list("values", values);  // lists: restored to the file's length
+    io.list("pairs", pairs);
     io.text("name", name);
   }
 };
@@ -111,6 +111,17 @@ TEST(Checkpoint, AFileThatDoesNotFitIsRefusedSayingWhy) {
     float x = 0;
     const std::string e = error_of([&] { r.value("x", x); });
     EXPECT_NE(e.find("record 'x'"), std::string::npos) << e;
+  }
+  {  // an array whose length the run has fixed refuses another length
+    config::StateReader r(path);
+    r.expect("size", 3, "the size");
+    double x = 0;
+    long n = 0;
+    bool flag = false;
+    r.value("x", x), r.value("n", n), r.value("flag", flag);
+    std::vector<double> three(3);
+    const std::string e = error_of([&] { r.array("values", three); });
+    EXPECT_NE(e.find("record 'values': 4 elements, this run has 3"), std::string::npos) << e;
   }
   {  // records the reader does not take
     config::StateReader r(path);

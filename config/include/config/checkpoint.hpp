@@ -45,18 +45,19 @@ class StateIO {
     check_plain<T>();
     raw(name, &v, sizeof(T), 1);
   }
-  // A vector of such values; restored to the length it was saved with.
+  // A vector of such values whose length the run has fixed (to its nodes,
+  // elements, delay...): restoring, the file must hold that length, else
+  // CheckpointError; a file of another model, or a forged one, never changes
+  // the length of an array the code indexes by the model.
   template <class T>
   void array(const char* name, std::vector<T>& v) {
-    check_plain<T>();
-    uint64_t n = v.size();
-    if (saving()) {
-      raw(name, v.data(), sizeof(T), n);
-    } else {
-      n = next_count(name, sizeof(T));
-      v.resize(static_cast<size_t>(n));
-      raw(name, v.data(), sizeof(T), n);
-    }
+    exchange(name, v, true);
+  }
+  // A list whose length is state itself (contact candidates, snapshot
+  // times, impacts): restored to the file's length.
+  template <class T>
+  void list(const char* name, std::vector<T>& v) {
+    exchange(name, v, false);
   }
   void array(const char* name, std::vector<bool>&) = delete;  // not contiguous
   void text(const char* name, std::string& s);
@@ -67,10 +68,22 @@ class StateIO {
   void expect(const char* name, const std::string& expected, const std::string& what);
 
  protected:
+  template <class T>
+  void exchange(const char* name, std::vector<T>& v, bool fixed) {
+    check_plain<T>();
+    uint64_t n = v.size();
+    if (!saving()) {
+      n = next_count(name, sizeof(T));
+      if (fixed && n != v.size()) mismatch(name, n, v.size());
+      v.resize(static_cast<size_t>(n));
+    }
+    raw(name, v.data(), sizeof(T), n);
+  }
   // Save or restore count elements of elem_size bytes at data.
   virtual void raw(const char* name, void* data, size_t elem_size, uint64_t count) = 0;
   // Reader: the count of the next record, checked to be `name` with elements of elem_size.
   virtual uint64_t next_count(const char* name, size_t elem_size) = 0;
+  [[noreturn]] static void mismatch(const char* name, uint64_t in_file, size_t in_run);
 
  private:
   template <class T>

@@ -295,9 +295,9 @@ namespace fe {
 void PenaltyContact::state(config::StateIO& io) {
   io.expect("contact sides", sides_.size(), "the sides of a contact");
   for (Side& s : sides_) {
-    io.array("contact start", s.start);
-    io.array("contact cand", s.cand);
-    io.array("contact reach2", s.reach2);
+    io.list("contact start", s.start);
+    io.list("contact cand", s.cand);
+    io.list("contact reach2", s.reach2);
   }
   io.value("contact max_penetration", max_penetration_);
 }

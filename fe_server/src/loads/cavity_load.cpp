@@ -308,9 +308,9 @@ void CavityPressureLoad::state(config::StateIO& io) {
   io.array("cavity tlm", tlm_);
   io.array("cavity area", area_vector_);
   for (PortSurface& ps : surfaces_) {
-    io.array("surface segment area", ps.segment_area);
-    io.array("surface shift", ps.shift);
-    io.array("surface corner weight", ps.corner_weight);
+    io.list("surface segment area", ps.segment_area);
+    io.list("surface shift", ps.shift);
+    io.list("surface corner weight", ps.corner_weight);
   }
 }
 

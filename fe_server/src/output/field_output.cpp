@@ -76,7 +76,7 @@ std::vector<FieldWriter::Field> FieldWriter::field_list() const {
 }
 
 void FieldWriter::state(config::StateIO& io) {
-  io.array("field times", times_);
+  io.list("field times", times_);
   if (io.saving()) return;
   if (fresh_) {  // a new file: the earlier snapshots are not in it
     times_.clear();

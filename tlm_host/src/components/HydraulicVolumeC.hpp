@@ -50,7 +50,7 @@ class HydraulicVolumeC : public Component {
   void state(config::StateIO& io) override {
     for (double* s : {&V_, &Zc_, &p_mean_, &stored_, &void_, &t_last_}) io.value("volume", *s);
     io.value("cavitating", cavitating_);
-    io.array("cavitation events", events_);
+    io.list("cavitation events", events_);
   }
   void configure(ParameterSet& prm) override {
     V0_ = prm.positive("V", 1e-3);         // m³ (at x = 0 for a chamber)

@@ -67,7 +67,7 @@ struct PercussionMechanics {
   }
   void state(config::StateIO& io) {
     for (double* s : {&v_f, &y, &w, &F_contact, &v_impact, &blows, &overlap_prev}) io.value("mechanics", *s);
-    io.array("impacts", impacts);
+    io.list("impacts", impacts);
   }
   void initialize(double step) {
     dt = step;

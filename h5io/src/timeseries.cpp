@@ -115,6 +115,16 @@ size_t TimeSeriesWriter::add_series(const std::string& name, const std::string& 
   return streams_[stream].series.size() - 1;
 }
 
+void TimeSeriesWriter::add_link(const std::string& alias, const std::string& target) {
+  if (live_) fail("link '" + alias + "' declared after the first row", path_);
+  if (resume_) return;  // the file to continue has it
+  hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  const herr_t e = H5Lcreate_soft(target.c_str(), file_, alias.c_str(), lcpl, H5P_DEFAULT);
+  H5Pclose(lcpl);
+  if (e < 0) fail("cannot create link '" + alias + "' to '" + target + "'", path_);
+}
+
 void TimeSeriesWriter::resume_at(size_t rows, size_t stream) {
   if (!resume_ || live_) fail("resume_at() on a new file or after the first row", path_);
   Stream& st = streams_.at(stream);

@@ -3,10 +3,12 @@
 #include <libxml/parser.h>
 #include <libxml/tree.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 
 namespace tlm {
@@ -14,67 +16,115 @@ namespace tlm {
 namespace {
 
 // One Hopsan component type and how it becomes ours. Hopsan's parameter
-// names: "X" for a constant, "X::Value" for an input variable's default
-// (Hopsan's default library, componentLibraries/defaultLibrary/Hydraulic).
+// names as its current files write them: "X" for a constant, "X#Value" for
+// an input variable's default, "P1#Pressure" for a port's start value
+// (Hopsan's default library, componentLibraries/defaultLibrary). Older
+// files write "::" for "#" and may omit "#Value"; both are read.
 struct Mapping {
   const char* ours;
   // Hopsan name → our key, with Hopsan's default (what Hopsan uses when the
-  // file does not list the parameter: ours may differ).
+  // file does not list the parameter: ours may differ). An empty key: read
+  // for a sum below, not passed on.
   struct Param {
     const char* hopsan;
     const char* key;
     double hopsan_default;
   };
   std::vector<Param> params;
-  std::vector<std::pair<const char*, const char*>> fixed;  // our key → value
-  std::set<std::string> ignored;  // Hopsan parameters without effect on the result (animation)
-  const char* note;               // how ours differs by design; "" if it does not
+  std::vector<std::pair<const char*, const char*>> fixed = {};  // our key → value
+  std::set<std::string> ignored = {};  // Hopsan parameters without effect on the result (animation)
+  const char* note = "";               // how ours differs by design; "" if it does not
   std::map<std::string, std::string> ports = {};  // Hopsan port → ours, where they differ
   // Our key ← the sum of two Hopsan parameters (a step's final value: base + amplitude).
   std::vector<std::pair<const char*, std::pair<const char*, const char*>>> sums = {};
+  // Our key for the start pressure: every hydraulic port's start pressure
+  // in the file must agree (ours starts the component at one pressure);
+  // none given: Hopsan's default, 1e5 Pa. nullptr: start pressures are
+  // outputs the component overwrites in its first step (Q types, sources).
+  const char* start_pressure = nullptr;
+  // Hopsan parameters read only at one value (what ours implements), with why.
+  std::vector<std::pair<std::pair<const char*, double>, const char*>> only = {};
+  // A Hopsan multiport (one port name taking any number of connections):
+  // the k-th connection becomes our port P<k>, their count our `ports`.
+  const char* multiport = nullptr;
 };
+
+const char* const kCavitationNote =
+    "its oil is conserved when the pressure falls to the vapour pressure (the void is tracked); Hopsan's "
+    "volume lets the pressure go below it";
 
 const std::map<std::string, Mapping>& mappings() {
   static const std::map<std::string, Mapping> m = {
       {"HydraulicVolume",
        {"HydraulicVolumeC",
-        {{"V", "V", 1e-3}, {"Beta_e", "beta", 1e9}, {"alpha::Value", "alpha", 0.1}},
+        {{"V", "V", 1e-3}, {"Beta_e", "beta", 1e9}, {"alpha#Value", "alpha", 0.1}},
         {{"ports", "2"}},
         {"P_high"},
-        "its oil is conserved when the pressure falls to the vapour pressure (the void is tracked); Hopsan's "
-        "volume lets the pressure go below it"}},
+        kCavitationNote,
+        {},
+        {},
+        "p0"}},
+      {"HydraulicVolumeMultiPort",
+       {"HydraulicVolumeC",
+        {{"V#Value", "V", 1e-3}, {"Beta_e#Value", "beta", 1e9}, {"alpha#Value", "alpha", 0.1}},
+        {},
+        {"P_high"},
+        kCavitationNote,
+        {},
+        {},
+        "p0",
+        {},
+        "P1"}},
+      {"HydraulicTLMlossless",
+       {"LosslessLineC",
+        {{"Z_c#Value", "Zc", 1e9}, {"deltat", "delay", 0.1}},
+        {},
+        {},
+        "",
+        {},
+        {},
+        "p0",
+        {{{"alpha#Value", 0.0}, "ours is lossless: no low-pass filter on the waves"}}}},
       {"HydraulicTurbulentOrifice",
-       {"HydraulicTurbulentOrificeQ",
-        {{"A::Value", "A", 1e-5}, {"C_q::Value", "Cd", 0.67}, {"rho::Value", "rho", 870}},
-        {},
-        {},
-        ""}},
-      {"HydraulicLaminarOrifice", {"LaminarOrificeQ", {{"Kc::Value", "Kc", 1e-11}}, {}, {}, ""}},
-      {"HydraulicPressureSourceC", {"PressureSourceC", {{"p::Value", "p", 1e5}}, {}, {}, ""}},
-      {"HydraulicTankC", {"PressureSourceC", {{"p", "p", 1e5}}, {}, {}, ""}},
-      {"HydraulicFlowSourceQ", {"FlowSourceQ", {{"q::Value", "q", 1e-3}}, {}, {}, ""}},
+       {"HydraulicTurbulentOrificeQ", {{"A#Value", "A", 1e-5}, {"C_q#Value", "Cd", 0.67}, {"rho#Value", "rho", 870}}}},
+      {"HydraulicLaminarOrifice", {"LaminarOrificeQ", {{"Kc#Value", "Kc", 1e-11}}}},
+      {"HydraulicPressureSourceC", {"PressureSourceC", {{"p#Value", "p", 1e5}}}},
+      {"HydraulicTankC", {"PressureSourceC", {{"p", "p", 1e5}}}},
+      {"HydraulicFlowSourceQ", {"FlowSourceQ", {{"q#Value", "q", 1e-3}}}},
       // Signals (Hopsan evaluates them at the step's end time, as ours do).
-      {"SignalConstant", {"SignalStep", {{"y::Value", "y0", 1.0}, {"y::Value", "y1", 1.0}}, {}, {}, "", {}}},
+      {"SignalConstant", {"SignalStep", {{"y#Value", "y0", 1.0}, {"y#Value", "y1", 1.0}}}},
       {"SignalStep",
        {"SignalStep",
-        {{"y_0::Value", "y0", 0.0}, {"t_step::Value", "t_step", 1.0}, {"y_A::Value", "", 1.0}},
+        {{"y_0#Value", "y0", 0.0}, {"t_step#Value", "t_step", 1.0}, {"y_A#Value", "", 1.0}},
         {},
         {},
         "",
         {{"out", "y"}},
-        {{"y1", {"y_0::Value", "y_A::Value"}}}}},
+        {{"y1", {"y_0#Value", "y_A#Value"}}}}},
       {"SignalRamp",
        {"SignalRamp",
-        {{"y_0::Value", "y0", 0.0}, {"t_start::Value", "t0", 1.0}, {"t_end::Value", "t1", 2.0}, {"y_A::Value", "", 1.0}},
+        {{"y_0#Value", "y0", 0.0}, {"t_start#Value", "t0", 1.0}, {"t_end#Value", "t1", 2.0}, {"y_A#Value", "", 1.0}},
         {},
         {},
         "",
         {{"out", "y"}},
-        {{"y1", {"y_0::Value", "y_A::Value"}}}}},
-      {"SignalGain", {"SignalGain", {{"k::Value", "k", 1.0}}, {}, {}, "", {{"in", "u"}, {"out", "y"}}}},
+        {{"y1", {"y_0#Value", "y_A#Value"}}}}},
+      {"SignalGain", {"SignalGain", {{"k#Value", "k", 1.0}}, {}, {}, "", {{"in", "u"}, {"out", "y"}}}},
   };
   return m;
 }
+
+// A typename "Pcs<Type>" names one of tlm_host's own components (Pcs: this
+// project), read with our parameter names: for what Hopsan's library has no
+// counterpart of (the hammer's piston, its control spool, tabulated edges).
+// Hopsan itself runs such a model only with a component library providing
+// these types.
+constexpr const char* kOwnPrefix = "Pcs";
+
+// The types whose Hopsan components step once in their initialize()
+// (ComponentSpec::initial_step).
+const std::set<std::string> kStepInInitialize = {"HydraulicTurbulentOrifice", "HydraulicFlowSourceQ",
+                                                 "HydraulicPressureSourceC", "SignalStep", "SignalGain"};
 
 // Hopsan's sensors read a node; their nodes are logged anyway.
 const std::set<std::string> kSensors = {"HydraulicPressureSensor", "HydraulicFlowSensor", "HydraulicNodeSensor"};
@@ -102,6 +152,26 @@ bool number(const std::string& s, double& v) {
   char* end = nullptr;
   v = std::strtod(s.c_str(), &end);
   return end && *end == '\0' && std::isfinite(v);
+}
+
+std::string text_of(double v) {
+  char num[64];
+  std::snprintf(num, sizeof num, "%.17g", v);
+  return num;
+}
+
+// Hopsan's current spelling of a parameter name: "::" → "#", and a bare
+// input-variable name gets its "#Value" where the mapping knows it so.
+std::string current_name(std::string name, const Mapping* mp) {
+  for (size_t at = name.find("::"); at != std::string::npos; at = name.find("::", at)) name.replace(at, 2, "#");
+  if (mp && name.find('#') == std::string::npos) {
+    const std::string input = name + "#Value";
+    for (const auto& prm : mp->params)
+      if (input == prm.hopsan) return input;
+    for (const auto& [only, why] : mp->only)
+      if (input == only.first) return input;
+  }
+  return name;
 }
 
 }  // namespace
@@ -156,8 +226,13 @@ HmfModel read_hmf(const std::string& path) {
                                    "': a number or a system parameter's name is supported, not an expression");
   };
   // Components.
-  std::set<std::string> dropped_sensors;  // name → its signal must not be used
-  std::map<std::string, const std::map<std::string, std::string>*> port_names;  // component → Hopsan port → ours
+  std::set<std::string> dropped_sensors;  // their signal must not be used
+  struct Known {
+    const Mapping* mapping = nullptr;  // nullptr: one of ours (Pcs…)
+    size_t index = 0;                  // in m.components
+    int multiport_count = 0;
+  };
+  std::map<std::string, Known> known;
   xmlNode* objects = child(system, "objects");
   if (objects)
     for (xmlNode* c = objects->children; c; c = c->next) {
@@ -166,72 +241,100 @@ HmfModel read_hmf(const std::string& path) {
       if (!is(c, "component"))
         throw InputError(where(c), "'" + name + "' (<" + std::string(reinterpret_cast<const char*>(c->name)) +
                                        ">): nested subsystems and other objects are not read yet; flatten the model");
-      if (name.empty() || name.find_first_of(". /") != std::string::npos)
-        throw InputError(where(c), "component name '" + name + "': ours may not contain dots, spaces or slashes");
+      if (name.empty() || name.find_first_of(". /#") != std::string::npos)
+        throw InputError(where(c), "component name '" + name + "': ours may not contain dots, spaces, slashes or '#'");
       if (kSensors.count(type)) {
         dropped_sensors.insert(name);
         continue;
       }
-      auto map = mappings().find(type);
-      if (map == mappings().end()) {
-        std::string known;
-        for (const auto& [t, mp] : mappings()) known += (known.empty() ? "" : ", ") + t;
-        throw InputError(where(c), "component '" + name + "' of Hopsan type " + type +
-                                       " has no counterpart here yet (mapped: " + known + ")");
-      }
-      const Mapping& mp = map->second;
       ComponentSpec s;
       s.name = name;
-      s.type = mp.ours;
       s.where = where(c);
       s.params.set_where(s.where);
+      xmlNode* params = child(c, "parameters");
+      // One of ours, by our own names.
+      if (type.rfind(kOwnPrefix, 0) == 0 && component_types().count(type.substr(3))) {
+        s.type = type.substr(3);
+        if (params)
+          for (xmlNode* p = params->children; p; p = p->next) {
+            if (!is(p, "parameter")) continue;
+            const std::string text = attr(p, "value");
+            auto sp = system_params.find(text);
+            s.params.set(attr(p, "name"), sp == system_params.end() ? text : text_of(sp->second), where(p));
+          }
+        known[name] = {nullptr, m.components.size()};
+        m.components.push_back(std::move(s));
+        continue;
+      }
+      auto map = mappings().find(type);
+      if (map == mappings().end()) {
+        std::string mapped;
+        for (const auto& [t, mp] : mappings()) mapped += (mapped.empty() ? "" : ", ") + t;
+        throw InputError(where(c), "component '" + name + "' of Hopsan type " + type +
+                                       " has no counterpart here yet (mapped: " + mapped + "; and tlm_host's own types as " +
+                                       kOwnPrefix + "<Type>)");
+      }
+      const Mapping& mp = map->second;
+      s.type = mp.ours;
+      s.initial_step = kStepInInitialize.count(type) != 0;
       for (const auto& [key, value] : mp.fixed) s.params.set(key, value, s.where);
       // Every mapped parameter gets Hopsan's value: the file's, else Hopsan's default.
       std::map<std::string, std::pair<double, SourceLocation>> vals;
       for (const auto& prm : mp.params) vals.emplace(prm.hopsan, std::make_pair(prm.hopsan_default, s.where));
-      if (xmlNode* ps = child(c, "parameters"))
-        for (xmlNode* p = ps->children; p; p = p->next) {
+      std::optional<std::pair<double, SourceLocation>> start_p;
+      if (params)
+        for (xmlNode* p = params->children; p; p = p->next) {
           if (!is(p, "parameter")) continue;
-          const std::string pname = attr(p, "name");
-          const size_t sep = pname.find("::");
-          const std::string variable = sep == std::string::npos ? "" : pname.substr(sep + 2);
+          const std::string pname = current_name(attr(p, "name"), &mp);
+          const size_t sep = pname.find('#');
+          const std::string variable = sep == std::string::npos ? "" : pname.substr(sep + 1);
           if (mp.ignored.count(pname)) continue;
           if (auto it = vals.find(pname); it != vals.end()) {
             it->second = {value_of(p, name, type), where(p)};
             continue;
           }
-          // A node variable's start value: the volume's pressure is its
-          // initial pressure; temperature and heat flow mean nothing to an
+          bool checked = false;
+          for (const auto& [only, why] : mp.only)
+            if (pname == only.first) {
+              if (value_of(p, name, type) != only.second)
+                throw InputError(where(p), name + " (" + type + "): parameter '" + pname + "' = '" + attr(p, "value") +
+                                               "': only " + text_of(only.second) + " is read (" + why + ")");
+              checked = true;
+            }
+          if (checked) continue;
+          // A port's start value: the pressure where the component starts
+          // from it; temperature and heat flow mean nothing to an
           // isothermal model; the wave variable and impedance are computed;
           // a flow must keep Hopsan's default (0) to start as Hopsan starts.
           if (variable == "Pressure") {
-            if (s.type == "HydraulicVolumeC" && pname.rfind("P1::", 0) == 0) {
-              char num[64];
-              std::snprintf(num, sizeof num, "%.17g", value_of(p, name, type));
-              s.params.set("p0", num, where(p));
-            }
+            if (!mp.start_pressure) continue;
+            const double v = value_of(p, name, type);
+            if (start_p && start_p->first != v)
+              throw InputError(where(p), name + " (" + type + "): start pressure " + attr(p, "value") + " at " +
+                                             pname.substr(0, sep) + " differs from " + text_of(start_p->first) +
+                                             " at line " + std::to_string(start_p->second.line) + ": " + mp.ours +
+                                             " starts at one pressure");
+            start_p = std::make_pair(v, where(p));
             continue;
           }
           if (variable == "Temperature" || variable == "HeatFlow" || variable == "WaveVariable" ||
-              variable == "CharImpedance")
+              variable == "CharImpedance" || variable == "CharImp")
             continue;
           if (variable == "Flow" && value_of(p, name, type) == 0.0) continue;
           throw InputError(where(p), name + " (" + type + "): parameter '" + pname + "' = '" + attr(p, "value") +
                                          "' has no counterpart in " + mp.ours);
         }
-      auto set = [&](const char* key, double v, const SourceLocation& at) {
-        char num[64];
-        std::snprintf(num, sizeof num, "%.17g", v);
-        s.params.set(key, num, at);
-      };
+      auto set = [&](const char* key, double v, const SourceLocation& at) { s.params.set(key, text_of(v), at); };
       for (const auto& prm : mp.params)
         if (*prm.key) set(prm.key, vals.at(prm.hopsan).first, vals.at(prm.hopsan).second);
       for (const auto& [key, terms] : mp.sums)
         set(key, vals.at(terms.first).first + vals.at(terms.second).first, vals.at(terms.first).second);
-      port_names[name] = &mp.ports;
+      if (mp.start_pressure) set(mp.start_pressure, start_p ? start_p->first : 1e5, start_p ? start_p->second : s.where);
+      for (const auto& [hopsan, ours] : mp.ports) m.result_ports[name + "." + ours] = hopsan;
       if (std::string(mp.note).size())
         out.notes.push_back(path + ":" + std::to_string(s.where.line) + ": " + name + " (" + type + " → " + mp.ours +
                             "): " + mp.note);
+      known[name] = {&mp, m.components.size()};
       m.components.push_back(std::move(s));
     }
   // Connections: "component.port" pairs.
@@ -248,15 +351,27 @@ HmfModel read_hmf(const std::string& path) {
         }
       if (dropped_sensors.count(a) || dropped_sensors.count(b)) continue;  // the sensor's tap on the node
       auto ours = [&](const std::string& comp, const std::string& port) {
-        auto it = port_names.find(comp);
-        if (it == port_names.end()) return comp + "." + port;
-        auto renamed = it->second->find(port);
-        return comp + "." + (renamed == it->second->end() ? port : renamed->second);
+        auto it = known.find(comp);
+        if (it == known.end() || !it->second.mapping) return comp + "." + port;
+        const Mapping& mp = *it->second.mapping;
+        if (mp.multiport && port == mp.multiport) {
+          m.multiport_components.insert(comp);
+          return comp + ".P" + std::to_string(++it->second.multiport_count);
+        }
+        auto renamed = mp.ports.find(port);
+        return comp + "." + (renamed == mp.ports.end() ? port : renamed->second);
       };
       m.connections.push_back({ours(a, attr(c, "startport")), ours(b, attr(c, "endport")), where(c)});
     }
+  for (const auto& [name, k] : known)
+    if (k.mapping && k.mapping->multiport) {
+      ComponentSpec& s = m.components[k.index];
+      if (k.multiport_count == 0) throw InputError(s.where, name + ": its port " + k.mapping->multiport + " is not connected");
+      s.params.set("ports", std::to_string(k.multiport_count), s.where);
+    }
   for (const std::string& sensor : dropped_sensors)
     out.notes.push_back(path + ": " + sensor + ": a Hopsan sensor; its node's pressure and flow are in the results");
+  m.hopsan_results = true;
   m.check_simulation();
   return out;
 }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <iostream>
 #include <sstream>
+#include <tuple>
 #include <unistd.h>
 
 #include <filesystem>
@@ -20,10 +21,14 @@ namespace tlm {
 
 using config::InputError;
 
-ComponentSpec* ModelSpec::find(const std::string& name) {
-  for (auto& c : components)
+const ComponentSpec* ModelSpec::find(const std::string& name) const {
+  for (const auto& c : components)
     if (c.name == name) return &c;
   return nullptr;
+}
+
+ComponentSpec* ModelSpec::find(const std::string& name) {
+  return const_cast<ComponentSpec*>(static_cast<const ModelSpec*>(this)->find(name));
 }
 
 // log_every as an int: 1 to 10⁹ (a larger one would wrap).
@@ -236,6 +241,59 @@ void System::exchange_state(config::StateIO& io) {
   }
 }
 
+void System::hopsan_names(h5io::TimeSeriesWriter& out,
+                          const std::function<void(const std::string&, const std::string&, const double*)>& add,
+                          std::vector<const double*>& csv_sources, std::vector<std::string>& csv_header,
+                          const double* time) {
+  // Hopsan's CSV: the components in name order, each port's node variables
+  // in NodeHydraulic's order (Temperature and HeatFlow left out: the model is
+  // isothermal), a signal port's Value, Time last; three header lines (name,
+  // alias, unit). Its HDF5 export's paths: results/<component>/<port>/<variable>.
+  std::vector<Component*> sorted;
+  for (auto& c : components_)
+    if (!spec_.multiport_components.count(c->name())) sorted.push_back(c.get());
+  std::sort(sorted.begin(), sorted.end(), [](Component* a, Component* b) { return a->name() < b->name(); });
+  std::vector<std::string> csv_names, csv_units;
+  auto hopsan_port = [&](Component* c, const std::string& port) {
+    auto it = spec_.result_ports.find(c->name() + "." + port);
+    return it == spec_.result_ports.end() ? port : it->second;
+  };
+  csv_sources.clear();
+  for (Component* c : sorted) {
+    for (const Port& p : c->ports()) {
+      const std::string name = c->name() + "#" + hopsan_port(c, p.name);
+      const std::string path = "results/" + c->name() + "/" + hopsan_port(c, p.name) + "/";
+      out.add_link(path + "Flow", "/nodes/" + p.node->name + "/q");
+      out.add_link(path + "Pressure", "/nodes/" + p.node->name + "/p");
+      for (auto [var, unit, value] : {std::make_tuple("Flow", "m^3/s", &p.node->q), std::make_tuple("Pressure", "Pa", &p.node->p),
+                                      std::make_tuple("WaveVariable", "Pa", &p.node->c),
+                                      std::make_tuple("CharImpedance", "Pa s/m^3", &p.node->Zc)}) {
+        csv_names.push_back(name + "#" + var);
+        csv_units.push_back(unit);
+        csv_sources.push_back(value);
+      }
+    }
+    for (const SignalPort& sp : c->signals()) {
+      const double* value = sp.output ? sp.value : (sp.source ? *sp.source : nullptr);
+      if (!value) continue;  // an optional input left open
+      add("results/" + c->name() + "/" + hopsan_port(c, sp.name) + "/Value", "", value);
+      csv_names.push_back(c->name() + "#" + hopsan_port(c, sp.name) + "#Value");
+      csv_units.push_back("");
+      csv_sources.push_back(value);
+    }
+  }
+  out.add_link("results/Time", "/time");
+  csv_names.push_back("Time");
+  csv_units.push_back("s");
+  csv_sources.push_back(time);
+  csv_header.assign(3, "");
+  for (size_t i = 0; i < csv_names.size(); ++i) {
+    csv_header[0] += (i ? "," : "") + csv_names[i];
+    csv_header[1] += i ? "," : "";
+    csv_header[2] += (i ? "," : "") + csv_units[i];
+  }
+}
+
 void System::run(const std::string& out_path, bool progress) {
   const double dt = spec_.dt;
   const long steps = std::lround(spec_.stop_time / dt);
@@ -267,6 +325,10 @@ void System::run(const std::string& out_path, bool progress) {
     for (FmuQ* f : fmus) f->set_resume_step(first);
   }
   for (auto& c : components_) c->initialize(dt);
+  if (!resume)
+    for (const auto* order : {&signal_, &c_type_, &q_type_})
+      for (Component* c : *order)
+        if (spec_.find(c->name())->initial_step) c->simulate_one_step(0.0);
   std::vector<Component*> peers;
   for (Component* c : q_type_)
     if (c->waits_on_peer()) peers.push_back(c);
@@ -300,6 +362,11 @@ void System::run(const std::string& out_path, bool progress) {
     c->log_variables(vars);
     for (const auto& v : vars) add("components/" + c->name() + "/" + v.name, v.unit, v.value);
   }
+  // The CSV's columns: ours, or a Hopsan model's in Hopsan's layout.
+  std::vector<const double*> csv_sources = sources;
+  std::vector<std::string> csv_header(1);
+  for (size_t i = 0; i < names.size(); ++i) csv_header[0] += (i ? "," : "") + names[i];
+  if (spec_.hopsan_results) hopsan_names(out, add, csv_sources, csv_header, &time);
   if (resume) {
     try {
       exchange_state(*restart);
@@ -323,17 +390,15 @@ void System::run(const std::string& out_path, bool progress) {
     }
     if (!csv) throw std::runtime_error("cannot write CSV file '" + csv_path_ + "'");
     csv.precision(12);
-    if (!resume) {
-      for (size_t i = 0; i < names.size(); ++i) csv << (i ? "," : "") << names[i];
-      csv << "\n";
-    }
+    if (!resume)
+      for (const auto& line : csv_header) csv << line << "\n";
   }
   std::vector<double> row(sources.size());
   auto record = [&] {
     for (size_t i = 0; i < sources.size(); ++i) row[i] = *sources[i];
     out.append(row);
     if (csv.is_open()) {
-      for (size_t i = 0; i < row.size(); ++i) csv << (i ? "," : "") << row[i];
+      for (size_t i = 0; i < csv_sources.size(); ++i) csv << (i ? "," : "") << *csv_sources[i];
       csv << "\n";
     }
   };

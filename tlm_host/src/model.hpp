@@ -8,6 +8,8 @@
 // Every parameter can be overridden from the command line (--set comp.key=value).
 #pragma once
 
+#include <functional>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -23,6 +25,10 @@ struct ComponentSpec {
   std::string name, type;
   ParameterSet params;
   config::SourceLocation where;
+  // Step once at t = 0, after initialize() and before the first row: what
+  // Hopsan's sources, turbulent orifices, steps and gains do in their
+  // initialize(), so a Hopsan model's series line up with Hopsan's step for step.
+  bool initial_step = false;
 };
 
 struct ConnectionSpec {
@@ -42,8 +48,15 @@ struct ModelSpec {
   // Where the simulation settings were last set (the *SIMULATION block, or
   // the --set that changed one): the place check_simulation names.
   config::SourceLocation simulation_where;
+  // A model read from a Hopsan file: every port's results also under
+  // Hopsan's names, results/<component>/<port>/<variable> in the HDF5 file
+  // (links to ours) and component#port#variable in Hopsan's CSV layout.
+  bool hopsan_results = false;
+  std::map<std::string, std::string> result_ports;  // "component.our port" → Hopsan's port name, where they differ
+  std::set<std::string> multiport_components;       // Hopsan logs no variables of a multiport's own
 
   ComponentSpec* find(const std::string& name);
+  const ComponentSpec* find(const std::string& name) const;
   // "comp.key=value" (or "simulation.timestep=…"); throws on an unknown component.
   void apply_override(const std::string& assignment);
   // timestep and stoptime positive, a finite number of steps, log_every ≥ 1;
@@ -103,6 +116,10 @@ class System {
   long steps_done_ = 0;
   std::set<const SignalPort*> bound_;
   std::string csv_path_;
+  // A Hopsan model's results under Hopsan's names (ModelSpec::hopsan_results).
+  void hopsan_names(h5io::TimeSeriesWriter& out,
+                    const std::function<void(const std::string&, const std::string&, const double*)>& add,
+                    std::vector<const double*>& csv_sources, std::vector<std::string>& csv_header, const double* time);
   Checkpointing checkpointing_;
   // The state that is not a component's: the nodes' p, q, c, Zc and every
   // component's state(), in file order.

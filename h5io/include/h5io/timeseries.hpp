@@ -40,6 +40,9 @@ class TimeSeriesWriter {
   // Declare a series before the first append; `name` may contain '/' groups.
   // Returns its column index within its stream.
   size_t add_series(const std::string& name, const std::string& unit, size_t stream = 0);
+  // Another name for a series (an HDF5 soft link: `alias` reads as
+  // `target`, both absolute paths); before the first row.
+  void add_link(const std::string& alias, const std::string& target);
   // A further stream: series written at their own rate (their own rows and
   // their own time series). Stream 0 exists from the start. Before the first row.
   size_t add_stream();

@@ -2,6 +2,8 @@
 // 1990): a pipe of length L, inner diameter d, with wave speed a = sqrt(β/ρ)
 // and characteristic impedance Zc = ρ·a/A. With q into the line at each end:
 //   c1(t) = p2(t − T) + Zc·q2(t − T),   c2(t) = p1(t − T) + Zc·q1(t − T).
+// Or given as Zc and T directly (Hopsan's HydraulicTLMlossless: Z_c,
+// deltat), without L, d, ρ, β.
 // The delay T = L/a is rounded to a whole number n ≥ 1 of time steps (the
 // rounding is reported); the wave variables wait in ring buffers of n
 // entries. In the loop C → Q the newest p, q are those the Q stage wrote
@@ -28,7 +30,19 @@ class LosslessLineC : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::C; }
   const char* type_name() const override { return "LosslessLineC"; }
-  void configure(ParameterSet& prm) override { configure_line(prm); }
+  void configure(ParameterSet& prm) override {
+    if (prm.has("Zc") || prm.has("delay")) {  // the line by its impedance and delay
+      Zc_given_ = prm.real("Zc");     // Pa·s/m³ (both required)
+      T_given_ = prm.real("delay");  // s
+      if (!(Zc_given_ > 0.0) || !(T_given_ > 0.0))
+        throw config::InputError(prm.where(), name_ + ": Zc and delay must be positive");
+      p0_ = prm.real("p0", 1e5);
+      add_port("P1", Kind::C);
+      add_port("P2", Kind::C);
+      return;
+    }
+    configure_line(prm);
+  }
   void initialize(double dt) override;
   void simulate_one_step(double) override;
   // The waves in flight (both delay lines) and where they start.
@@ -55,15 +69,20 @@ class LosslessLineC : public Component {
 
  private:
   double L_ = 0, d_ = 0, rho_ = 0, beta_ = 0, p0_ = 0, Zc_ = 0;
+  double Zc_given_ = 0, T_given_ = 0;  // > 0: given so, not from L, d, ρ, β
   long n_ = 1, head_ = 0;
   std::vector<double> to1_, to2_;
 };
 
 inline void LosslessLineC::initialize(double dt) {
-  const double a = std::sqrt(beta_ / rho_);
-  const double area = M_PI * d_ * d_ / 4.0;
-  Zc_ = rho_ * a / area;
-  const double T = L_ / a;
+  double T = T_given_;
+  Zc_ = Zc_given_;
+  if (T_given_ == 0.0) {
+    const double a = std::sqrt(beta_ / rho_);
+    const double area = M_PI * d_ * d_ / 4.0;
+    Zc_ = rho_ * a / area;
+    T = L_ / a;
+  }
   n_ = std::max<long>(1, std::lround(T / dt));
   const double rounded = static_cast<double>(n_) * dt;
   if (std::fabs(rounded - T) > 0.01 * T)

@@ -65,6 +65,10 @@ std::string PortTable::canonical() const {
   if (hopsan) {  // only when set: every other table keeps its hash (and its FMUs their GUID)
     std::snprintf(num, sizeof num, "|hopsan:T=%.17g", hopsan_temperature);
     s += num;
+    if (hopsan_start_pressure != 1e5) {  // only when set: FMUs of tables without it keep their GUID
+      std::snprintf(num, sizeof num, ",p0=%.17g", hopsan_start_pressure);
+      s += num;
+    }
   }
   for (const auto& p : ports)
     s += "|port:" + std::to_string(p.id) + "," + p.label + "," + to_string(p.type);
@@ -189,14 +193,18 @@ PortTable parse_port_table(const std::string& text, const std::string& name) {
         } else if (key == "hopsan_temperature") {
           t.hopsan_temperature = c.real(1, "hopsan_temperature");
           if (!(t.hopsan_temperature > 0.0 && t.hopsan_temperature < 1e4)) c.fail("hopsan_temperature must be in kelvin, above 0");
+        } else if (key == "hopsan_start_pressure") {
+          t.hopsan_start_pressure = c.real(1, "hopsan_start_pressure");
+          if (!(t.hopsan_start_pressure >= 0.0 && t.hopsan_start_pressure < 1e10))
+            c.fail("hopsan_start_pressure must be an absolute pressure in Pa, from 0 to 1e10");
         } else if (key == "timeout") {
           t.timeout = c.real(1, "timeout");
           if (!(t.timeout > 0.0 && t.timeout <= 1e6))
             c.fail("timeout must be from 0 to 1e6 seconds (deadlines are kept in milliseconds)");
         } else {
           c.fail("unknown setting '" + c.fields[0] +
-                 "': expected model, server, timestep, mode, subcycles, timeout, host_convention or "
-                 "hopsan_temperature");
+                 "': expected model, server, timestep, mode, subcycles, timeout, host_convention, "
+                 "hopsan_temperature or hopsan_start_pressure");
         }
       }
     } else if (b.keyword == "$FMU_HOPSAN_PORTS") {
@@ -290,9 +298,12 @@ std::vector<FmuVariable> fmu_variables(const PortTable& t) {
     for (const auto& p : t.ports) {
       if (p.type != PortType::Hydraulic) continue;
       if (wire(t.to_host, p.id, Quantity::Pressure) < 0) {
-        FmuVariable pv{p.label + ".p", vr++, FmuCausality::Output, FmuType::Real, "", "Pa",
-                       "pressure at port " + p.label + ", p = c + Zc*q (Hopsan's node pressure)", -1};
-        pv.derived = FmuVariable::Derived::Pressure;
+        std::snprintf(num, sizeof num, "%.17g", t.hopsan_start_pressure);
+        FmuVariable pv{p.label + ".p", vr++, FmuCausality::Output, FmuType::Real, num, "Pa",
+                       "pressure at port " + p.label + ", p = c + Zc*q (Hopsan's node pressure); before the first "
+                       "step its start value",
+                       -1};
+        pv.derived = FmuVariable::Derived::Pressure, pv.constant = t.hopsan_start_pressure, pv.initial = "exact";
         pv.wire_c = wire(t.to_fe, p.id, Quantity::Wave);
         pv.wire_zc = wire(t.to_fe, p.id, Quantity::Impedance);
         pv.wire_q = wire(t.to_host, p.id, Quantity::Flow);

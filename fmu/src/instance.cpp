@@ -87,9 +87,9 @@ double Instance::get_real(fmi2ValueReference vr) const {
   if (v.causality == config::FmuCausality::Input) return inputs_[static_cast<size_t>(v.wire_index)];
   // Hopsan's node variables: the pressure the port's characteristic gives
   // for the flow of the last step (p = c + Zc·q, as a Q component solves
-  // its node; before the first step q = 0, p = c), and constants.
+  // its node; before the first step its start value), and constants.
   if (v.derived == config::FmuVariable::Derived::Pressure)
-    return inputs_[static_cast<size_t>(v.wire_c)] +
+    return step_ == 0 ? v.constant : inputs_[static_cast<size_t>(v.wire_c)] +
            inputs_[static_cast<size_t>(v.wire_zc)] * outputs_[static_cast<size_t>(v.wire_q)];
   if (v.derived == config::FmuVariable::Derived::Constant) return v.constant;
   if (v.causality == config::FmuCausality::Output) return outputs_[static_cast<size_t>(v.wire_index)];

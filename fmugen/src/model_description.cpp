@@ -111,13 +111,16 @@ std::string model_description_xml(const config::PortTable& t, const std::string&
   for (size_t i = 0; i < vars.size(); ++i)
     if (vars[i].causality == config::FmuCausality::Output)
       x << "      <Unknown index=\"" << i + 1 << "\"/>\n";
-  x << "    </Outputs>\n    <InitialUnknowns>\n";
+  x << "    </Outputs>\n";
   // Outputs are "calculated" (the default for continuous outputs), so they
-  // are initial unknowns; an "exact" one (a start value) is not.
+  // are initial unknowns; an "exact" one (a start value) is not. The schema
+  // wants no InitialUnknowns element rather than an empty one.
+  std::ostringstream unknowns;
   for (size_t i = 0; i < vars.size(); ++i)
     if (vars[i].causality == config::FmuCausality::Output && vars[i].initial.empty())
-      x << "      <Unknown index=\"" << i + 1 << "\"/>\n";
-  x << "    </InitialUnknowns>\n  </ModelStructure>\n</fmiModelDescription>\n";
+      unknowns << "      <Unknown index=\"" << i + 1 << "\"/>\n";
+  if (!unknowns.str().empty()) x << "    <InitialUnknowns>\n" << unknowns.str() << "    </InitialUnknowns>\n";
+  x << "  </ModelStructure>\n</fmiModelDescription>\n";
   return x.str();
 }
 

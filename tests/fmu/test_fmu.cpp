@@ -282,14 +282,15 @@ TEST_F(FmuTest, HeartbeatsKeepASlowStepAlive) {
 // The Hopsan convention (host_convention, hopsan): every variable Hopsan's
 // FMIWrapperQ reads for a NodeHydraulic port is there and means what Hopsan
 // means: p = c + Zc·q (the node pressure a Q component gives, here with the
-// flow the step returned; before the first step q = 0, so p = c), T the oil's
-// temperature, Qdot = 0 (isothermal). Exact: the same three operations as
-// the host does.
+// flow the step returned; before the first step its start value,
+// hopsan_start_pressure, which FMIWrapperQ reads from the model description
+// and Hopsan logs at t = 0), T the oil's temperature, Qdot = 0 (isothermal).
+// Exact: the same three operations as the host does.
 TEST(FmuHopsan, EveryNodeHydraulicVariableIsThereAndMeansWhatHopsanMeans) {
   testing_support::TempDir dir;
   std::string cfg = config::read_text_file(PCS_SCENES_DIR "/one_dof_tlm/ports.cfg", "ports");
   cfg.replace(cfg.find("one_dof_tlm"), 11, "one_dof_hopsan");
-  cfg.insert(cfg.find("$FMU_HOPSAN_PORTS"), "host_convention, hopsan\nhopsan_temperature, 313.0\n");
+  cfg.insert(cfg.find("$FMU_HOPSAN_PORTS"), "host_convention, hopsan\nhopsan_temperature, 313.0\nhopsan_start_pressure, 2.5e6\n");
   std::ofstream(dir.file("ports.cfg")) << cfg;
   testing_support::ChildProcess gen({PCS_FMUGEN_EXE, dir.file("ports.cfg"), "-o", dir.file("h.fmu")});
   ASSERT_EQ(gen.wait(30.0), 0) << gen.output();
@@ -310,7 +311,13 @@ TEST(FmuHopsan, EveryNodeHydraulicVariableIsThereAndMeansWhatHopsanMeans) {
     fmu.set_real(zc, 3.0e9);
     fmu.exit_initialization();
     EXPECT_EQ(fmu.get_real(q), 0.0) << "its start value";
-    EXPECT_EQ(fmu.get_real(p), 2.0e6) << "p = c before the first step";
+    EXPECT_EQ(fmu.get_real(p), 2.5e6) << "its start value before the first step";
+    const std::string xml = config::read_text_file(archive->dir() + "/modelDescription.xml", "model description");
+    const size_t at = xml.find("name=\"cavity.p\"");
+    ASSERT_NE(at, std::string::npos);
+    const std::string element = xml.substr(at, xml.find("</ScalarVariable>", at) - at);
+    EXPECT_NE(element.find("initial=\"exact\""), std::string::npos) << element;
+    EXPECT_NE(element.find("start=\"2500000\""), std::string::npos) << "the start value Hopsan reads: " << element;
     EXPECT_EQ(fmu.get_real(fmu.vr("cavity.T")), 313.0);
     EXPECT_EQ(fmu.get_real(fmu.vr("cavity.Qdot")), 0.0);
     fmu.do_step(0.0, table.dt);

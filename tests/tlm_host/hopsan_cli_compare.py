@@ -2,6 +2,7 @@
 """Hopsan's own runs of our Hopsan test models against tlm_host's.
 
 Usage: hopsan_cli_compare.py TLM_HOST MODEL.hmf [MODEL.hmf ...]
+       hopsan_cli_compare.py --fmu FMU FE_SERVER DECK PORTS TLM_HOST MODEL.hmf
 
 Runs each model in HopsanCLI ($PCS_HOPSAN_CLI: the hopsancli executable of a
 Hopsan built outside this repository; skipped, exit 77, when unset) and in
@@ -16,12 +17,21 @@ after n steps differs from ours (n·dt) by about n·1e-16·t; a ramp evaluated
 at the two clocks differs by that fraction of its amplitude (8.7e-21 against
 0 where a ramp starts), far below 1e-12. A one-step shift in either run
 (the error this test is for) differs by 1e-3 to 1 of the value.
+
+With --fmu, the model holds Hopsan's FMIWrapperQ with our FMU (a Hopsan-
+convention FMU from fmugen), copied beside the model: fe_server serves two
+sessions on an ephemeral loopback port, one for tlm_host (which reads the
+wrapper as our FmuQ) and one for Hopsan, each with its own results file.
+The same tolerance: both hosts send fe_server the same c and Zc.
 """
 import csv
 import os
+import secrets
+import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 
 def read_hopsan_csv(path):
@@ -33,49 +43,81 @@ def read_hopsan_csv(path):
     return {n: [r[i] for r in data] for i, n in enumerate(names)}
 
 
+def start_fe_server(fe_server, deck, ports, tmp):
+    """fe_server for two sessions on an ephemeral loopback port; the process
+    and the environment that points the FMU at it."""
+    env = {**os.environ, "PCS_TOKEN": secrets.token_hex(16)}
+    port_file = os.path.join(tmp, "port")
+    server = subprocess.Popen([fe_server, "--model", deck, "--ports", ports, "--listen", "127.0.0.1:0",
+                               "--port-file", port_file, "--accept-timeout", "60", "--sessions", "2",
+                               "--out", os.path.join(tmp, "fe_{session}.h5"), "--quiet"],
+                              env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    for _ in range(500):  # 10 s at most
+        if os.path.exists(port_file) and open(port_file).read().strip():
+            break
+        time.sleep(0.02)
+    port = open(port_file).read().strip() if os.path.exists(port_file) else "0"
+    return server, {**env, "PCS_SERVER_HOST": "127.0.0.1", "PCS_SERVER_PORT": port}
+
+
+def compare(hopsan, tlm_host, model, tmp, env):
+    """Runs the model in both; prints the comparison; True if within the tolerance."""
+    name = os.path.splitext(os.path.basename(model))[0]
+    theirs, ours = os.path.join(tmp, name + "_hopsan.csv"), os.path.join(tmp, name + "_ours.csv")
+    # Hopsan logs at most one sample per step; every second step (steps/2 + 1
+    # samples) puts its samples exactly on the steps.
+    subprocess.run([tlm_host, model, "--set", "simulation.log_every=1", "--out", os.path.join(tmp, name + ".h5"),
+                    "--csv", ours, "--quiet"], check=True, timeout=120, stderr=subprocess.DEVNULL, env=env)
+    b = read_hopsan_csv(ours)
+    steps = len(b["Time"]) - 1
+    dt = b["Time"][1] - b["Time"][0]
+    run = subprocess.run([hopsan, "-m", model, "-s", "hmf", "-l", str(steps // 2 + 1), "--resultsFullCSV", theirs,
+                          "--resultsCSVSort", "cols"], capture_output=True, text=True, timeout=120, cwd=tmp, env=env)
+    if run.returncode != 0 or not os.path.exists(theirs):
+        print(f"{name}: hopsancli failed ({run.returncode}):\n{run.stdout}\n{run.stderr}")
+        return False
+    a = read_hopsan_csv(theirs)
+    common = [n for n in b if n in a and n != "Time"]
+    if len(common) < 4:
+        print(f"{name}: only {len(common)} columns in common")
+        return False
+    worst, where = 0.0, ""
+    for n in common:
+        scale = max(abs(v) for v in b[n])
+        for t, va in zip(a["Time"], a[n]):
+            vb = b[n][round(t / dt)]
+            excess = abs(va - vb) - (1e-6 * max(abs(va), abs(vb)) + 1e-12 * scale)
+            if excess > worst:
+                worst, where = excess, f"{n} at t = {t:g}: Hopsan {va:.7e}, ours {vb:.12e}"
+    print(f"{name}: {len(common)} columns x {len(a['Time'])} times compared"
+          + (f"; beyond the tolerance: {where}" if where else ", all within the tolerance"))
+    return not where
+
+
 def main():
     hopsan = os.environ.get("PCS_HOPSAN_CLI")
     if not hopsan:
         print("skipped: set PCS_HOPSAN_CLI to HopsanCLI's hopsancli (Hopsan built outside the repository)")
         return 77
-    tlm_host, models = sys.argv[1], sys.argv[2:]
-    failures = 0
+    args = sys.argv[1:]
     with tempfile.TemporaryDirectory() as tmp:
-        for model in models:
-            name = os.path.splitext(os.path.basename(model))[0]
-            theirs, ours = os.path.join(tmp, name + "_hopsan.csv"), os.path.join(tmp, name + "_ours.csv")
-            # Hopsan logs at most one sample per step; every second step
-            # (steps/2 + 1 samples) puts its samples exactly on the steps.
-            subprocess.run([tlm_host, model, "--set", "simulation.log_every=1", "--out",
-                            os.path.join(tmp, name + ".h5"), "--csv", ours, "--quiet"],
-                           check=True, timeout=120, stderr=subprocess.DEVNULL)
-            b = read_hopsan_csv(ours)
-            steps = len(b["Time"]) - 1
-            dt = b["Time"][1] - b["Time"][0]
-            run = subprocess.run([hopsan, "-m", model, "-s", "hmf", "-l", str(steps // 2 + 1),
-                                  "--resultsFullCSV", theirs, "--resultsCSVSort", "cols"],
-                                 capture_output=True, text=True, timeout=120, cwd=tmp)
-            if run.returncode != 0 or not os.path.exists(theirs):
-                print(f"{name}: hopsancli failed ({run.returncode}):\n{run.stdout}\n{run.stderr}")
-                failures += 1
-                continue
-            a = read_hopsan_csv(theirs)
-            common = [n for n in b if n in a and n != "Time"]
-            if len(common) < 4:
-                print(f"{name}: only {len(common)} columns in common")
-                failures += 1
-                continue
-            worst, where = 0.0, ""
-            for n in common:
-                scale = max(abs(v) for v in b[n])
-                for t, va in zip(a["Time"], a[n]):
-                    vb = b[n][round(t / dt)]
-                    excess = abs(va - vb) - (1e-6 * max(abs(va), abs(vb)) + 1e-12 * scale)
-                    if excess > worst:
-                        worst, where = excess, f"{n} at t = {t:g}: Hopsan {va:.7e}, ours {vb:.12e}"
-            print(f"{name}: {len(common)} columns x {len(a['Time'])} times compared"
-                  + (f"; beyond the tolerance: {where}" if where else ", all within the tolerance"))
-            failures += bool(where)
+        if args[0] == "--fmu":
+            fmu, fe_server, deck, ports, tlm_host, model = args[1:7]
+            shutil.copy(fmu, tmp)
+            shutil.copy(model, tmp)
+            server, env = start_fe_server(fe_server, deck, ports, tmp)
+            try:
+                ok = compare(hopsan, tlm_host, os.path.join(tmp, os.path.basename(model)), tmp, env)
+                code = server.wait(timeout=60)
+                if code != 0:
+                    print(f"fe_server exit {code}:\n{server.stdout.read()[-3000:]}")
+                    ok = False
+            finally:
+                if server.poll() is None:
+                    server.kill()
+            return 0 if ok else 1
+        tlm_host, models = args[0], args[1:]
+        failures = sum(not compare(hopsan, tlm_host, m, tmp, dict(os.environ)) for m in models)
     return 1 if failures else 0
 
 

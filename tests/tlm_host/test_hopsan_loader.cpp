@@ -325,3 +325,49 @@ TEST(HopsanLoader, TheHammerInHopsansFormatRunsAsModelTlm) {
     if (b[k].second > 1.0) EXPECT_NEAR(a[k].second, b[k].second, 1e-2 * b[k].second) << "rebound " << k;
   }
 }
+
+// Hopsan's FMU wrapper (FMIWrapperQ) read as our FmuQ: the FMU's path
+// relative to the model file, Hopsan's names for the FMU's signals
+// ("cavity_x"), and the portspecs checked against the FMU: Hopsan maps the
+// listed variables onto its node's slots by position, so a list in another
+// order would make Hopsan read other quantities than this host does.
+TEST(HopsanLoader, HopsansFmuWrapperBecomesOurFmuWithItsPortspecsChecked) {
+  testing_support::TempDir dir;
+  const std::string hmf = text_of(kDir + "/one_dof_fmu.hmf");
+  std::ofstream(dir.file("m.hmf")) << hmf;
+  {
+    std::ifstream in(PCS_ONE_DOF_HOPSAN_FMU, std::ios::binary);
+    std::ofstream(dir.file("one_dof_hopsan.fmu"), std::ios::binary) << in.rdbuf();
+  }
+  tlm::HmfModel model = tlm::read_hmf(dir.file("m.hmf"));
+  const tlm::ComponentSpec* piston = model.spec.find("piston");
+  ASSERT_NE(piston, nullptr);
+  EXPECT_EQ(piston->type, "FmuQ");
+  tlm::System sys(model.spec);  // configures the FmuQ: loads the FMU, checks the portspecs
+  tlm::Component* fmu = sys.find("piston");
+  ASSERT_NE(fmu, nullptr);
+  EXPECT_NE(fmu->signal("cavity_x"), nullptr) << "Hopsan's name for the output cavity.x";
+  EXPECT_EQ(fmu->signal("cavity.x"), nullptr);
+  EXPECT_EQ(fmu->signal("cavity_p"), nullptr) << "read by the port's node, not a signal, as in FMIWrapperQ";
+  auto error = [&](const std::string& text) {
+    std::ofstream(dir.file("m.hmf")) << text;
+    try {
+      tlm::System bad(tlm::read_hmf(dir.file("m.hmf")).spec);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  std::string e = error(replaced(hmf, "cavity.q,cavity.p", "cavity.p,cavity.q"));
+  EXPECT_NE(e.find("piston: portspecs of port 'cavity' maps cavity.p onto Hopsan's slot q; expected cavity.q"),
+            std::string::npos)
+      << e;
+  e = error(replaced(hmf, "NodeHydraulic:cavity,", "NodeHydraulic:chamber,"));
+  EXPECT_NE(e.find("portspecs names port 'chamber', which the FMU does not have"), std::string::npos) << e;
+  e = error(replaced(hmf, "NodeHydraulic:", "NodeMechanic:"));
+  EXPECT_NE(e.find("only NodeHydraulic ports are read (NodeMechanic)"), std::string::npos) << e;
+  e = error(replaced(hmf, "name=\"portspecs\"/>", "name=\"portspecs\"/>\n<parameter value=\"5\" name=\"server_timeout\"/>"));
+  EXPECT_NE(e.find("piston (FMIWrapperQ): parameter 'server_timeout' = '5' is not read here"), std::string::npos) << e;
+  e = error(replaced(hmf, "value=\"one_dof_hopsan.fmu\"", "value=\"elsewhere.fmu\""));
+  EXPECT_NE(e.find("elsewhere.fmu"), std::string::npos) << "the path is resolved beside the model file: " << e;
+}

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -174,6 +175,63 @@ std::string current_name(std::string name, const Mapping* mp) {
   return name;
 }
 
+std::string directory_of(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  return slash == std::string::npos ? "." : path.substr(0, slash);
+}
+
+// A parameter's text, a system parameter's name standing for its value.
+std::function<std::string(const std::string&)> value_of_text(const std::map<std::string, double>& system_params) {
+  return [&system_params](const std::string& text) {
+    auto sp = system_params.find(text);
+    return sp == system_params.end() ? text : text_of(sp->second);
+  };
+}
+
+// Hopsan's FMU wrapper (FMIWrapperQ, a Q-type component) as our FmuQ: the
+// FMU's path (relative to the model file, as Hopsan finds it), its portspecs
+// (checked against the FMU by FmuQ), Hopsan's names for its signals. The
+// wrapper's own settings without effect on the result are skipped; the FMU's
+// parameters as FMIWrapperQ names them (server_host, server_port,
+// server_token) set the server and token; any other is refused (set it in
+// the port table the FMU was made from).
+void fmu_wrapper(ComponentSpec& s, xmlNode* params, const std::string& model_dir,
+                 const std::function<config::SourceLocation(xmlNode*)>& where,
+                 const std::function<std::string(const std::string&)>& text, std::vector<std::string>& notes) {
+  s.type = "FmuQ";
+  s.params.set("hopsan_names", "1", s.where);
+  std::string host, port;
+  bool path = false;
+  config::SourceLocation server_at = s.where;
+  for (xmlNode* p = params ? params->children : nullptr; p; p = p->next) {
+    if (!is(p, "parameter")) continue;
+    const std::string pname = attr(p, "name"), value = text(attr(p, "value"));
+    if (pname == "path") {
+      s.params.set("fmu", !value.empty() && value[0] != '/' ? model_dir + "/" + value : value, where(p));
+      path = true;
+    } else if (pname == "portspecs") {
+      s.params.set("portspecs", value, where(p));
+    } else if (pname == "reinstantiate" || pname == "tol" || pname == "loggingOn" || pname == "visibleOutputs") {
+      continue;  // an instance per run anyway; our FMU has no tolerance; logging; the GUI's
+    } else if (pname == "server_host") {
+      host = value, server_at = where(p);
+    } else if (pname == "server_port") {
+      port = value, server_at = where(p);
+    } else if (pname == "server_token") {
+      if (!value.empty()) {
+        s.params.set("token", value, where(p));
+        notes.push_back(where(p).file + ":" + std::to_string(where(p).line) + ": " + s.name +
+                        ": the session token is read from the model file; $PCS_TOKEN keeps it out of files");
+      }
+    } else {
+      throw config::InputError(where(p), s.name + " (FMIWrapperQ): parameter '" + pname + "' = '" + value +
+                                             "' is not read here; set the FMU's settings in the port table it was made from");
+    }
+  }
+  if (!path) throw config::InputError(s.where, s.name + " (FMIWrapperQ): no path to the FMU");
+  if (!host.empty() && !port.empty() && port != "0") s.params.set("server", host + ":" + port, server_at);
+}
+
 }  // namespace
 
 HmfModel read_hmf(const std::string& path) {
@@ -258,10 +316,14 @@ HmfModel read_hmf(const std::string& path) {
         if (params)
           for (xmlNode* p = params->children; p; p = p->next) {
             if (!is(p, "parameter")) continue;
-            const std::string text = attr(p, "value");
-            auto sp = system_params.find(text);
-            s.params.set(attr(p, "name"), sp == system_params.end() ? text : text_of(sp->second), where(p));
+            s.params.set(attr(p, "name"), value_of_text(system_params)(attr(p, "value")), where(p));
           }
+        known[name] = {nullptr, m.components.size()};
+        m.components.push_back(std::move(s));
+        continue;
+      }
+      if (type == "FMIWrapperQ") {
+        fmu_wrapper(s, params, directory_of(path), where, value_of_text(system_params), out.notes);
         known[name] = {nullptr, m.components.size()};
         m.components.push_back(std::move(s));
         continue;

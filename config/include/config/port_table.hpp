@@ -61,6 +61,10 @@ struct PortTable {
   // Qdot besides; outputs carry start values. Part of the hash only when set.
   bool hopsan = false;
   double hopsan_temperature = 293.0;  // K, the oil's (isothermal)
+  // Pa, each port's pressure before the first step: the start value Hopsan
+  // logs at t = 0 (FMIWrapperQ reads outputs' start values from the model
+  // description); Hopsan's own default node pressure unless set.
+  double hopsan_start_pressure = 1e5;
   std::vector<Port> ports;
   std::vector<Variable> to_fe;    // host → FE, in wire order
   std::vector<Variable> to_host;  // FE → host, in wire order

@@ -2,6 +2,10 @@
 
 #include "socketlib/socketlib.h"
 
+#include <algorithm>
+#include <cctype>
+#include <set>
+
 namespace tlm {
 
 static bool ends_with(const std::string& s, const std::string& suffix) {
@@ -13,6 +17,10 @@ void FmuQ::configure(ParameterSet& prm) {
   server_ = prm.text("server", "");
   token_ = prm.text("token", "");
   verbose_ = prm.real("verbose", 0.0) != 0.0;
+  // Loaded from a Hopsan model (FMIWrapperQ): Hopsan's names for the
+  // signals, and the port specifications Hopsan maps the node onto.
+  const bool hopsan_names = prm.real("hopsan_names", 0.0) != 0.0;
+  const std::string portspecs = prm.text("portspecs", "");
   if (path.empty())
     throw config::InputError(prm.where(), name_ + ": no FMU given (parameter fmu=PATH or --fmu PATH)");
   try {
@@ -45,11 +53,19 @@ void FmuQ::configure(ParameterSet& prm) {
     hports_.push_back(hp);
   }
   if (hports_.empty()) throw config::InputError(prm.where(), name_ + ": the FMU has no hydraulic port (no output named L.q)");
+  if (!portspecs.empty()) check_hopsan_portspecs(portspecs, prm.where());
   for (const auto& v : md.variables)
     if (v.causality == "output" && v.type == "Real") outputs_.push_back({v.name, v.value_reference, 0.0});
-  for (auto& hp : hports_) add_signal_output(ports_[hp.port].name + ".p_node", &hp.p_node);
-  // Every output is also a signal ("piston.cavity.x" can drive a chamber or a groove).
-  for (auto& o : outputs_) add_signal_output(o.name, &o.value);
+  if (!hopsan_names) {
+    for (auto& hp : hports_) add_signal_output(ports_[hp.port].name + ".p_node", &hp.p_node);
+    // Every output is also a signal ("piston.cavity.x" can drive a chamber or a groove).
+    for (auto& o : outputs_) add_signal_output(o.name, &o.value);
+  } else {
+    // As FMIWrapperQ: the outputs no port reads are signals, named with
+    // every character but letters, digits and '_' made '_' ("cavity_x").
+    for (auto& o : outputs_)
+      if (!port_variable(o.name)) add_signal_output(hopsan_name(o.name), &o.value);
+  }
   // Real inputs that no hydraulic port uses (a mechanical port's force, ...) are signal inputs.
   for (const auto& v : md.variables) {
     if (v.causality != "input" || v.type != "Real") continue;
@@ -61,8 +77,69 @@ void FmuQ::configure(ParameterSet& prm) {
   size_t k = 0;
   for (const auto& v : md.variables) {
     if (k >= signal_inputs_.size()) break;
-    if (v.value_reference == signal_inputs_[k].vr) add_signal_input(v.name, &signal_inputs_[k++].value);
+    if (v.value_reference == signal_inputs_[k].vr)
+      add_signal_input(hopsan_names ? hopsan_name(v.name) : v.name, &signal_inputs_[k++].value);
   }
+}
+
+// Hopsan's NodeHydraulic in its data order (Flow, Pressure, Temperature,
+// WaveVariable, CharImpedance, HeatFlow): the variable FMIWrapperQ maps onto
+// each slot.
+static const char* const kHopsanNodeHydraulic[] = {"q", "p", "T", "c", "Zc", "Qdot"};
+
+bool FmuQ::port_variable(const std::string& name) const {
+  for (const auto& port : ports_)
+    for (const char* v : kHopsanNodeHydraulic)
+      if (name == port.name + "." + v) return true;
+  return false;
+}
+
+std::string FmuQ::hopsan_name(std::string name) {
+  for (char& ch : name)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_') ch = '_';
+  return name;
+}
+
+// FMIWrapperQ's portspecs ("NodeHydraulic:label,q,p,T,c,Zc,Qdot", ports
+// separated by ';'): Hopsan maps the listed variables onto its node's slots by
+// position, so each must be the port's own variable of that slot, or Hopsan
+// and this host would read different things.
+void FmuQ::check_hopsan_portspecs(const std::string& specs, const config::SourceLocation& where) const {
+  std::set<std::string> seen;
+  size_t start = 0;
+  while (start <= specs.size()) {
+    const size_t end = std::min(specs.find(';', start), specs.size());
+    const std::string spec = specs.substr(start, end - start);
+    start = end + 1;
+    if (spec.empty()) continue;
+    const size_t colon = spec.find(':');
+    const std::string node = spec.substr(0, colon);
+    if (colon == std::string::npos || node != "NodeHydraulic")
+      throw config::InputError(where, name_ + ": portspecs '" + spec + "': only NodeHydraulic ports are read (" +
+                                          (colon == std::string::npos ? "no node type" : node) + ")");
+    std::vector<std::string> fields(1);
+    for (char ch : spec.substr(colon + 1))
+      if (ch == ',')
+        fields.emplace_back();
+      else
+        fields.back().push_back(ch);
+    const std::string& label = fields[0];
+    bool known = false;
+    for (const auto& hp : hports_) known |= ports_[hp.port].name == label;
+    if (!known) throw config::InputError(where, name_ + ": portspecs names port '" + label + "', which the FMU does not have");
+    if (fields.size() != 7)
+      throw config::InputError(where, name_ + ": portspecs of port '" + label + "' lists " + std::to_string(fields.size() - 1) +
+                                          " variables; NodeHydraulic has 6 (q, p, T, c, Zc, Qdot)");
+    for (size_t j = 0; j < 6; ++j)
+      if (fields[j + 1] != label + "." + kHopsanNodeHydraulic[j])
+        throw config::InputError(where, name_ + ": portspecs of port '" + label + "' maps " + fields[j + 1] +
+                                            " onto Hopsan's slot " + kHopsanNodeHydraulic[j] + "; expected " + label + "." +
+                                            kHopsanNodeHydraulic[j] + " (fmugen prints the portspecs)");
+    seen.insert(label);
+  }
+  for (const auto& hp : hports_)
+    if (!seen.count(ports_[hp.port].name))
+      throw config::InputError(where, name_ + ": portspecs leaves out port '" + ports_[hp.port].name + "'");
 }
 
 void FmuQ::initialize(double dt) {

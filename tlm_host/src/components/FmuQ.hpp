@@ -56,6 +56,11 @@ class FmuQ : public Component {
   std::shared_ptr<FmuArchive> archive_;
   std::unique_ptr<FmuInstance> fmu_;
   std::vector<HydraulicPort> hports_;
+  // Hopsan (FMIWrapperQ): an output one of the ports' node slots reads; a
+  // name as Hopsan makes it; the portspecs checked against the FMU.
+  bool port_variable(const std::string& name) const;
+  static std::string hopsan_name(std::string name);
+  void check_hopsan_portspecs(const std::string& specs, const config::SourceLocation& where) const;
   std::vector<Output> outputs_;
   struct SignalInput {
     unsigned vr = 0;

@@ -5,6 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libhdf5-dev libgsl-dev libzip-dev libgtest-dev libsodium-dev libxml2-dev
+  libmuparser-dev
   libxml2-utils unzip
   python3 python3-h5py python3-matplotlib python3-numpy python3-scipy
 )

@@ -2,6 +2,7 @@
 
 #include <libxml/parser.h>
 #include <libxml/tree.h>
+#include <muParser.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <stdexcept>
 
 namespace tlm {
 
@@ -175,6 +177,56 @@ std::string current_name(std::string name, const Mapping* mp) {
   return name;
 }
 
+// A parameter's value as Hopsan evaluates it (libNumHop, in HopsanCore's
+// parameter evaluation): a number, a system parameter's name, or an
+// expression of numbers and system parameters with + - * / ^, parentheses and
+// cmath's functions. Evaluated with muparser (Debian's libmuparser-dev),
+// which agrees with libNumHop on every expression libNumHop accepts that was
+// tried (HopsanLoader.ExpressionsEvaluateAsHopsansDo); NumHop's own
+// functions muparser lacks (atan2, ceil, floor, fmod, pow) are added.
+// References to a component's own parameters (self.X) are not read yet.
+class Expressions {
+ public:
+  std::map<std::string, double> variables;  // the system parameters so far
+
+  Expressions() {
+    parser_.DefineNameChars("0123456789_abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ.");
+    parser_.DefineFun("atan2", static_cast<double (*)(double, double)>(std::atan2));
+    parser_.DefineFun("ceil", static_cast<double (*)(double)>(std::ceil));
+    parser_.DefineFun("floor", static_cast<double (*)(double)>(std::floor));
+    parser_.DefineFun("fmod", static_cast<double (*)(double, double)>(std::fmod));
+    parser_.DefineFun("pow", static_cast<double (*)(double, double)>(std::pow));
+  }
+  void define(const std::string& name, double value) {
+    variables[name] = value;
+    try {
+      parser_.DefineVar(name, &variables[name]);  // std::map keeps the address
+    } catch (const mu::Parser::exception_type& e) {
+      throw std::invalid_argument("'" + name + "' cannot name a system parameter here: " + e.GetMsg());
+    }
+  }
+  // Throws std::invalid_argument saying what is wrong.
+  double evaluate(const std::string& text) {
+    double v = 0.0;
+    if (number(text, v)) return v;
+    if (auto it = variables.find(text); it != variables.end()) return it->second;
+    if (text.find("self.") != std::string::npos)
+      throw std::invalid_argument("a component's own parameters (self.…) are not read in expressions yet");
+    try {
+      parser_.SetExpr(text);
+      v = parser_.Eval();
+    } catch (const mu::Parser::exception_type& e) {
+      throw std::invalid_argument("not an expression read here (numbers, system parameters, + - * / ^, "
+                                  "parentheses, cmath functions): " + e.GetMsg());
+    }
+    if (!std::isfinite(v)) throw std::invalid_argument("evaluates to " + text_of(v));
+    return v;
+  }
+
+ private:
+  mu::Parser parser_;
+};
+
 std::string directory_of(const std::string& path) {
   const size_t slash = path.rfind('/');
   return slash == std::string::npos ? "." : path.substr(0, slash);
@@ -264,24 +316,21 @@ HmfModel read_hmf(const std::string& path) {
     const double steps = std::round(m.stop_time / m.dt);
     m.log_every = static_cast<int>(std::max(1.0, std::floor(steps / samples)));
   }
-  // System parameters: numbers by name.
-  std::map<std::string, double> system_params;
-  if (xmlNode* ps = child(system, "parameters"))
-    for (xmlNode* p = ps->children; p; p = p->next) {
-      if (!is(p, "parameter")) continue;
-      double v = 0.0;
-      if (!number(attr(p, "value"), v))
-        throw InputError(where(p), "system parameter '" + attr(p, "name") + "' = '" + attr(p, "value") +
-                                       "': only numbers are supported as system parameters");
-      system_params[attr(p, "name")] = v;
+  // System parameters: numbers, or expressions of the ones before them.
+  Expressions expressions;
+  std::map<std::string, double>& system_params = expressions.variables;
+  auto evaluate = [&](xmlNode* p, const std::string& what) {
+    try {
+      return expressions.evaluate(attr(p, "value"));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(where(p), what + " = '" + attr(p, "value") + "': " + e.what());
     }
+  };
+  if (xmlNode* ps = child(system, "parameters"))
+    for (xmlNode* p = ps->children; p; p = p->next)
+      if (is(p, "parameter")) expressions.define(attr(p, "name"), evaluate(p, "system parameter '" + attr(p, "name") + "'"));
   auto value_of = [&](xmlNode* p, const std::string& component, const std::string& type) {
-    const std::string text = attr(p, "value");
-    double v = 0.0;
-    if (number(text, v)) return v;
-    if (auto it = system_params.find(text); it != system_params.end()) return it->second;
-    throw InputError(where(p), component + " (" + type + "): parameter '" + attr(p, "name") + "' = '" + text +
-                                   "': a number or a system parameter's name is supported, not an expression");
+    return evaluate(p, component + " (" + type + "): parameter '" + attr(p, "name") + "'");
   };
   // Components.
   std::set<std::string> dropped_sensors;  // their signal must not be used

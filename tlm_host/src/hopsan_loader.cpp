@@ -286,202 +286,293 @@ void fmu_wrapper(ComponentSpec& s, xmlNode* params, const std::string& model_dir
 
 }  // namespace
 
+namespace {
+
+using config::InputError;
+using config::SourceLocation;
+
+// Reads a Hopsan model's systems into one flat ModelSpec. A nested
+// subsystem's components are named <subsystem>$<component>, as Hopsan names
+// them in its results; its system ports (<systemport>) are resolved to the
+// components inside that they connect to, so every connection joins two
+// components' ports; its parameters are evaluated in its own scope, which
+// sees its parents' (Hopsan looks a name up from the inside out).
+class HmfReader {
+ public:
+  HmfReader(const std::string& path, HmfModel& out) : path_(path), out_(out), m_(out.spec) {}
+
+  SourceLocation where(xmlNode* n) const { return {path_, static_cast<int>(xmlGetLineNo(n))}; }
+
+  void read_system(xmlNode* system, const std::string& prefix, Expressions& scope) {
+    if (xmlNode* ps = child(system, "parameters"))
+      for (xmlNode* p = ps->children; p; p = p->next)
+        if (is(p, "parameter"))
+          scope.define(attr(p, "name"), evaluate(scope, p, "system parameter '" + prefix + attr(p, "name") + "'"));
+    std::set<std::string> system_ports;
+    if (xmlNode* objects = child(system, "objects"))
+      for (xmlNode* c = objects->children; c; c = c->next) {
+        if (c->type != XML_ELEMENT_NODE) continue;
+        const std::string name = attr(c, "name");
+        if (name.empty() || name.find_first_of(". /#$") != std::string::npos)
+          throw InputError(where(c), "component name '" + name + "': ours may not contain dots, spaces, slashes, '#' or '$'");
+        if (is(c, "systemport")) {
+          system_ports.insert(name);
+        } else if (is(c, "system")) {
+          check_inherited_timestep(c);
+          subsystems_.insert(prefix + name);
+          Expressions inner;
+          for (const auto& [k, v] : scope.variables) inner.define(k, v);
+          read_system(c, prefix + name + "$", inner);
+        } else if (is(c, "component")) {
+          read_component(c, prefix, scope);
+        } else {
+          throw InputError(where(c), "'" + name + "' (<" + std::string(reinterpret_cast<const char*>(c->name)) +
+                                         ">): not a component, subsystem or system port");
+        }
+      }
+    // A connection to one of this system's own ports belongs to whatever the
+    // port connects to outside; others join two objects of this system.
+    if (xmlNode* cs = child(system, "connections"))
+      for (xmlNode* c = cs->children; c; c = c->next) {
+        if (!is(c, "connect")) continue;
+        End a{prefix + attr(c, "startcomponent"), attr(c, "startport")};
+        End b{prefix + attr(c, "endcomponent"), attr(c, "endport")};
+        const bool a_port = system_ports.count(attr(c, "startcomponent")) != 0;
+        const bool b_port = system_ports.count(attr(c, "endcomponent")) != 0;
+        if (a_port && b_port) throw InputError(where(c), "a connection from one system port straight to another is not read");
+        if (a_port)
+          inside_[prefix + a.port].push_back(b);
+        else if (b_port)
+          inside_[prefix + b.port].push_back(a);
+        else
+          raw_.push_back({a, b, where(c)});
+      }
+  }
+
+  // Connections between components' ports, in the order read.
+  void connect() {
+    for (const auto& r : raw_) {
+      std::vector<End> as, bs;
+      resolve(r.a, r.where, as);
+      resolve(r.b, r.where, bs);
+      for (const End& a : as)
+        for (const End& b : bs) connect(a, b, r.where);
+    }
+    for (const auto& [name, k] : known_)
+      if (k.mapping && k.mapping->multiport) {
+        ComponentSpec& s = m_.components[k.index];
+        if (k.multiport_count == 0) throw InputError(s.where, name + ": its port " + k.mapping->multiport + " is not connected");
+        s.params.set("ports", std::to_string(k.multiport_count), s.where);
+      }
+    for (const std::string& sensor : dropped_sensors_)
+      out_.notes.push_back(path_ + ": " + sensor + ": a Hopsan sensor; its node's pressure and flow are in the results");
+  }
+
+ private:
+  struct End {
+    std::string component, port;  // the component's full name
+  };
+  struct Raw {
+    End a, b;
+    SourceLocation where;
+  };
+  struct Known {
+    const Mapping* mapping = nullptr;  // nullptr: one of ours (Pcs…) or an FMU
+    size_t index = 0;                  // in m_.components
+    int multiport_count = 0;
+  };
+
+  double evaluate(Expressions& scope, xmlNode* p, const std::string& what) {
+    try {
+      return scope.evaluate(attr(p, "value"));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(where(p), what + " = '" + attr(p, "value") + "': " + e.what());
+    }
+  }
+
+  void check_inherited_timestep(xmlNode* system) {
+    xmlNode* sim = child(system, "simulationtime");
+    double dt = 0.0;
+    if (sim && attr(sim, "inherit_timestep") == "false" && number(attr(sim, "timestep"), dt) && dt != m_.dt)
+      throw InputError(where(sim), "subsystem '" + attr(system, "name") + "' has its own time step " +
+                                       attr(sim, "timestep") + "; every component here steps at the model's");
+  }
+
+  // A subsystem's port, followed to the components inside (through deeper
+  // subsystems); a component's port as it is.
+  void resolve(const End& e, const SourceLocation& at, std::vector<End>& out, int depth = 0) {
+    if (!subsystems_.count(e.component)) {
+      out.push_back(e);
+      return;
+    }
+    auto it = inside_.find(e.component + "$" + e.port);
+    if (it == inside_.end() || depth > 64)
+      throw InputError(at, "subsystem " + e.component + " has no port '" + e.port + "' connected inside");
+    for (const End& inner : it->second) resolve(inner, at, out, depth + 1);
+  }
+
+  void connect(const End& a, const End& b, const SourceLocation& at) {
+    for (const End* sensor : {&a, &b})
+      if (dropped_sensors_.count(sensor->component) && sensor->port != "P1")
+        throw InputError(at, "sensor " + sensor->component + ": its signal '" + sensor->port +
+                                 "' is used; sensors are read only where nothing uses them (their node is logged)");
+    if (dropped_sensors_.count(a.component) || dropped_sensors_.count(b.component)) return;  // a sensor's tap
+    m_.connections.push_back({ours(a), ours(b), at});
+  }
+
+  // Our "component.port" for a Hopsan end: renamed ports, a multiport's k-th connection.
+  std::string ours(const End& e) {
+    auto it = known_.find(e.component);
+    if (it == known_.end() || !it->second.mapping) return e.component + "." + e.port;
+    const Mapping& mp = *it->second.mapping;
+    if (mp.multiport && e.port == mp.multiport) {
+      m_.multiport_components.insert(e.component);
+      return e.component + ".P" + std::to_string(++it->second.multiport_count);
+    }
+    auto renamed = mp.ports.find(e.port);
+    return e.component + "." + (renamed == mp.ports.end() ? e.port : renamed->second);
+  }
+
+  void read_component(xmlNode* c, const std::string& prefix, Expressions& scope) {
+    const std::string name = prefix + attr(c, "name"), type = attr(c, "typename");
+    if (kSensors.count(type)) {
+      dropped_sensors_.insert(name);
+      return;
+    }
+    ComponentSpec s;
+    s.name = name;
+    s.where = where(c);
+    s.params.set_where(s.where);
+    xmlNode* params = child(c, "parameters");
+    auto value_of = [&](xmlNode* p) { return evaluate(scope, p, name + " (" + type + "): parameter '" + attr(p, "name") + "'"); };
+    // One of ours, by our own names.
+    if (type.rfind(kOwnPrefix, 0) == 0 && component_types().count(type.substr(3))) {
+      s.type = type.substr(3);
+      for (xmlNode* p = params ? params->children : nullptr; p; p = p->next)
+        if (is(p, "parameter")) s.params.set(attr(p, "name"), value_of_text(scope.variables)(attr(p, "value")), where(p));
+      known_[name] = {nullptr, m_.components.size()};
+      m_.components.push_back(std::move(s));
+      return;
+    }
+    if (type == "FMIWrapperQ") {
+      fmu_wrapper(s, params, directory_of(path_), [this](xmlNode* n) { return where(n); },
+                  value_of_text(scope.variables), out_.notes);
+      known_[name] = {nullptr, m_.components.size()};
+      m_.components.push_back(std::move(s));
+      return;
+    }
+    auto map = mappings().find(type);
+    if (map == mappings().end()) {
+      std::string mapped;
+      for (const auto& [t, mp] : mappings()) mapped += (mapped.empty() ? "" : ", ") + t;
+      throw InputError(where(c), "component '" + name + "' of Hopsan type " + type + " has no counterpart here yet (mapped: " +
+                                     mapped + "; and tlm_host's own types as " + kOwnPrefix + "<Type>)");
+    }
+    const Mapping& mp = map->second;
+    s.type = mp.ours;
+    s.initial_step = kStepInInitialize.count(type) != 0;
+    for (const auto& [key, value] : mp.fixed) s.params.set(key, value, s.where);
+    // Every mapped parameter gets Hopsan's value: the file's, else Hopsan's default.
+    std::map<std::string, std::pair<double, SourceLocation>> vals;
+    for (const auto& prm : mp.params) vals.emplace(prm.hopsan, std::make_pair(prm.hopsan_default, s.where));
+    std::optional<std::pair<double, SourceLocation>> start_p;
+    for (xmlNode* p = params ? params->children : nullptr; p; p = p->next) {
+      if (!is(p, "parameter")) continue;
+      const std::string pname = current_name(attr(p, "name"), &mp);
+      const size_t sep = pname.find('#');
+      const std::string variable = sep == std::string::npos ? "" : pname.substr(sep + 1);
+      if (mp.ignored.count(pname)) continue;
+      if (auto it = vals.find(pname); it != vals.end()) {
+        it->second = {value_of(p), where(p)};
+        continue;
+      }
+      bool checked = false;
+      for (const auto& [only, why] : mp.only)
+        if (pname == only.first) {
+          if (value_of(p) != only.second)
+            throw InputError(where(p), name + " (" + type + "): parameter '" + pname + "' = '" + attr(p, "value") +
+                                           "': only " + text_of(only.second) + " is read (" + why + ")");
+          checked = true;
+        }
+      if (checked) continue;
+      // A port's start value: the pressure where the component starts from
+      // it; temperature and heat flow mean nothing to an isothermal model;
+      // the wave variable and impedance are computed; a flow must keep
+      // Hopsan's default (0) to start as Hopsan starts.
+      if (variable == "Pressure") {
+        if (!mp.start_pressure) continue;
+        const double v = value_of(p);
+        if (start_p && start_p->first != v)
+          throw InputError(where(p), name + " (" + type + "): start pressure " + attr(p, "value") + " at " +
+                                         pname.substr(0, sep) + " differs from " + text_of(start_p->first) + " at line " +
+                                         std::to_string(start_p->second.line) + ": " + mp.ours + " starts at one pressure");
+        start_p = std::make_pair(v, where(p));
+        continue;
+      }
+      if (variable == "Temperature" || variable == "HeatFlow" || variable == "WaveVariable" ||
+          variable == "CharImpedance" || variable == "CharImp")
+        continue;
+      if (variable == "Flow" && value_of(p) == 0.0) continue;
+      throw InputError(where(p), name + " (" + type + "): parameter '" + pname + "' = '" + attr(p, "value") +
+                                     "' has no counterpart in " + mp.ours);
+    }
+    auto set = [&](const char* key, double v, const SourceLocation& at) { s.params.set(key, text_of(v), at); };
+    for (const auto& prm : mp.params)
+      if (*prm.key) set(prm.key, vals.at(prm.hopsan).first, vals.at(prm.hopsan).second);
+    for (const auto& [key, terms] : mp.sums)
+      set(key, vals.at(terms.first).first + vals.at(terms.second).first, vals.at(terms.first).second);
+    if (mp.start_pressure) set(mp.start_pressure, start_p ? start_p->first : 1e5, start_p ? start_p->second : s.where);
+    for (const auto& [hopsan, ours] : mp.ports) m_.result_ports[name + "." + ours] = hopsan;
+    if (std::string(mp.note).size())
+      out_.notes.push_back(path_ + ":" + std::to_string(s.where.line) + ": " + name + " (" + type + " → " + mp.ours +
+                           "): " + mp.note);
+    known_[name] = {&mp, m_.components.size()};
+    m_.components.push_back(std::move(s));
+  }
+
+  std::string path_;
+  HmfModel& out_;
+  ModelSpec& m_;
+  std::map<std::string, Known> known_;
+  std::set<std::string> dropped_sensors_;                // their signal must not be used
+  std::set<std::string> subsystems_;                     // full names
+  std::map<std::string, std::vector<End>> inside_;       // "<subsystem>$<port>" → what it connects to inside
+  std::vector<Raw> raw_;
+};
+
+}  // namespace
+
 HmfModel read_hmf(const std::string& path) {
-  using config::InputError;
-  using config::SourceLocation;
   std::unique_ptr<xmlDoc, void (*)(xmlDoc*)> doc(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR |
                                                                                      XML_PARSE_NOWARNING),
                                                  xmlFreeDoc);
   if (!doc) throw InputError({path, 1}, "not a readable XML file (a Hopsan model is XML: .hmf)");
   xmlNode* root = xmlDocGetRootElement(doc.get());
-  auto where = [&](xmlNode* n) { return SourceLocation{path, static_cast<int>(xmlGetLineNo(n))}; };
   if (!root || !is(root, "hopsanmodelfile")) throw InputError({path, 1}, "not a Hopsan model file (no <hopsanmodelfile>)");
-  xmlNode* system = child(root, "system");
-  if (!system) throw InputError(where(root), "the model has no <system>");
-
   HmfModel out;
+  HmfReader reader(path, out);
+  xmlNode* system = child(root, "system");
+  if (!system) throw InputError(reader.where(root), "the model has no <system>");
   ModelSpec& m = out.spec;
   m.source = path;
-  m.simulation_where = where(system);
+  m.simulation_where = reader.where(system);
   // Simulation settings.
   xmlNode* sim = child(system, "simulationtime");
-  if (!sim) throw InputError(where(system), "<system> has no <simulationtime>");
+  if (!sim) throw InputError(reader.where(system), "<system> has no <simulationtime>");
   double start = 0.0;
   if (!number(attr(sim, "timestep"), m.dt) || !number(attr(sim, "stop"), m.stop_time) ||
       !number(attr(sim, "start"), start))
-    throw InputError(where(sim), "<simulationtime>: start, stop and timestep must be numbers");
-  if (start != 0.0) throw InputError(where(sim), "<simulationtime> start " + attr(sim, "start") + ": runs start at t = 0");
+    throw InputError(reader.where(sim), "<simulationtime>: start, stop and timestep must be numbers");
+  if (start != 0.0)
+    throw InputError(reader.where(sim), "<simulationtime> start " + attr(sim, "start") + ": runs start at t = 0");
   double samples = 0.0;
   if (number(attr(system, "logsamples"), samples) && samples >= 1.0) {
     const double steps = std::round(m.stop_time / m.dt);
     m.log_every = static_cast<int>(std::max(1.0, std::floor(steps / samples)));
   }
-  // System parameters: numbers, or expressions of the ones before them.
-  Expressions expressions;
-  std::map<std::string, double>& system_params = expressions.variables;
-  auto evaluate = [&](xmlNode* p, const std::string& what) {
-    try {
-      return expressions.evaluate(attr(p, "value"));
-    } catch (const std::invalid_argument& e) {
-      throw InputError(where(p), what + " = '" + attr(p, "value") + "': " + e.what());
-    }
-  };
-  if (xmlNode* ps = child(system, "parameters"))
-    for (xmlNode* p = ps->children; p; p = p->next)
-      if (is(p, "parameter")) expressions.define(attr(p, "name"), evaluate(p, "system parameter '" + attr(p, "name") + "'"));
-  auto value_of = [&](xmlNode* p, const std::string& component, const std::string& type) {
-    return evaluate(p, component + " (" + type + "): parameter '" + attr(p, "name") + "'");
-  };
-  // Components.
-  std::set<std::string> dropped_sensors;  // their signal must not be used
-  struct Known {
-    const Mapping* mapping = nullptr;  // nullptr: one of ours (Pcs…)
-    size_t index = 0;                  // in m.components
-    int multiport_count = 0;
-  };
-  std::map<std::string, Known> known;
-  xmlNode* objects = child(system, "objects");
-  if (objects)
-    for (xmlNode* c = objects->children; c; c = c->next) {
-      if (c->type != XML_ELEMENT_NODE) continue;
-      const std::string name = attr(c, "name"), type = attr(c, "typename");
-      if (!is(c, "component"))
-        throw InputError(where(c), "'" + name + "' (<" + std::string(reinterpret_cast<const char*>(c->name)) +
-                                       ">): nested subsystems and other objects are not read yet; flatten the model");
-      if (name.empty() || name.find_first_of(". /#") != std::string::npos)
-        throw InputError(where(c), "component name '" + name + "': ours may not contain dots, spaces, slashes or '#'");
-      if (kSensors.count(type)) {
-        dropped_sensors.insert(name);
-        continue;
-      }
-      ComponentSpec s;
-      s.name = name;
-      s.where = where(c);
-      s.params.set_where(s.where);
-      xmlNode* params = child(c, "parameters");
-      // One of ours, by our own names.
-      if (type.rfind(kOwnPrefix, 0) == 0 && component_types().count(type.substr(3))) {
-        s.type = type.substr(3);
-        if (params)
-          for (xmlNode* p = params->children; p; p = p->next) {
-            if (!is(p, "parameter")) continue;
-            s.params.set(attr(p, "name"), value_of_text(system_params)(attr(p, "value")), where(p));
-          }
-        known[name] = {nullptr, m.components.size()};
-        m.components.push_back(std::move(s));
-        continue;
-      }
-      if (type == "FMIWrapperQ") {
-        fmu_wrapper(s, params, directory_of(path), where, value_of_text(system_params), out.notes);
-        known[name] = {nullptr, m.components.size()};
-        m.components.push_back(std::move(s));
-        continue;
-      }
-      auto map = mappings().find(type);
-      if (map == mappings().end()) {
-        std::string mapped;
-        for (const auto& [t, mp] : mappings()) mapped += (mapped.empty() ? "" : ", ") + t;
-        throw InputError(where(c), "component '" + name + "' of Hopsan type " + type +
-                                       " has no counterpart here yet (mapped: " + mapped + "; and tlm_host's own types as " +
-                                       kOwnPrefix + "<Type>)");
-      }
-      const Mapping& mp = map->second;
-      s.type = mp.ours;
-      s.initial_step = kStepInInitialize.count(type) != 0;
-      for (const auto& [key, value] : mp.fixed) s.params.set(key, value, s.where);
-      // Every mapped parameter gets Hopsan's value: the file's, else Hopsan's default.
-      std::map<std::string, std::pair<double, SourceLocation>> vals;
-      for (const auto& prm : mp.params) vals.emplace(prm.hopsan, std::make_pair(prm.hopsan_default, s.where));
-      std::optional<std::pair<double, SourceLocation>> start_p;
-      if (params)
-        for (xmlNode* p = params->children; p; p = p->next) {
-          if (!is(p, "parameter")) continue;
-          const std::string pname = current_name(attr(p, "name"), &mp);
-          const size_t sep = pname.find('#');
-          const std::string variable = sep == std::string::npos ? "" : pname.substr(sep + 1);
-          if (mp.ignored.count(pname)) continue;
-          if (auto it = vals.find(pname); it != vals.end()) {
-            it->second = {value_of(p, name, type), where(p)};
-            continue;
-          }
-          bool checked = false;
-          for (const auto& [only, why] : mp.only)
-            if (pname == only.first) {
-              if (value_of(p, name, type) != only.second)
-                throw InputError(where(p), name + " (" + type + "): parameter '" + pname + "' = '" + attr(p, "value") +
-                                               "': only " + text_of(only.second) + " is read (" + why + ")");
-              checked = true;
-            }
-          if (checked) continue;
-          // A port's start value: the pressure where the component starts
-          // from it; temperature and heat flow mean nothing to an
-          // isothermal model; the wave variable and impedance are computed;
-          // a flow must keep Hopsan's default (0) to start as Hopsan starts.
-          if (variable == "Pressure") {
-            if (!mp.start_pressure) continue;
-            const double v = value_of(p, name, type);
-            if (start_p && start_p->first != v)
-              throw InputError(where(p), name + " (" + type + "): start pressure " + attr(p, "value") + " at " +
-                                             pname.substr(0, sep) + " differs from " + text_of(start_p->first) +
-                                             " at line " + std::to_string(start_p->second.line) + ": " + mp.ours +
-                                             " starts at one pressure");
-            start_p = std::make_pair(v, where(p));
-            continue;
-          }
-          if (variable == "Temperature" || variable == "HeatFlow" || variable == "WaveVariable" ||
-              variable == "CharImpedance" || variable == "CharImp")
-            continue;
-          if (variable == "Flow" && value_of(p, name, type) == 0.0) continue;
-          throw InputError(where(p), name + " (" + type + "): parameter '" + pname + "' = '" + attr(p, "value") +
-                                         "' has no counterpart in " + mp.ours);
-        }
-      auto set = [&](const char* key, double v, const SourceLocation& at) { s.params.set(key, text_of(v), at); };
-      for (const auto& prm : mp.params)
-        if (*prm.key) set(prm.key, vals.at(prm.hopsan).first, vals.at(prm.hopsan).second);
-      for (const auto& [key, terms] : mp.sums)
-        set(key, vals.at(terms.first).first + vals.at(terms.second).first, vals.at(terms.first).second);
-      if (mp.start_pressure) set(mp.start_pressure, start_p ? start_p->first : 1e5, start_p ? start_p->second : s.where);
-      for (const auto& [hopsan, ours] : mp.ports) m.result_ports[name + "." + ours] = hopsan;
-      if (std::string(mp.note).size())
-        out.notes.push_back(path + ":" + std::to_string(s.where.line) + ": " + name + " (" + type + " → " + mp.ours +
-                            "): " + mp.note);
-      known[name] = {&mp, m.components.size()};
-      m.components.push_back(std::move(s));
-    }
-  // Connections: "component.port" pairs.
-  if (xmlNode* cs = child(system, "connections"))
-    for (xmlNode* c = cs->children; c; c = c->next) {
-      if (!is(c, "connect")) continue;
-      const std::string a = attr(c, "startcomponent"), b = attr(c, "endcomponent");
-      for (const std::string& sensor : {a, b})
-        if (dropped_sensors.count(sensor)) {
-          const std::string port = sensor == a ? attr(c, "startport") : attr(c, "endport");
-          if (port != "P1")
-            throw InputError(where(c), "sensor " + sensor + ": its signal '" + port +
-                                           "' is used; sensors are read only where nothing uses them (their node is logged)");
-        }
-      if (dropped_sensors.count(a) || dropped_sensors.count(b)) continue;  // the sensor's tap on the node
-      auto ours = [&](const std::string& comp, const std::string& port) {
-        auto it = known.find(comp);
-        if (it == known.end() || !it->second.mapping) return comp + "." + port;
-        const Mapping& mp = *it->second.mapping;
-        if (mp.multiport && port == mp.multiport) {
-          m.multiport_components.insert(comp);
-          return comp + ".P" + std::to_string(++it->second.multiport_count);
-        }
-        auto renamed = mp.ports.find(port);
-        return comp + "." + (renamed == mp.ports.end() ? port : renamed->second);
-      };
-      m.connections.push_back({ours(a, attr(c, "startport")), ours(b, attr(c, "endport")), where(c)});
-    }
-  for (const auto& [name, k] : known)
-    if (k.mapping && k.mapping->multiport) {
-      ComponentSpec& s = m.components[k.index];
-      if (k.multiport_count == 0) throw InputError(s.where, name + ": its port " + k.mapping->multiport + " is not connected");
-      s.params.set("ports", std::to_string(k.multiport_count), s.where);
-    }
-  for (const std::string& sensor : dropped_sensors)
-    out.notes.push_back(path + ": " + sensor + ": a Hopsan sensor; its node's pressure and flow are in the results");
+  Expressions top;
+  reader.read_system(system, "", top);
+  reader.connect();
   m.hopsan_results = true;
   m.check_simulation();
   return out;

@@ -249,6 +249,8 @@ void System::hopsan_names(h5io::TimeSeriesWriter& out,
   // in NodeHydraulic's order (Temperature and HeatFlow left out: the model is
   // isothermal), a signal port's Value, Time last; three header lines (name,
   // alias, unit). Its HDF5 export's paths: results/<component>/<port>/<variable>.
+  // A subsystem's own ports and time are not written (the same values are
+  // under the names of the components inside).
   std::vector<Component*> sorted;
   for (auto& c : components_)
     if (!spec_.multiport_components.count(c->name())) sorted.push_back(c.get());
@@ -260,9 +262,12 @@ void System::hopsan_names(h5io::TimeSeriesWriter& out,
   };
   csv_sources.clear();
   for (Component* c : sorted) {
+    // A subsystem's component (valve$edge) is a group below its subsystem's.
+    std::string group = c->name();
+    std::replace(group.begin(), group.end(), '$', '/');
     for (const Port& p : c->ports()) {
       const std::string name = c->name() + "#" + hopsan_port(c, p.name);
-      const std::string path = "results/" + c->name() + "/" + hopsan_port(c, p.name) + "/";
+      const std::string path = "results/" + group + "/" + hopsan_port(c, p.name) + "/";
       out.add_link(path + "Flow", "/nodes/" + p.node->name + "/q");
       out.add_link(path + "Pressure", "/nodes/" + p.node->name + "/p");
       for (auto [var, unit, value] : {std::make_tuple("Flow", "m^3/s", &p.node->q), std::make_tuple("Pressure", "Pa", &p.node->p),
@@ -276,7 +281,7 @@ void System::hopsan_names(h5io::TimeSeriesWriter& out,
     for (const SignalPort& sp : c->signals()) {
       const double* value = sp.output ? sp.value : (sp.source ? *sp.source : nullptr);
       if (!value) continue;  // an optional input left open
-      add("results/" + c->name() + "/" + hopsan_port(c, sp.name) + "/Value", "", value);
+      add("results/" + group + "/" + hopsan_port(c, sp.name) + "/Value", "", value);
       csv_names.push_back(c->name() + "#" + hopsan_port(c, sp.name) + "#Value");
       csv_units.push_back("");
       csv_sources.push_back(value);

@@ -438,3 +438,27 @@ TEST(HopsanLoader, ANestedSubsystemRunsAsItsFlatTwin) {
                         "<simulationtime stop=\"0.02\" timestep=\"1e-4\" start=\"0\" inherit_timestep=\"false\"/>\n        <parameters>"));
   EXPECT_NE(e.find("subsystem 'valve' has its own time step 1e-4"), std::string::npos) << e;
 }
+
+// Hopsan's SignalFirstOrderFilter as our filter of the same (bilinear)
+// discretization: a step of 1e-5 through k/(1 + s/ω), k = 2, ω = 500 rad/s,
+// follows k·1e-5·(1 − e^(−ω(t − t_s))). The step holds from the first step
+// at or after t_step (t_s = 2.01 ms); the trapezoidal rule sees it ramp
+// over that step, half a step late: within k·1e-5·ω·Δt (one step of the
+// initial slope, 1e-7) of the continuous response; ω read as Hz instead
+// of rad/s would be up to 1e-5 off.
+TEST(HopsanLoader, AFirstOrderFilterFollowsItsContinuousStepResponse) {
+  testing_support::TempDir dir;
+  tlm::HmfModel hmf = tlm::read_hmf(kDir + "/filter.hmf");
+  EXPECT_EQ(hmf.spec.find("filter")->type, "SignalFirstOrderFilter");
+  const double dt = hmf.spec.dt;
+  tlm::System(std::move(hmf.spec)).run(dir.file("f.h5"), false);
+  const auto t = h5io::read_series(dir.file("f.h5"), "time");
+  const auto y = h5io::read_series(dir.file("f.h5"), "results/filter/out/Value");
+  ASSERT_EQ(t.size(), y.size());
+  const double k = 2.0, w = 500.0, a = 1e-5, ts = 0.00201;
+  for (size_t i = 0; i < t.size(); ++i) {
+    const double expect = t[i] < ts - 1e-12 ? 0.0 : k * a * (1.0 - std::exp(-w * (t[i] - ts + 0.5 * dt)));
+    EXPECT_NEAR(y[i], expect, k * a * w * dt) << "t = " << t[i];
+  }
+  EXPECT_GT(y.back(), 0.999 * k * a) << "nine time constants after the step";
+}

@@ -49,6 +49,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"SignalAdd", make<SignalAdd>()},
       {"SignalSubtract", make<SignalSubtract>()},
       {"SignalLowPass", make<SignalLowPass>()},
+      {"SignalFirstOrderFilter", make<SignalFirstOrderFilter>()},
   };
   return types;
 }

@@ -113,6 +113,18 @@ const std::map<std::string, Mapping>& mappings() {
         {{"out", "y"}},
         {{"y1", {"y_0#Value", "y_A#Value"}}}}},
       {"SignalGain", {"SignalGain", {{"k#Value", "k", 1.0}}, {}, {}, "", {{"in", "u"}, {"out", "y"}}}},
+      {"SignalFirstOrderFilter",
+       {"SignalFirstOrderFilter",
+        {{"k", "k", 1.0},
+         {"omega_num", "omega_num", 1e10},
+         {"omega_den", "omega_den", 1e3},
+         {"y_min", "y_min", -1.5e300},
+         {"y_max", "y_max", 1.5e300},
+         {"out#Value", "y0", 0.0}},
+        {},
+        {"in#Value"},  // the input's default: read from what it connects to
+        "",
+        {{"in", "u"}, {"out", "y"}}}},
   };
   return m;
 }

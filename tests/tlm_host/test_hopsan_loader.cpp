@@ -462,3 +462,51 @@ TEST(HopsanLoader, AFirstOrderFilterFollowsItsContinuousStepResponse) {
   }
   EXPECT_GT(y.back(), 0.999 * k * a) << "nine time constants after the step";
 }
+
+// A cylinder driven through an orifice into a volume (cylinder.hmf: Hopsan's
+// HydraulicCylinderC, MechanicTranslationalMass and MechanicForceTransformer
+// on our mechanical nodes). At the end of the run (0.1 s, the piston 10 mm
+// into its stroke at 0.1 m/s) each chamber's oil balances the piston's swept
+// flow: the port's inflow plus the internal leakage equals A·|v| to 2e-3
+// (what is left is compression, V/β·dp/dt ≈ 4e-4 of it here), and the piston
+// balances its chambers: p1·A1 − p2·A2 − B_p·|v| equals the force on the rod
+// to 2 N, 1e-3 of p1·A1 (the mass's inertia, m·dv/dt ≈ 0.1 N, and the
+// difference between a chamber's pressure and its port's within a step).
+TEST(HopsanLoader, ACylinderDrivenThroughAnOrificeBalancesItsFlowsAndForces) {
+  testing_support::TempDir dir;
+  tlm::HmfModel hmf = tlm::read_hmf(kDir + "/cylinder.hmf");
+  EXPECT_EQ(hmf.spec.find("cylinder")->type, "CylinderC");
+  EXPECT_EQ(hmf.spec.find("mass")->type, "TranslationalMassQ");
+  tlm::System(std::move(hmf.spec)).run(dir.file("c.h5"), false);
+  const std::string h5 = dir.file("c.h5");
+  auto last = [&](const std::string& name) { return h5io::read_series(h5, name).back(); };
+  const double A1 = 2e-3, A2 = 1e-3, Bp = 500.0;
+  const double v = last("nodes/cylinder.P3/v"), x = last("nodes/cylinder.P3/x");
+  const double p1 = last("nodes/cylinder.P1/p"), p2 = last("nodes/cylinder.P2/p");
+  const double q1 = last("nodes/cylinder.P1/q"), q2 = last("nodes/cylinder.P2/q");
+  const double leak = last("results/cylinder/q_leak/Value"), F = last("nodes/cylinder.P3/F");
+  ASSERT_LT(v, -0.05) << "the piston runs into its stroke";
+  ASSERT_GT(x, -0.2) << "and stays within it";
+  EXPECT_NEAR(q1 - leak, -A1 * v, 2e-3 * A1 * std::abs(v)) << "chamber 1: inflow, leakage out, swept volume";
+  EXPECT_NEAR(q2 + leak, A2 * v, 2e-3 * A2 * std::abs(v)) << "chamber 2";
+  EXPECT_NEAR(p1 * A1 - p2 * A2 + Bp * v, F, 1e-3 * p1 * A1) << "the piston";
+  EXPECT_EQ(last("results/mass/P1/Position"), x) << "the mass's P1 is the rod's node";
+}
+
+// A mechanical port joins only a mechanical port.
+TEST(HopsanLoader, AHydraulicPortOnAMechanicalOneIsRefused) {
+  const std::string hmf = text_of(kDir + "/cylinder.hmf");
+  const std::string e = error_of(replaced(hmf, "endcomponent=\"cylinder\" endport=\"P1\"", "endcomponent=\"mass\" endport=\"P2\""));
+  EXPECT_EQ(e, "") << "the loader reads it; the system refuses it";
+  testing_support::TempDir dir;
+  std::ofstream(dir.file("m.hmf")) << replaced(replaced(hmf, "endcomponent=\"cylinder\" endport=\"P1\"",
+                                                        "endcomponent=\"load\" endport=\"P1\""),
+                                               "<connect startcomponent=\"mass\" startport=\"P2\" endcomponent=\"load\" endport=\"P1\"/>",
+                                               "<connect startcomponent=\"mass\" startport=\"P2\" endcomponent=\"cylinder\" endport=\"P1\"/>");
+  try {
+    tlm::System sys(tlm::read_hmf(dir.file("m.hmf")).spec);
+    ADD_FAILURE() << "a hydraulic port joined a mechanical one";
+  } catch (const config::InputError& err) {
+    EXPECT_NE(std::string(err.what()).find("a node joins ports of one kind"), std::string::npos) << err.what();
+  }
+}

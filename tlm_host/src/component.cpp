@@ -74,8 +74,8 @@ void Component::add_signal_input(const std::string& signal_name, const double** 
   signals_.push_back(SignalPort{signal_name, false, nullptr, source, fallback != nullptr});
 }
 
-Port& Component::add_port(const std::string& port_name, Kind side) {
-  ports_.push_back(Port{port_name, side, nullptr});
+Port& Component::add_port(const std::string& port_name, Kind side, bool mechanical) {
+  ports_.push_back(Port{port_name, side, nullptr, mechanical});
   return ports_.back();
 }
 

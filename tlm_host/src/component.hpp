@@ -21,6 +21,7 @@ struct Port {
   std::string name;
   Kind side = Kind::C;  // which side of the node this port is on
   HydraulicNode* node = nullptr;
+  bool mechanical = false;  // a translational port (NodeMechanic), else hydraulic
 };
 
 // A signal (a position, a velocity, ...) one component offers and others
@@ -102,7 +103,7 @@ class Component {
   virtual bool waits_on_peer() const { return false; }
 
  protected:
-  Port& add_port(const std::string& port_name, Kind side);
+  Port& add_port(const std::string& port_name, Kind side, bool mechanical = false);
   void add_signal_output(const std::string& signal_name, double* value);
   // `source` is set to the bound output; an optional input starts at `fallback`.
   void add_signal_input(const std::string& signal_name, const double** source, const double* fallback = nullptr);

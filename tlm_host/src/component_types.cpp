@@ -14,6 +14,7 @@
 #include "components/SignalSources.hpp"
 #include "components/SpoolValveQ.hpp"
 #include "components/SpringPistonQ.hpp"
+#include "components/Translational.hpp"
 #include "components/VariableOrificeQ.hpp"
 
 namespace tlm {
@@ -50,6 +51,9 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"SignalSubtract", make<SignalSubtract>()},
       {"SignalLowPass", make<SignalLowPass>()},
       {"SignalFirstOrderFilter", make<SignalFirstOrderFilter>()},
+      {"TranslationalMassQ", make<TranslationalMassQ>()},
+      {"CylinderC", make<CylinderC>()},
+      {"ForceSourceC", make<ForceSourceC>()},
   };
   return types;
 }

@@ -88,9 +88,12 @@ const std::map<std::string, Mapping>& mappings() {
         {},
         "p0",
         {{{"alpha#Value", 0.0}, "ours is lossless: no low-pass filter on the waves"}}}},
+      // Hopsan's orifices clamp a pressure that would fall below zero (node.hpp).
       {"HydraulicTurbulentOrifice",
-       {"HydraulicTurbulentOrificeQ", {{"A#Value", "A", 1e-5}, {"C_q#Value", "Cd", 0.67}, {"rho#Value", "rho", 870}}}},
-      {"HydraulicLaminarOrifice", {"LaminarOrificeQ", {{"Kc#Value", "Kc", 1e-11}}}},
+       {"HydraulicTurbulentOrificeQ",
+        {{"A#Value", "A", 1e-5}, {"C_q#Value", "Cd", 0.67}, {"rho#Value", "rho", 870}},
+        {{"hopsan_cavitation", "1"}}}},
+      {"HydraulicLaminarOrifice", {"LaminarOrificeQ", {{"Kc#Value", "Kc", 1e-11}}, {{"hopsan_cavitation", "1"}}}},
       {"HydraulicPressureSourceC", {"PressureSourceC", {{"p#Value", "p", 1e5}}}},
       {"HydraulicTankC", {"PressureSourceC", {{"p", "p", 1e5}}}},
       {"HydraulicFlowSourceQ", {"FlowSourceQ", {{"q#Value", "q", 1e-3}}}},
@@ -113,6 +116,34 @@ const std::map<std::string, Mapping>& mappings() {
         {{"out", "y"}},
         {{"y1", {"y_0#Value", "y_A#Value"}}}}},
       {"SignalGain", {"SignalGain", {{"k#Value", "k", 1.0}}, {}, {}, "", {{"in", "u"}, {"out", "y"}}}},
+      // Translational mechanics (Translational.hpp: Hopsan's equations).
+      {"MechanicTranslationalMass",
+       {"TranslationalMassQ",
+        {{"m", "m", 100.0},
+         {"B#Value", "B", 10.0},
+         {"k#Value", "k", 0.0},
+         {"x_min#Value", "x_min", -1e300},
+         {"x_max#Value", "x_max", 1e300},
+         {"P1#Position", "x1_0", 0.0},
+         {"P2#Position", "x2_0", 0.0}}}},
+      {"HydraulicCylinderC",
+       {"CylinderC",
+        {{"A_1#Value", "A_1", 1e-3},
+         {"A_2#Value", "A_2", 1e-3},
+         {"s_l#Value", "s_l", 1.0},
+         {"V_1#Value", "V_1", 3e-4},
+         {"V_2#Value", "V_2", 3e-4},
+         {"B_p#Value", "B_p", 1000.0},
+         {"Beta_e#Value", "Beta_e", 1e9},
+         {"c_leak#Value", "c_leak", 1e-11},
+         {"use_sl", "use_sl", 1.0},
+         {"P1#Pressure", "p1_0", 1e5},
+         {"P2#Pressure", "p2_0", 1e5}},
+        {},
+        {"q_leak#Value"},  // an output's start value, overwritten in the first step
+        "after an end stop is reached: Hopsan's stop filter starts from an uninitialised value, ours from its "
+        "last one"}},
+      {"MechanicForceTransformer", {"ForceSourceC", {{"F#Value", "F", 0.0}}}},
       {"SignalFirstOrderFilter",
        {"SignalFirstOrderFilter",
         {{"k", "k", 1.0},
@@ -222,6 +253,7 @@ class Expressions {
     double v = 0.0;
     if (number(text, v)) return v;
     if (auto it = variables.find(text); it != variables.end()) return it->second;
+    if (text == "true" || text == "false") return text == "true";  // a Hopsan bool constant
     if (text.find("self.") != std::string::npos)
       throw std::invalid_argument("a component's own parameters (self.…) are not read in expressions yet");
     try {
@@ -438,8 +470,9 @@ class HmfReader {
     if (it == known_.end() || !it->second.mapping) return e.component + "." + e.port;
     const Mapping& mp = *it->second.mapping;
     if (mp.multiport && e.port == mp.multiport) {
-      m_.multiport_components.insert(e.component);
-      return e.component + ".P" + std::to_string(++it->second.multiport_count);
+      const std::string port = e.component + ".P" + std::to_string(++it->second.multiport_count);
+      m_.unlogged_ports.insert(port);
+      return port;
     }
     auto renamed = mp.ports.find(e.port);
     return e.component + "." + (renamed == mp.ports.end() ? e.port : renamed->second);
@@ -524,7 +557,10 @@ class HmfReader {
       if (variable == "Temperature" || variable == "HeatFlow" || variable == "WaveVariable" ||
           variable == "CharImpedance" || variable == "CharImp")
         continue;
-      if (variable == "Flow" && value_of(p) == 0.0) continue;
+      if (variable == "EquivalentMass") continue;  // written by the mass
+      if ((variable == "Flow" || variable == "Velocity" || variable == "Position" || variable == "Force") &&
+          value_of(p) == 0.0)
+        continue;  // Hopsan's default: ours starts there too
       throw InputError(where(p), name + " (" + type + "): parameter '" + pname + "' = '" + attr(p, "value") +
                                      "' has no counterpart in " + mp.ours);
     }
@@ -535,6 +571,10 @@ class HmfReader {
       set(key, vals.at(terms.first).first + vals.at(terms.second).first, vals.at(terms.first).second);
     if (mp.start_pressure) set(mp.start_pressure, start_p ? start_p->first : 1e5, start_p ? start_p->second : s.where);
     for (const auto& [hopsan, ours] : mp.ports) m_.result_ports[name + "." + ours] = hopsan;
+    if (type == "HydraulicCylinderC") {  // its chambers' ports are multiports in Hopsan (one connection here)
+      m_.unlogged_ports.insert(name + ".P1");
+      m_.unlogged_ports.insert(name + ".P2");
+    }
     if (std::string(mp.note).size())
       out_.notes.push_back(path_ + ":" + std::to_string(s.where.line) + ": " + name + " (" + type + " → " + mp.ours +
                            "): " + mp.note);

@@ -185,8 +185,13 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
                                       " ports: a TLM node joins one C and one Q port; put a " +
                                       (pa->side == Kind::C ? "Q component (e.g. an orifice)" : "C component (e.g. a volume)") +
                                       " between them");
+    if (pa->mechanical != pb->mechanical)
+      throw InputError(con.where, "'" + con.a + "' is " + (pa->mechanical ? "a mechanical" : "a hydraulic") + " port and '" +
+                                      con.b + "' " + (pb->mechanical ? "a mechanical" : "a hydraulic") +
+                                      " one: a node joins ports of one kind");
     auto node = std::make_unique<HydraulicNode>();
     node->name = pa->side == Kind::C ? con.a : con.b;
+    node->mechanical = pa->mechanical;
     pa->node = pb->node = node.get();
     nodes_.push_back(std::move(node));
   }
@@ -232,6 +237,10 @@ void System::exchange_state(config::StateIO& io) {
     io.value("node q", n->q);
     io.value("node c", n->c);
     io.value("node Zc", n->Zc);
+    if (n->mechanical) {  // a hydraulic model's checkpoints stay as they were
+      io.value("node x", n->x);
+      io.value("node me", n->me);
+    }
   }
   io.expect("components", components_.size(), "the number of components");
   for (auto& c : components_) {
@@ -252,8 +261,7 @@ void System::hopsan_names(h5io::TimeSeriesWriter& out,
   // A subsystem's own ports and time are not written (the same values are
   // under the names of the components inside).
   std::vector<Component*> sorted;
-  for (auto& c : components_)
-    if (!spec_.multiport_components.count(c->name())) sorted.push_back(c.get());
+  for (auto& c : components_) sorted.push_back(c.get());
   std::sort(sorted.begin(), sorted.end(), [](Component* a, Component* b) { return a->name() < b->name(); });
   std::vector<std::string> csv_names, csv_units;
   auto hopsan_port = [&](Component* c, const std::string& port) {
@@ -266,21 +274,36 @@ void System::hopsan_names(h5io::TimeSeriesWriter& out,
     std::string group = c->name();
     std::replace(group.begin(), group.end(), '$', '/');
     for (const Port& p : c->ports()) {
+      if (spec_.unlogged_ports.count(c->name() + "." + p.name)) continue;
       const std::string name = c->name() + "#" + hopsan_port(c, p.name);
       const std::string path = "results/" + group + "/" + hopsan_port(c, p.name) + "/";
-      out.add_link(path + "Flow", "/nodes/" + p.node->name + "/q");
-      out.add_link(path + "Pressure", "/nodes/" + p.node->name + "/p");
-      for (auto [var, unit, value] : {std::make_tuple("Flow", "m^3/s", &p.node->q), std::make_tuple("Pressure", "Pa", &p.node->p),
-                                      std::make_tuple("WaveVariable", "Pa", &p.node->c),
-                                      std::make_tuple("CharImpedance", "Pa s/m^3", &p.node->Zc)}) {
+      const std::string node = "/nodes/" + p.node->name + "/";
+      HydraulicNode& n = *p.node;
+      using Slot = std::tuple<const char*, const char*, const double*>;
+      // Hopsan's NodeHydraulic and NodeMechanic in their data order.
+      const std::vector<Slot> slots =
+          n.mechanical ? std::vector<Slot>{{"Velocity", "m/s", &n.q}, {"Force", "N", &n.p}, {"Position", "m", &n.x},
+                                           {"WaveVariable", "N", &n.c}, {"CharImpedance", "N s/m", &n.Zc},
+                                           {"EquivalentMass", "kg", &n.me}}
+                       : std::vector<Slot>{{"Flow", "m^3/s", &n.q}, {"Pressure", "Pa", &n.p},
+                                           {"WaveVariable", "Pa", &n.c}, {"CharImpedance", "Pa s/m^3", &n.Zc}};
+      if (n.mechanical) {
+        out.add_link(path + "Velocity", node + "v");
+        out.add_link(path + "Force", node + "F");
+        out.add_link(path + "Position", node + "x");
+      } else {
+        out.add_link(path + "Flow", node + "q");
+        out.add_link(path + "Pressure", node + "p");
+      }
+      for (const auto& [var, unit, value] : slots) {
         csv_names.push_back(name + "#" + var);
         csv_units.push_back(unit);
         csv_sources.push_back(value);
       }
     }
     for (const SignalPort& sp : c->signals()) {
-      const double* value = sp.output ? sp.value : (sp.source ? *sp.source : nullptr);
-      if (!value) continue;  // an optional input left open
+      if (!sp.output && !bound_.count(&sp)) continue;  // an input left open: Hopsan logs it only when connected
+      const double* value = sp.output ? sp.value : *sp.source;
       add("results/" + group + "/" + hopsan_port(c, sp.name) + "/Value", "", value);
       csv_names.push_back(c->name() + "#" + hopsan_port(c, sp.name) + "#Value");
       csv_units.push_back("");
@@ -329,11 +352,18 @@ void System::run(const std::string& out_path, bool progress) {
                                     ", beyond this run's " + std::to_string(steps) + " steps");
     for (FmuQ* f : fmus) f->set_resume_step(first);
   }
-  for (auto& c : components_) c->initialize(dt);
-  if (!resume)
+  if (spec_.hopsan_results) {
+    // As Hopsan starts: signal, C, then Q components, each taking its
+    // initial step (ComponentSpec::initial_step) right after its own
+    // initialization, so a Q component starts from the C side's waves.
     for (const auto* order : {&signal_, &c_type_, &q_type_})
-      for (Component* c : *order)
-        if (spec_.find(c->name())->initial_step) c->simulate_one_step(0.0);
+      for (Component* c : *order) {
+        c->initialize(dt);
+        if (!resume && spec_.find(c->name())->initial_step) c->simulate_one_step(0.0);
+      }
+  } else {
+    for (auto& c : components_) c->initialize(dt);
+  }
   std::vector<Component*> peers;
   for (Component* c : q_type_)
     if (c->waits_on_peer()) peers.push_back(c);
@@ -359,6 +389,12 @@ void System::run(const std::string& out_path, bool progress) {
   };
   add("time", "s", &time);
   for (const auto& n : nodes_) {
+    if (n->mechanical) {
+      add("nodes/" + n->name + "/F", "N", &n->p);
+      add("nodes/" + n->name + "/v", "m/s", &n->q);
+      add("nodes/" + n->name + "/x", "m", &n->x);
+      continue;
+    }
     add("nodes/" + n->name + "/p", "Pa", &n->p);
     add("nodes/" + n->name + "/q", "m3/s", &n->q);
   }

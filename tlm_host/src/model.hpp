@@ -53,7 +53,7 @@ struct ModelSpec {
   // (links to ours) and component#port#variable in Hopsan's CSV layout.
   bool hopsan_results = false;
   std::map<std::string, std::string> result_ports;  // "component.our port" → Hopsan's port name, where they differ
-  std::set<std::string> multiport_components;       // Hopsan logs no variables of a multiport's own
+  std::set<std::string> unlogged_ports;             // "component.port": a Hopsan multiport's, which Hopsan does not log
 
   ComponentSpec* find(const std::string& name);
   const ComponentSpec* find(const std::string& name) const;

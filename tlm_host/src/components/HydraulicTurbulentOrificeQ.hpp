@@ -41,6 +41,7 @@ class HydraulicTurbulentOrificeQ : public Component {
     Cd_ = prm.positive("Cd", 0.67);
     A_ = prm.positive("A", 1e-5);  // m²
     rho_ = prm.positive("rho", 870.0);
+    hopsan_cavitation_ = prm.real("hopsan_cavitation", 0.0) != 0.0;  // node.hpp: for Hopsan models
     add_port("P1", Kind::Q);
     add_port("P2", Kind::Q);
   }
@@ -51,8 +52,14 @@ class HydraulicTurbulentOrificeQ : public Component {
   void simulate_one_step(double) override {
     HydraulicNode& n1 = *ports_[0].node;
     HydraulicNode& n2 = *ports_[1].node;
-    q_ = turbulent_orifice_flow(n1.c, n2.c, n1.Zc, n2.Zc, K_);
-    set_through_flow(n1, n2, q_);
+    if (hopsan_cavitation_) {
+      q_ = set_through_flow_hopsan(n1, n2, [this](double c1, double c2, double Z1, double Z2) {
+        return turbulent_orifice_flow(c1, c2, Z1, Z2, K_);
+      });
+    } else {
+      q_ = turbulent_orifice_flow(n1.c, n2.c, n1.Zc, n2.Zc, K_);
+      set_through_flow(n1, n2, q_);
+    }
     dissipated_ += q_ * (n1.p - n2.p) * dt_;  // always ≥ 0: q runs down Δp
   }
   void log_variables(std::vector<LogVariable>& out) override {
@@ -62,6 +69,7 @@ class HydraulicTurbulentOrificeQ : public Component {
 
  private:
   double Cd_ = 0, A_ = 0, rho_ = 0, K_ = 0, q_ = 0, dt_ = 0, dissipated_ = 0;
+  bool hopsan_cavitation_ = false;
 };
 
 }  // namespace tlm

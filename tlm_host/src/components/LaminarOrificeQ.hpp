@@ -20,6 +20,7 @@ class LaminarOrificeQ : public Component {
   void configure(ParameterSet& prm) override {
     Kc_ = prm.real("Kc");  // m³/(s·Pa)
     if (Kc_ < 0.0) throw config::InputError(prm.where(), name_ + ": Kc must not be negative");
+    hopsan_cavitation_ = prm.real("hopsan_cavitation", 0.0) != 0.0;  // node.hpp: for Hopsan models
     add_port("P1", Kind::Q);
     add_port("P2", Kind::Q);
   }
@@ -27,8 +28,13 @@ class LaminarOrificeQ : public Component {
   void simulate_one_step(double) override {
     HydraulicNode& n1 = *ports_[0].node;
     HydraulicNode& n2 = *ports_[1].node;
-    q_ = Kc_ * (n1.c - n2.c) / (1.0 + Kc_ * (n1.Zc + n2.Zc));
-    set_through_flow(n1, n2, q_);
+    auto flow = [this](double c1, double c2, double Z1, double Z2) { return Kc_ * (c1 - c2) / (1.0 + Kc_ * (Z1 + Z2)); };
+    if (hopsan_cavitation_) {
+      q_ = set_through_flow_hopsan(n1, n2, flow);
+    } else {
+      q_ = flow(n1.c, n2.c, n1.Zc, n2.Zc);
+      set_through_flow(n1, n2, q_);
+    }
     dissipated_ += q_ * (n1.p - n2.p) * dt_;
   }
   void log_variables(std::vector<LogVariable>& out) override {
@@ -38,6 +44,7 @@ class LaminarOrificeQ : public Component {
 
  private:
   double Kc_ = 0.0, q_ = 0.0, dt_ = 0.0, dissipated_ = 0.0;
+  bool hopsan_cavitation_ = false;
 };
 
 }  // namespace tlm

@@ -12,6 +12,8 @@
 // t_step acts on the step that ends there.
 #pragma once
 
+#include "bilinear.hpp"
+
 #include <algorithm>
 
 #include <cmath>
@@ -159,12 +161,9 @@ class SignalLowPass : public SignalComponent {
 
 // First-order filter y = k·(1 + s/ω_num)/(1 + s/ω_den)·u, discretized with
 // the bilinear (Tustin) transform as Hopsan's SignalFirstOrderFilter does
-// (HopsanCore's FirstOrderTransferFunction): for a numerator n0 + n1·s and a
-// denominator d0 + d1·s,
-//   y_k = [(n0·Δt + 2·n1)·u_k + (n0·Δt − 2·n1)·u_{k−1} − (d0·Δt − 2·d1)·y_{k−1}] / (d0·Δt + 2·d1),
-// held within [y_min, y_max]; here n0 = k, n1 = k/ω_num, d0 = 1, d1 = 1/ω_den.
-// It starts from y0 and the input's value at initialization. (SignalLowPass,
-// above, is the exact zero-order-hold discretization of 1/(1 + τ·s).)
+// (bilinear.hpp), held within [y_min, y_max]. It starts from y0 and the
+// input's value at initialization. (SignalLowPass, above, is the exact
+// zero-order-hold discretization of 1/(1 + τ·s).)
 class SignalFirstOrderFilter : public Component {
  public:
   using Component::Component;
@@ -174,34 +173,25 @@ class SignalFirstOrderFilter : public Component {
     k_ = p.real("k", 1.0);
     w_num_ = p.positive("omega_num", 1e10);  // rad/s
     w_den_ = p.positive("omega_den", 1e3);   // rad/s
-    y_min_ = p.real("y_min", -1.5e300);
-    y_max_ = p.real("y_max", 1.5e300);
+    filter_.limits(p.real("y_min", -1.5e300), p.real("y_max", 1.5e300));
     y0_ = p.real("y0", 0.0);
     add_signal_input("u", &u_);
     add_signal_output("y", &y_);
   }
   void initialize(double dt) override {
-    const double n0 = k_, n1 = k_ / w_num_, d0 = 1.0, d1 = 1.0 / w_den_;
-    cu0_ = n0 * dt - 2.0 * n1;
-    cu1_ = n0 * dt + 2.0 * n1;
-    cy0_ = d0 * dt - 2.0 * d1;
-    cy1_ = d0 * dt + 2.0 * d1;
-    u_prev_ = *u_;
-    y_ = std::max(std::min(y0_, y_max_), y_min_);
+    filter_.set(dt, k_, k_ / w_num_, 1.0, 1.0 / w_den_);
+    filter_.reset(*u_, y0_);
+    y_ = filter_.value();
   }
-  void simulate_one_step(double) override {
-    const double u = *u_;
-    y_ = std::max(std::min((cu1_ * u + cu0_ * u_prev_ - cy0_ * y_) / cy1_, y_max_), y_min_);
-    u_prev_ = u;
-  }
+  void simulate_one_step(double) override { y_ = filter_.update(*u_); }
   void state(config::StateIO& io) override {
-    io.value("y", y_);
-    io.value("u_prev", u_prev_);
+    filter_.state(io);
+    y_ = filter_.value();
   }
 
  private:
-  double k_ = 1, w_num_ = 1e10, w_den_ = 1e3, y_min_ = 0, y_max_ = 0, y0_ = 0;
-  double cu0_ = 0, cu1_ = 0, cy0_ = 0, cy1_ = 0, u_prev_ = 0, y_ = 0;
+  double k_ = 1, w_num_ = 1e10, w_den_ = 1e3, y0_ = 0, y_ = 0;
+  BilinearFirstOrder filter_;
   const double* u_ = nullptr;
 };
 

@@ -1,0 +1,228 @@
+// Translational mechanics on mechanical TLM nodes (node.hpp: F = c + Zc·v),
+// with the equations of Hopsan's default library so that Hopsan models of
+// cylinders and loads run here as in Hopsan (hopsan_loader.cpp maps them):
+//
+// TranslationalMassQ (Hopsan's MechanicTranslationalMass), a Q component
+// between ports P1 and P2: m·ẍ2 = F1 − F2 − B·v2 − k·x2, solved against the
+// nodes' characteristics F_i = c_i + Zc_i·v_i with v1 = −v2, i.e.
+//   x2 = (c1 − c2) / (m·s² + (B + Zc1 + Zc2)·s + k),
+//   v2 = (c1 − c2 − k·x2) / (m·s + B + Zc1 + Zc2),
+// each discretized bilinearly (bilinear.hpp) with its denominator updated to
+// the impedances of the step. At a stop (x2 below x_min or above x_max) x2
+// is held there, v2 = 0 and both filters restart from it. x1 = L − x2 with
+// L = x1 + x2 at the start.
+//
+// CylinderC (Hopsan's HydraulicCylinderC), a C component: chambers 1 and 2
+// (ports P1, P2, one connection each) of volumes V_1 − A_1·x3 and
+// V_2 + A_2·(s_l + x3) behind a piston on the mechanical port P3 (x3 from 0
+// at one end to −s_l at the other). Each chamber is a TLM volume of three
+// ports, its hydraulic port, the piston (flow A·v3) and the internal leakage
+// c_leak·(p1 − p2) between them, damped with α = 0.1 (as
+// HydraulicVolumeC, with Zc = 3/2·β·Δt/(V·(1 − α))); the piston sees
+// c3 = A_1·ci1 − A_2·ci2 and Zc3 = A_1²·Zc1 + A_2²·Zc2 + B_p. A chamber is
+// never smaller than β·Δt²·A²/(0.1·me), me the equivalent mass the
+// mechanical node carries. End stops (use_sl): outside the stroke a spring
+// as stiff as the step allows, Zx = 0.1·me/Δt, pushes the piston back,
+// filtered with 0.5. Hopsan's filter reads its previous value from an
+// uninitialised variable; here it is kept from the last step (results differ
+// from Hopsan's only after an end stop is reached).
+//
+// ForceSourceC (Hopsan's MechanicForceTransformer): a C component giving
+// its port the force F (a signal, or the parameter F): c = F, Zc = 0.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "bilinear.hpp"
+#include "component.hpp"
+
+namespace tlm {
+
+class TranslationalMassQ : public Component {
+ public:
+  using Component::Component;
+  Kind kind() const override { return Kind::Q; }
+  const char* type_name() const override { return "TranslationalMassQ"; }
+  void configure(ParameterSet& prm) override {
+    m_ = prm.positive("m", 100.0);          // kg
+    B_ = prm.real("B", 10.0);               // N·s/m, viscous friction
+    k_ = prm.real("k", 0.0);                // N/m, spring to x2 = 0
+    x_min_ = prm.real("x_min", -1.0e300);   // m, stops of P2's position
+    x_max_ = prm.real("x_max", 1.0e300);
+    x1_0_ = prm.real("x1_0", 0.0);          // m, start positions of the ports
+    x2_0_ = prm.real("x2_0", 0.0);
+    add_port("P1", Kind::Q, true);
+    add_port("P2", Kind::Q, true);
+  }
+  void initialize(double dt) override {
+    HydraulicNode& n1 = *ports_[0].node;
+    HydraulicNode& n2 = *ports_[1].node;
+    n1.x = x1_0_, n2.x = x2_0_;
+    n1.q = n2.q = 0.0;  // at rest
+    length_ = x1_0_ + x2_0_;
+    const double num_x[3] = {1.0, 0.0, 0.0}, den_x[3] = {k_, B_, m_};
+    x_filter_.set(dt, num_x, den_x);
+    x_filter_.reset(n1.p - n2.p, x2_0_);
+    v_filter_.set(dt, 1.0, 0.0, B_, m_);
+    v_filter_.reset(n1.p - n2.p - k_ * x2_0_, 0.0);
+    n1.me = n2.me = m_;
+  }
+  void simulate_one_step(double) override {
+    HydraulicNode& n1 = *ports_[0].node;
+    HydraulicNode& n2 = *ports_[1].node;
+    const double drive = n1.c - n2.c, damping = B_ + n1.Zc + n2.Zc;
+    const double den_x[3] = {k_, damping, m_};
+    x_filter_.set_den(den_x);
+    v_filter_.set_den(damping, m_);
+    double x2 = x_filter_.update(drive);
+    double v2 = v_filter_.update(drive - k_ * x2);
+    if (x2 < x_min_ || x2 > x_max_) {
+      x2 = x2 < x_min_ ? x_min_ : x_max_;
+      v2 = 0.0;
+      x_filter_.reset(drive, x2);
+      v_filter_.reset(drive, 0.0);
+    }
+    n2.x = x2, n2.q = v2;
+    n1.x = length_ - x2, n1.q = -v2;
+    n1.p = n1.c + n1.Zc * n1.q;
+    n2.p = n2.c + n2.Zc * n2.q;
+    n1.me = n2.me = m_;
+  }
+  void state(config::StateIO& io) override {
+    x_filter_.state(io);
+    v_filter_.state(io);
+  }
+
+ private:
+  double m_ = 0, B_ = 0, k_ = 0, x_min_ = 0, x_max_ = 0, x1_0_ = 0, x2_0_ = 0, length_ = 0;
+  BilinearSecondOrder x_filter_;
+  BilinearFirstOrder v_filter_;
+};
+
+class CylinderC : public Component {
+ public:
+  using Component::Component;
+  Kind kind() const override { return Kind::C; }
+  const char* type_name() const override { return "CylinderC"; }
+  void configure(ParameterSet& prm) override {
+    A1_ = prm.positive("A_1", 1e-3);        // m², piston area of chamber 1
+    A2_ = prm.positive("A_2", 1e-3);        // m², of chamber 2
+    sl_ = prm.positive("s_l", 1.0);         // m, stroke
+    V01_ = prm.positive("V_1", 3e-4);       // m³, dead volumes
+    V02_ = prm.positive("V_2", 3e-4);
+    Bp_ = prm.real("B_p", 1000.0);          // N·s/m, viscous friction
+    beta_ = prm.positive("Beta_e", 1e9);    // Pa
+    c_leak_ = prm.real("c_leak", 1e-11);    // m³/(s·Pa), internal leakage
+    stops_ = prm.real("use_sl", 1.0) != 0.0;
+    p1_0_ = prm.real("p1_0", 1e5);          // Pa, start pressures of the chambers
+    p2_0_ = prm.real("p2_0", 1e5);
+    add_port("P1", Kind::C);
+    add_port("P2", Kind::C);
+    add_port("P3", Kind::C, true);
+    add_signal_output("q_leak", &q_leak_);
+  }
+  void initialize(double dt) override {
+    dt_ = dt;
+    HydraulicNode& n1 = *ports_[0].node;
+    HydraulicNode& n2 = *ports_[1].node;
+    HydraulicNode& n3 = *ports_[2].node;
+    const double x3 = n3.x, v3 = n3.q;
+    // Before the load has written me: Hopsan takes 1 kg here.
+    const double V1 = std::max(V01_ - A1_ * x3, beta_ * dt * dt * A1_ * A1_ / kWfak);
+    const double V2 = std::max(V02_ + A2_ * (sl_ + x3), beta_ * dt * dt * A2_ * A2_ / kWfak);
+    const double Zc1 = 1.5 * beta_ / V1 * dt / (1.0 - kAlpha), Zc2 = 1.5 * beta_ / V2 * dt / (1.0 - kAlpha);
+    ci1_ = p1_0_ + Zc1 * v3 * A1_;
+    ci2_ = p2_0_ - Zc2 * v3 * A2_;
+    const double leak = c_leak_ * (p1_0_ - p2_0_);
+    cl1_ = p1_0_ - Zc1 * leak;
+    cl2_ = p2_0_ + Zc2 * leak;
+    cx_lim_ = 0.0;
+    n1.p = n1.c = p1_0_, n1.q = 0.0, n1.Zc = Zc1;
+    n2.p = n2.c = p2_0_, n2.q = 0.0, n2.Zc = Zc2;
+    n3.c = A1_ * ci1_ - A2_ * ci2_;
+    n3.Zc = A1_ * A1_ * Zc1 + A2_ * A2_ * Zc2 + Bp_;
+  }
+  void simulate_one_step(double t) override {
+    HydraulicNode& n1 = *ports_[0].node;
+    HydraulicNode& n2 = *ports_[1].node;
+    HydraulicNode& n3 = *ports_[2].node;
+    const double x3 = n3.x, v3 = n3.q;
+    double me = n3.me;
+    if (!(me > 0.0)) {
+      if (t > 1.5 * dt_) throw std::runtime_error(name_ + ": the load on P3 carries no mass (equivalent mass " +
+                                                  std::to_string(me) + " kg); connect a mass");
+      me = 1.0;  // the first step: the load writes its mass in its own first step
+    }
+    q_leak_ = c_leak_ * (cl1_ - cl2_) / (1.0 + c_leak_ * (n1.Zc + n2.Zc));
+    const double qi1 = v3 * A1_, qi2 = -v3 * A2_;
+    const double V1 = std::max(V01_ - A1_ * x3, beta_ * dt_ * dt_ * A1_ * A1_ / (kWfak * me));
+    const double V2 = std::max(V02_ + A2_ * (sl_ + x3), beta_ * dt_ * dt_ * A2_ * A2_ / (kWfak * me));
+    // Each chamber: three ports (the hydraulic one, the piston, the leakage).
+    auto chamber = [&](HydraulicNode& n, double V, double& ci, double qi, double& cl, double ql) {
+      const double Zc = 1.5 * beta_ / V * dt_ / (1.0 - kAlpha);
+      const double mean = ((ci + 2.0 * Zc * qi) + (cl + 2.0 * Zc * ql) + (n.c + 2.0 * Zc * n.q)) / 3.0;
+      ci = kAlpha * ci + (1.0 - kAlpha) * (2.0 * mean - ci - 2.0 * Zc * qi);
+      cl = kAlpha * cl + (1.0 - kAlpha) * (2.0 * mean - cl - 2.0 * Zc * ql);
+      const bool cavitating = n.p == 0.0;
+      n.c = kAlpha * n.c + (1.0 - kAlpha) * (2.0 * mean - n.c - 2.0 * Zc * n.q);
+      n.Zc = Zc;
+      return cavitating;
+    };
+    const bool cav1 = chamber(n1, V1, ci1_, qi1, cl1_, -q_leak_);
+    const bool cav2 = chamber(n2, V2, ci2_, qi2, cl2_, q_leak_);
+    double zx_lim = 0.0;
+    if (stops_) {
+      double new_cx = 0.0;
+      if (-x3 > sl_ || -x3 < 0.0) {
+        const double z0 = kWfak * me / dt_;
+        zx_lim = z0 / (1.0 - kStopAlpha);
+        new_cx = z0 * (-x3 > sl_ ? x3 + sl_ : x3) / dt_ + zx_lim * v3;
+        cx_lim_ = kStopAlpha * cx_lim_ + (1.0 - kStopAlpha) * new_cx;
+      } else {
+        cx_lim_ = 0.0;
+      }
+    }
+    const double c1 = cav1 ? std::max(ci1_, 0.0) : ci1_, Zc1 = cav1 ? 0.0 : n1.Zc;
+    const double c2 = cav2 ? std::max(ci2_, 0.0) : ci2_, Zc2 = cav2 ? 0.0 : n2.Zc;
+    n3.c = A1_ * c1 - A2_ * c2 + cx_lim_;
+    n3.Zc = A1_ * A1_ * Zc1 + A2_ * A2_ * Zc2 + Bp_ + zx_lim;
+  }
+  void state(config::StateIO& io) override {
+    for (double* v : {&ci1_, &ci2_, &cl1_, &cl2_, &cx_lim_, &q_leak_}) io.value("cylinder", *v);
+  }
+
+ private:
+  static constexpr double kAlpha = 0.1;      // the chambers' wave damping
+  static constexpr double kWfak = 0.1;       // the smallest chamber and the stops' stiffness
+  static constexpr double kStopAlpha = 0.5;  // the stops' filter
+  double A1_ = 0, A2_ = 0, sl_ = 0, V01_ = 0, V02_ = 0, Bp_ = 0, beta_ = 0, c_leak_ = 0, p1_0_ = 0, p2_0_ = 0;
+  bool stops_ = true;
+  double dt_ = 0, ci1_ = 0, ci2_ = 0, cl1_ = 0, cl2_ = 0, cx_lim_ = 0, q_leak_ = 0;
+};
+
+class ForceSourceC : public Component {
+ public:
+  using Component::Component;
+  Kind kind() const override { return Kind::C; }
+  const char* type_name() const override { return "ForceSourceC"; }
+  void configure(ParameterSet& prm) override {
+    F_ = prm.real("F", 0.0);  // N, when the signal F is not connected
+    add_port("P1", Kind::C, true);
+    add_signal_input("F", &F_in_, &F_);
+  }
+  void initialize(double) override {
+    HydraulicNode& n = *ports_[0].node;
+    n.p = *F_in_;
+    if (n.c == 0.0) n.c = *F_in_;
+    n.Zc = 0.0;
+  }
+  void simulate_one_step(double) override { ports_[0].node->c = *F_in_; }
+  void state(config::StateIO&) override {}
+
+ private:
+  double F_ = 0.0;
+  const double* F_in_ = nullptr;
+};
+
+}  // namespace tlm

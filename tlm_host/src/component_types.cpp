@@ -1,6 +1,7 @@
 // The registry of component types a model file may name.
 #include "component.hpp"
 #include "components/ControlSpoolQ.hpp"
+#include "components/DirectionalValves.hpp"
 #include "components/FlowSourceQ.hpp"
 #include "components/FmuQ.hpp"
 #include "components/GasAccumulatorC.hpp"
@@ -54,6 +55,8 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"TranslationalMassQ", make<TranslationalMassQ>()},
       {"CylinderC", make<CylinderC>()},
       {"ForceSourceC", make<ForceSourceC>()},
+      {"Valve43Q", make<Valve43Q>()},
+      {"Valve32Q", make<Valve32Q>()},
   };
   return types;
 }

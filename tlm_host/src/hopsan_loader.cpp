@@ -116,6 +116,7 @@ const std::map<std::string, Mapping>& mappings() {
         {{"out", "y"}},
         {{"y1", {"y_0#Value", "y_A#Value"}}}}},
       {"SignalGain", {"SignalGain", {{"k#Value", "k", 1.0}}, {}, {}, "", {{"in", "u"}, {"out", "y"}}}},
+      {"SignalAdd", {"SignalAdd", {}, {}, {"in1#Value", "in2#Value"}, "", {{"in1", "u1"}, {"in2", "u2"}, {"out", "y"}}}},
       // Translational mechanics (Translational.hpp: Hopsan's equations).
       {"MechanicTranslationalMass",
        {"TranslationalMassQ",
@@ -144,6 +145,38 @@ const std::map<std::string, Mapping>& mappings() {
         "after an end stop is reached: Hopsan's stop filter starts from an uninitialised value, ours from its "
         "last one"}},
       {"MechanicForceTransformer", {"ForceSourceC", {{"F#Value", "F", 0.0}}}},
+      // Directional valves (DirectionalValves.hpp: Hopsan's equations).
+      {"Hydraulic43Valve",
+       {"Valve43Q",
+        {{"C_q#Value", "C_q", 0.67},
+         {"rho#Value", "rho", 870.0},
+         {"d#Value", "d", 0.01},
+         {"f_pa#Value", "f_pa", 1.0},
+         {"f_pb#Value", "f_pb", 1.0},
+         {"f_at#Value", "f_at", 1.0},
+         {"f_bt#Value", "f_bt", 1.0},
+         {"x_pa#Value", "x_pa", -1e-6},
+         {"x_pb#Value", "x_pb", -1e-6},
+         {"x_at#Value", "x_at", -1e-6},
+         {"x_bt#Value", "x_bt", -1e-6},
+         {"x_vmax#Value", "x_vmax", 0.01},
+         {"omega_h", "omega_h", 100.0},
+         {"delta_h", "delta_h", 1.0},
+         {"xv#Value", "xv0", 0.0}},
+        {},
+        {"in#Value"}}},  // the command's default: read from what it connects to
+      {"Hydraulic32DirectionalValve",
+       {"Valve32Q",
+        {{"C_q#Value", "C_q", 0.67},
+         {"rho#Value", "rho", 870.0},
+         {"d#Value", "d", 0.01},
+         {"f#Value", "f", 1.0},
+         {"x_vmax#Value", "x_vmax", 0.01},
+         {"omega_h", "omega_h", 100.0},
+         {"delta_h", "delta_h", 1.0},
+         {"xv#Value", "xv0", 0.0}},
+        {},
+        {"in#Value"}}},
       {"SignalFirstOrderFilter",
        {"SignalFirstOrderFilter",
         {{"k", "k", 1.0},
@@ -170,7 +203,7 @@ constexpr const char* kOwnPrefix = "Pcs";
 // The types whose Hopsan components step once in their initialize()
 // (ComponentSpec::initial_step).
 const std::set<std::string> kStepInInitialize = {"HydraulicTurbulentOrifice", "HydraulicFlowSourceQ",
-                                                 "HydraulicPressureSourceC", "SignalStep", "SignalGain"};
+                                                 "HydraulicPressureSourceC", "SignalStep", "SignalGain", "SignalAdd"};
 
 // Hopsan's sensors read a node; their nodes are logged anyway.
 const std::set<std::string> kSensors = {"HydraulicPressureSensor", "HydraulicFlowSensor", "HydraulicNodeSensor"};

@@ -64,25 +64,29 @@ class BilinearSecondOrder {
     cy_[1] = 2.0 * d[0] * dt_ * dt_ - 8.0 * d[2];
     cy_[2] = d[0] * dt_ * dt_ - 2.0 * d[1] * dt_ + 4.0 * d[2];
   }
+  void limits(double lo, double hi) { lo_ = lo, hi_ = hi; }
   // Start from input u, output y and the output's rate dy (y_{−1} = y − dy·Δt);
   // restart at a stop with the rate 0.
   void reset(double u, double y, double dy = 0.0) {
     u1_ = u2_ = u;
-    y1_ = y;
-    y2_ = y - dy * dt_;
+    y1_ = std::max(std::min(y, hi_), lo_);
+    y2_ = y1_ - dy * dt_;
   }
   double update(double u) {
-    const double y = 1.0 / cy_[0] * (cu_[0] * u + cu_[1] * u1_ + cu_[2] * u2_ - cy_[1] * y1_ - cy_[2] * y2_);
+    const double y = std::max(
+        std::min(1.0 / cy_[0] * (cu_[0] * u + cu_[1] * u1_ + cu_[2] * u2_ - cy_[1] * y1_ - cy_[2] * y2_), hi_), lo_);
     u2_ = u1_, u1_ = u;
     y2_ = y1_, y1_ = y;
     return y;
   }
+  double value() const { return y1_; }
   void state(config::StateIO& io) {
     for (double* v : {&u1_, &u2_, &y1_, &y2_}) io.value("filter", *v);
   }
 
  private:
   double dt_ = 0, cu_[3] = {0, 0, 0}, cy_[3] = {0, 0, 0}, u1_ = 0, u2_ = 0, y1_ = 0, y2_ = 0;
+  double lo_ = -1.5e300, hi_ = 1.5e300;
 };
 
 }  // namespace tlm

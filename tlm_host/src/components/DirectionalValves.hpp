@@ -1,0 +1,135 @@
+// Directional valves with the equations of Hopsan's Hydraulic43Valve and
+// Hydraulic32DirectionalValve (mapped from Hopsan models, hopsan_loader.cpp).
+//
+// The spool follows its command through a second-order lag,
+// xv = 1/(1 + 2δ/ω·s + s²/ω²)·x_in, discretized bilinearly (bilinear.hpp)
+// and held within its travel. Each metering edge is a turbulent orifice of
+// area f·π·d·max(opening, 0), K = C_q·f·π·d·opening·√(2/ρ), and, as in
+// Hopsan, solved on its own against the two nodes it joins (each edge sees
+// the node impedances as if it were the only flow there; our SpoolValveQ
+// solves the edges that share a node together). A port's flow is the sum of
+// its edges'. Where a port's pressure would fall below zero, the edges are
+// solved again with that node's c = Zc = 0 (Hopsan's cavitation check).
+//
+// Valve43Q (Hydraulic43Valve): ports PP, PT, PA, PB; edges P→A open for
+// xv > x_pa, P→B for −xv > x_pb, A→T for −xv > x_at, B→T for xv > x_bt
+// (negative overlaps: underlap); command `in` within ±x_vmax.
+// Valve32Q (Hydraulic32DirectionalValve): ports PP, PT, PA; the spool goes to
+// x_vmax when `in` > 0.5 and to 0 otherwise; P→A opens with xv,
+// A→T with x_vmax − xv.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "HydraulicTurbulentOrificeQ.hpp"
+#include "bilinear.hpp"
+#include "component.hpp"
+
+namespace tlm {
+
+class DirectionalValveQ : public Component {
+ public:
+  using Component::Component;
+  Kind kind() const override { return Kind::Q; }
+  void initialize(double dt) override {
+    const double num[3] = {1.0, 0.0, 0.0}, den[3] = {1.0, 2.0 * delta_ / omega_, 1.0 / (omega_ * omega_)};
+    spool_.limits(xv_lo_, xv_hi_);
+    spool_.set(dt, num, den);
+    spool_.reset(xv_, xv_);
+    xv_ = spool_.value();
+  }
+  void simulate_one_step(double) override {
+    xv_ = spool_.update(command());
+    const size_t n = ports_.size();
+    std::array<double, 4> c{}, Z{}, q{};
+    for (size_t i = 0; i < n; ++i) c[i] = ports_[i].node->c, Z[i] = ports_[i].node->Zc;
+    auto solve = [&] {
+      q.fill(0.0);
+      for (const Edge& e : edges_) {
+        const double K = Cq_ * e.f * M_PI * d_ * std::max(opening(e), 0.0) * std::sqrt(2.0 / rho_);
+        const double flow = turbulent_orifice_flow(c[e.from], c[e.to], Z[e.from], Z[e.to], K);
+        q[e.from] -= flow;
+        q[e.to] += flow;
+      }
+    };
+    solve();
+    bool cavitating = false;
+    for (size_t i = 0; i < n; ++i)
+      if (c[i] + q[i] * Z[i] < 0.0) c[i] = 0.0, Z[i] = 0.0, cavitating = true;
+    if (cavitating) solve();
+    for (size_t i = 0; i < n; ++i) {
+      ports_[i].node->q = q[i];
+      ports_[i].node->p = c[i] + q[i] * Z[i];
+    }
+  }
+  void state(config::StateIO& io) override {
+    spool_.state(io);
+    xv_ = spool_.value();
+  }
+
+ protected:
+  struct Edge {
+    size_t from, to;  // port indices
+    double f;         // fraction of the circumference
+    double overlap;   // m (negative: underlap)
+    int sign;         // opens with +xv or −xv; 0: with x_vmax − xv
+  };
+  virtual double command() const = 0;
+  double opening(const Edge& e) const { return e.sign == 0 ? xv_max_ - xv_ : e.sign * xv_ - e.overlap; }
+  void configure_common(ParameterSet& prm) {
+    Cq_ = prm.real("C_q", 0.67);
+    rho_ = prm.positive("rho", 870.0);     // kg/m³
+    d_ = prm.positive("d", 0.01);          // m, spool diameter
+    xv_max_ = prm.positive("x_vmax", 0.01); // m
+    omega_ = prm.positive("omega_h", 100.0);  // rad/s
+    delta_ = prm.positive("delta_h", 1.0);
+    xv_ = prm.real("xv0", 0.0);            // m, the spool's start
+    add_signal_output("xv", &xv_);
+  }
+  std::vector<Edge> edges_;
+  double Cq_ = 0, rho_ = 0, d_ = 0, xv_max_ = 0, omega_ = 0, delta_ = 0, xv_ = 0, xv_lo_ = 0, xv_hi_ = 0;
+  const double* in_ = nullptr;
+  BilinearSecondOrder spool_;
+};
+
+class Valve43Q : public DirectionalValveQ {
+ public:
+  using DirectionalValveQ::DirectionalValveQ;
+  const char* type_name() const override { return "Valve43Q"; }
+  void configure(ParameterSet& prm) override {
+    configure_common(prm);
+    for (const char* port : {"PP", "PT", "PA", "PB"}) add_port(port, Kind::Q);
+    enum { P, T, A, B };
+    edges_ = {{P, A, prm.real("f_pa", 1.0), prm.real("x_pa", -1e-6), 1},
+              {P, B, prm.real("f_pb", 1.0), prm.real("x_pb", -1e-6), -1},
+              {A, T, prm.real("f_at", 1.0), prm.real("x_at", -1e-6), -1},
+              {B, T, prm.real("f_bt", 1.0), prm.real("x_bt", -1e-6), 1}};
+    xv_lo_ = -xv_max_, xv_hi_ = xv_max_;
+    add_signal_input("in", &in_);
+  }
+
+ private:
+  double command() const override { return std::max(std::min(*in_, xv_max_), -xv_max_); }
+};
+
+class Valve32Q : public DirectionalValveQ {
+ public:
+  using DirectionalValveQ::DirectionalValveQ;
+  const char* type_name() const override { return "Valve32Q"; }
+  void configure(ParameterSet& prm) override {
+    configure_common(prm);
+    for (const char* port : {"PP", "PT", "PA"}) add_port(port, Kind::Q);
+    const double f = prm.real("f", 1.0);
+    edges_ = {{0, 2, f, 0.0, 1}, {2, 1, f, 0.0, 0}};
+    xv_lo_ = 0.0, xv_hi_ = xv_max_;
+    add_signal_input("in", &in_);
+  }
+
+ private:
+  double command() const override { return *in_ > 0.5 ? xv_max_ : 0.0; }
+};
+
+}  // namespace tlm

@@ -551,3 +551,30 @@ TEST(HopsanLoader, DirectionalValvesSteerTheirSpoolsAndConserveFlow) {
   EXPECT_GT(at(0.012), 10.0 * at(0.002)) << "filled while open";
   EXPECT_LT(at(0.03), 0.2 * at(0.012)) << "emptied to the tank after closing";
 }
+
+// Hopsan's pressure relief valve (PressureReliefValveQ): shut below its
+// 100 bar, the volume fills at β·q/V = 1.4e9 Pa/s (to one step's worth);
+// then it opens and, once its 2 ms poppet lag and the hysteresis band
+// (p_h = 5 bar) have settled, passes the pump's flow (to 1 %: the band's
+// ripple) while holding the volume between 100 bar and 100 bar plus the
+// band and its spring's override (5 %).
+TEST(HopsanLoader, APressureReliefValveHoldsItsPressureAndPassesThePumpsFlow) {
+  testing_support::TempDir dir;
+  tlm::HmfModel hmf = tlm::read_hmf(kDir + "/relief.hmf");
+  EXPECT_EQ(hmf.spec.find("relief")->type, "PressureReliefValveQ");
+  const double dt = hmf.spec.dt;
+  tlm::System(std::move(hmf.spec)).run(dir.file("r.h5"), false);
+  const std::string h5 = dir.file("r.h5");
+  const auto t = h5io::read_series(h5, "time");
+  const auto p = h5io::read_series(h5, "nodes/volume.P1/p");
+  const auto q = h5io::read_series(h5, "results/relief/P2/Flow");
+  const auto x = h5io::read_series(h5, "results/relief/xv/Value");
+  const double rate = 1.4e9 * 1e-4 / 1e-4;
+  for (size_t i = 0; i < t.size() && t[i] < 0.005; ++i) {
+    EXPECT_EQ(x[i], 0.0) << "shut at t = " << t[i];
+    EXPECT_NEAR(p[i], 1e5 + rate * t[i], 2.0 * rate * dt) << "t = " << t[i];
+  }
+  EXPECT_NEAR(q.back(), 1e-4, 1e-2 * 1e-4);
+  EXPECT_GT(p.back(), 1e7);
+  EXPECT_LT(p.back(), 1.05e7);
+}

@@ -10,6 +10,7 @@
 #include "components/HydraulicVolumeC.hpp"
 #include "components/LaminarOrificeQ.hpp"
 #include "components/LosslessLineC.hpp"
+#include "components/PressureReliefValveQ.hpp"
 #include "components/PressureSourceC.hpp"
 #include "components/ReliefValveQ.hpp"
 #include "components/SignalSources.hpp"
@@ -57,6 +58,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"ForceSourceC", make<ForceSourceC>()},
       {"Valve43Q", make<Valve43Q>()},
       {"Valve32Q", make<Valve32Q>()},
+      {"PressureReliefValveQ", make<PressureReliefValveQ>()},
   };
   return types;
 }

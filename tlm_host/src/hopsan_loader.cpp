@@ -145,6 +145,16 @@ const std::map<std::string, Mapping>& mappings() {
         "after an end stop is reached: Hopsan's stop filter starts from an uninitialised value, ours from its "
         "last one"}},
       {"MechanicForceTransformer", {"ForceSourceC", {{"F#Value", "F", 0.0}}}},
+      {"HydraulicPressureReliefValve",
+       {"PressureReliefValveQ",
+        {{"p_max#Value", "p_max", 2e7},
+         {"tao#Value", "tao", 0.01},
+         {"p_h#Value", "p_h", 5e5},
+         {"k_cs", "k_cs", 1e-8},
+         {"k_cf", "k_cf", 1e-8},
+         {"q_nom", "q_nom", 1e-3}},
+        {},
+        {"xv#Value"}}},  // an output's start value: the valve starts shut, as Hopsan's
       // Directional valves (DirectionalValves.hpp: Hopsan's equations).
       {"Hydraulic43Valve",
        {"Valve43Q",

@@ -55,6 +55,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"SignalFirstOrderFilter", make<SignalFirstOrderFilter>()},
       {"TranslationalMassQ", make<TranslationalMassQ>()},
       {"CylinderC", make<CylinderC>()},
+      {"CylinderQ", make<CylinderQ>()},
       {"ForceSourceC", make<ForceSourceC>()},
       {"Valve43Q", make<Valve43Q>()},
       {"Valve32Q", make<Valve32Q>()},

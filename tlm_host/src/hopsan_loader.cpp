@@ -144,6 +144,15 @@ const std::map<std::string, Mapping>& mappings() {
         {"q_leak#Value"},  // an output's start value, overwritten in the first step
         "after an end stop is reached: Hopsan's stop filter starts from an uninitialised value, ours from its "
         "last one"}},
+      {"HydraulicCylinderQ",
+       {"CylinderQ",
+        {{"A_1#Value", "A_1", 1e-4},
+         {"A_2#Value", "A_2", 1e-4},
+         {"B_p#Value", "B_p", 0.0},
+         {"B_l#Value", "B_l", 0.0},
+         {"k_l#Value", "k_l", 100.0},
+         {"m_l", "m_l", 0.05},
+         {"s_l", "s_l", 0.01}}}},
       {"MechanicForceTransformer", {"ForceSourceC", {{"F#Value", "F", 0.0}}}},
       {"HydraulicPressureReliefValve",
        {"PressureReliefValveQ",

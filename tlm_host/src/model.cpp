@@ -192,6 +192,7 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
     auto node = std::make_unique<HydraulicNode>();
     node->name = pa->side == Kind::C ? con.a : con.b;
     node->mechanical = pa->mechanical;
+    if (node->mechanical) node->me = 1.0;  // Hopsan's NodeMechanic starts with 1 kg until a mass writes its own
     pa->node = pb->node = node.get();
     nodes_.push_back(std::move(node));
   }

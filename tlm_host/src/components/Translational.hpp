@@ -27,6 +27,18 @@
 // uninitialised variable; here it is kept from the last step (results differ
 // from Hopsan's only after an end stop is reached).
 //
+// CylinderQ (Hopsan's HydraulicCylinderQ), a Q component: a cylinder with
+// its load (m_l, B_l, k_l) inside, between the chambers' C components on P1
+// and P2 and a C component on the mechanical port P3. The load's position
+// and velocity solve
+//   x3 = (A1·c1 − A2·c2 − c3) / (m_l·s² + (B_l + B_p + Zx1 + Zx3)·s + k_l),
+//   v3 = (A1·c1 − A2·c2 − c3 − k_l·x3) / (m_l·s + B_l + B_p + Zx1 + Zx3),
+// with Zx1 = A1²·Zc1 + A2²·Zc2, bilinear as the mass's, x3 held within
+// [0, s_l] (v3 = 0 there); q1 = −A1·v3, q2 = A2·v3. Where a chamber's
+// pressure would fall below zero it is taken at 0 Pa and the step solved
+// again; as in Hopsan, chamber 2's cavitation sets chamber 1's flag (so a
+// later one in chamber 1 is not solved again in that step).
+//
 // ForceSourceC (Hopsan's MechanicForceTransformer): a C component giving
 // its port the force F (a signal, or the parameter F): c = F, Zc = 0.
 #pragma once
@@ -128,7 +140,7 @@ class CylinderC : public Component {
     HydraulicNode& n2 = *ports_[1].node;
     HydraulicNode& n3 = *ports_[2].node;
     const double x3 = n3.x, v3 = n3.q;
-    // Before the load has written me: Hopsan takes 1 kg here.
+    // The chambers' smallest volume with 1 kg of load, as Hopsan's start.
     const double V1 = std::max(V01_ - A1_ * x3, beta_ * dt * dt * A1_ * A1_ / kWfak);
     const double V2 = std::max(V02_ + A2_ * (sl_ + x3), beta_ * dt * dt * A2_ * A2_ / kWfak);
     const double Zc1 = 1.5 * beta_ / V1 * dt / (1.0 - kAlpha), Zc2 = 1.5 * beta_ / V2 * dt / (1.0 - kAlpha);
@@ -148,12 +160,10 @@ class CylinderC : public Component {
     HydraulicNode& n2 = *ports_[1].node;
     HydraulicNode& n3 = *ports_[2].node;
     const double x3 = n3.x, v3 = n3.q;
-    double me = n3.me;
-    if (!(me > 0.0)) {
-      if (t > 1.5 * dt_) throw std::runtime_error(name_ + ": the load on P3 carries no mass (equivalent mass " +
-                                                  std::to_string(me) + " kg); connect a mass");
-      me = 1.0;  // the first step: the load writes its mass in its own first step
-    }
+    const double me = n3.me;  // 1 kg (the node's start) until the load writes its own
+    if (!(me > 0.0))
+      throw std::runtime_error(name_ + ": the load on P3 gives an equivalent mass of " + std::to_string(me) +
+                               " kg at t = " + std::to_string(t) + " s; it must be positive");
     q_leak_ = c_leak_ * (cl1_ - cl2_) / (1.0 + c_leak_ * (n1.Zc + n2.Zc));
     const double qi1 = v3 * A1_, qi2 = -v3 * A2_;
     const double V1 = std::max(V01_ - A1_ * x3, beta_ * dt_ * dt_ * A1_ * A1_ / (kWfak * me));
@@ -199,6 +209,85 @@ class CylinderC : public Component {
   double A1_ = 0, A2_ = 0, sl_ = 0, V01_ = 0, V02_ = 0, Bp_ = 0, beta_ = 0, c_leak_ = 0, p1_0_ = 0, p2_0_ = 0;
   bool stops_ = true;
   double dt_ = 0, ci1_ = 0, ci2_ = 0, cl1_ = 0, cl2_ = 0, cx_lim_ = 0, q_leak_ = 0;
+};
+
+class CylinderQ : public Component {
+ public:
+  using Component::Component;
+  Kind kind() const override { return Kind::Q; }
+  const char* type_name() const override { return "CylinderQ"; }
+  void configure(ParameterSet& prm) override {
+    A1_ = prm.positive("A_1", 1e-4);  // m²
+    A2_ = prm.positive("A_2", 1e-4);
+    Bp_ = prm.real("B_p", 0.0);       // N·s/m, the piston's friction
+    Bl_ = prm.real("B_l", 0.0);       // N·s/m, the load's
+    kl_ = prm.real("k_l", 100.0);     // N/m, the load's stiffness
+    m_ = prm.positive("m_l", 0.05);   // kg, the load's inertia
+    sl_ = prm.positive("s_l", 0.01);  // m, stroke
+    add_port("P1", Kind::Q);
+    add_port("P2", Kind::Q);
+    add_port("P3", Kind::Q, true);
+  }
+  void initialize(double dt) override {
+    HydraulicNode& n3 = *ports_[2].node;
+    const double num_x[3] = {1.0, 0.0, 0.0}, den_x[3] = {kl_, Bl_ + Bp_, m_};
+    x_filter_.limits(0.0, sl_);
+    x_filter_.set(dt, num_x, den_x);
+    x_filter_.reset(0.0, n3.x);
+    v_filter_.set(dt, 1.0, 0.0, Bl_ + Bp_, m_);
+    v_filter_.reset(0.0, n3.q);
+  }
+  void simulate_one_step(double) override {
+    HydraulicNode& n1 = *ports_[0].node;
+    HydraulicNode& n2 = *ports_[1].node;
+    HydraulicNode& n3 = *ports_[2].node;
+    double c1 = n1.c, Z1 = n1.Zc, c2 = n2.c, Z2 = n2.Zc;
+    const double c3 = n3.c, Z3 = n3.Zc;
+    double p1 = 0, q1 = 0, p2 = 0, q2 = 0, x3 = 0, v3 = 0;
+    bool cav1 = false, cav2 = false;
+    for (bool again = true; again;) {
+      again = false;
+      const BilinearSecondOrder x_before = x_filter_;
+      const BilinearFirstOrder v_before = v_filter_;
+      const double cx1 = A1_ * c1 - A2_ * c2, Zx1 = A1_ * A1_ * Z1 + A2_ * A2_ * Z2;
+      const double damping = Bl_ + Bp_ + Zx1 + Z3;
+      const double den_x[3] = {kl_, damping, m_};
+      x_filter_.set_den(den_x);
+      x3 = x_filter_.update(cx1 - c3);
+      if (x_filter_.saturated()) {
+        v_filter_.reset(0.0, 0.0);
+        v3 = 0.0;
+      } else {
+        v_filter_.set_den(damping, m_);
+        v3 = v_filter_.update(cx1 - c3 - kl_ * x3);
+      }
+      q1 = A1_ * -v3;
+      q2 = A2_ * v3;
+      p1 = c1 + Z1 * q1;
+      p2 = c2 + Z2 * q2;
+      if (p1 < 0.0) {
+        p1 = 0.0, c1 = 0.0, Z1 = 0.0;
+        if (!cav1) cav1 = again = true;
+      }
+      if (p2 < 0.0) {
+        p2 = 0.0, c2 = 0.0, Z2 = 0.0;
+        if (!cav2) cav1 = again = true;  // Hopsan's flag (see above)
+      }
+      if (again) x_filter_ = x_before, v_filter_ = v_before;
+    }
+    n1.p = p1, n1.q = q1;
+    n2.p = p2, n2.q = q2;
+    n3.p = c3 + Z3 * v3, n3.x = x3, n3.q = v3;
+  }
+  void state(config::StateIO& io) override {
+    x_filter_.state(io);
+    v_filter_.state(io);
+  }
+
+ private:
+  double A1_ = 0, A2_ = 0, Bp_ = 0, Bl_ = 0, kl_ = 0, m_ = 0, sl_ = 0;
+  BilinearSecondOrder x_filter_;
+  BilinearFirstOrder v_filter_;
 };
 
 class ForceSourceC : public Component {

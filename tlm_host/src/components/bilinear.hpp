@@ -73,13 +73,15 @@ class BilinearSecondOrder {
     y2_ = y1_ - dy * dt_;
   }
   double update(double u) {
-    const double y = std::max(
-        std::min(1.0 / cy_[0] * (cu_[0] * u + cu_[1] * u1_ + cu_[2] * u2_ - cy_[1] * y1_ - cy_[2] * y2_), hi_), lo_);
+    double y = 1.0 / cy_[0] * (cu_[0] * u + cu_[1] * u1_ + cu_[2] * u2_ - cy_[1] * y1_ - cy_[2] * y2_);
+    saturated_ = y >= hi_ || y <= lo_;  // at a limit counts, as in Hopsan
+    y = std::max(std::min(y, hi_), lo_);
     u2_ = u1_, u1_ = u;
     y2_ = y1_, y1_ = y;
     return y;
   }
   double value() const { return y1_; }
+  bool saturated() const { return saturated_; }
   void state(config::StateIO& io) {
     for (double* v : {&u1_, &u2_, &y1_, &y2_}) io.value("filter", *v);
   }
@@ -87,6 +89,7 @@ class BilinearSecondOrder {
  private:
   double dt_ = 0, cu_[3] = {0, 0, 0}, cy_[3] = {0, 0, 0}, u1_ = 0, u2_ = 0, y1_ = 0, y2_ = 0;
   double lo_ = -1.5e300, hi_ = 1.5e300;
+  bool saturated_ = false;
 };
 
 }  // namespace tlm

@@ -1,5 +1,6 @@
 // The registry of component types a model file may name.
 #include "component.hpp"
+#include "components/AccumulatorQ.hpp"
 #include "components/ControlSpoolQ.hpp"
 #include "components/DirectionalValves.hpp"
 #include "components/FlowSourceQ.hpp"
@@ -60,6 +61,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"Valve43Q", make<Valve43Q>()},
       {"Valve32Q", make<Valve32Q>()},
       {"PressureReliefValveQ", make<PressureReliefValveQ>()},
+      {"AccumulatorQ", make<AccumulatorQ>()},
   };
   return types;
 }

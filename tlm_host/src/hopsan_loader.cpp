@@ -164,6 +164,17 @@ const std::map<std::string, Mapping>& mappings() {
          {"q_nom", "q_nom", 1e-3}},
         {},
         {"xv#Value"}}},  // an output's start value: the valve starts shut, as Hopsan's
+      {"HydraulicAckumulator",
+       {"AccumulatorQ",
+        {{"V0#Value", "V0", 1e-3},
+         {"Kca#Value", "Kca", 1e-8},
+         {"kappa#Value", "kappa", 1.2},
+         {"p0#Value", "p0", 1e7},
+         {"pa#Value", "pa0", 1e7},
+         {"xmp#Value", "x0", 0.0},
+         {"vmp#Value", "v0", 0.0}},
+        {},
+        {"Va#Value"}}},  // computed from the state of charge
       // Directional valves (DirectionalValves.hpp: Hopsan's equations).
       {"Hydraulic43Valve",
        {"Valve43Q",
@@ -222,7 +233,8 @@ constexpr const char* kOwnPrefix = "Pcs";
 // The types whose Hopsan components step once in their initialize()
 // (ComponentSpec::initial_step).
 const std::set<std::string> kStepInInitialize = {"HydraulicTurbulentOrifice", "HydraulicFlowSourceQ",
-                                                 "HydraulicPressureSourceC", "SignalStep", "SignalGain", "SignalAdd"};
+                                                 "HydraulicPressureSourceC", "SignalStep", "SignalGain", "SignalAdd",
+                                                 "HydraulicAckumulator"};
 
 // Hopsan's sensors read a node; their nodes are logged anyway.
 const std::set<std::string> kSensors = {"HydraulicPressureSensor", "HydraulicFlowSensor", "HydraulicNodeSensor"};

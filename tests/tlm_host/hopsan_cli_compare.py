@@ -6,8 +6,9 @@ Usage: hopsan_cli_compare.py TLM_HOST MODEL.hmf [MODEL.hmf ...]
 
 Runs each model in HopsanCLI ($PCS_HOPSAN_CLI: the hopsancli executable of a
 Hopsan built outside this repository; skipped, exit 77, when unset) and in
-tlm_host, both logging every step, and compares every column both write
-(Hopsan's CSV names, component#port#variable) at every time Hopsan logs.
+tlm_host, tlm_host logging every step and Hopsan every k-th (at most 10000
+samples), and compares every column both write (Hopsan's CSV names,
+component#port#variable) at every time Hopsan logs.
 
 Tolerance: Hopsan's CSV prints 7 significant digits (%e with 6 decimals), so
 its value is within half a unit of the 7th digit, 5e-7 of the value; 1e-6
@@ -64,14 +65,16 @@ def compare(hopsan, tlm_host, model, tmp, env):
     """Runs the model in both; prints the comparison; True if within the tolerance."""
     name = os.path.splitext(os.path.basename(model))[0]
     theirs, ours = os.path.join(tmp, name + "_hopsan.csv"), os.path.join(tmp, name + "_ours.csv")
-    # Hopsan logs at most one sample per step; every second step (steps/2 + 1
-    # samples) puts its samples exactly on the steps.
+    # Hopsan logs at most one sample per step; N + 1 samples with N dividing
+    # the steps (every second step at least, at most 10000 samples) put its
+    # samples exactly on the steps.
     subprocess.run([tlm_host, model, "--set", "simulation.log_every=1", "--out", os.path.join(tmp, name + ".h5"),
                     "--csv", ours, "--quiet"], check=True, timeout=120, stderr=subprocess.DEVNULL, env=env)
     b = read_hopsan_csv(ours)
     steps = len(b["Time"]) - 1
     dt = b["Time"][1] - b["Time"][0]
-    run = subprocess.run([hopsan, "-m", model, "-s", "hmf", "-l", str(steps // 2 + 1), "--resultsFullCSV", theirs,
+    stride = next(k for k in range(2, steps + 1) if steps % k == 0 and steps // k <= 10000)
+    run = subprocess.run([hopsan, "-m", model, "-s", "hmf", "-l", str(steps // stride + 1), "--resultsFullCSV", theirs,
                           "--resultsCSVSort", "cols"], capture_output=True, text=True, timeout=120, cwd=tmp, env=env)
     if run.returncode != 0 or not os.path.exists(theirs):
         print(f"{name}: hopsancli failed ({run.returncode}):\n{run.stdout}\n{run.stderr}")

@@ -621,3 +621,21 @@ TEST(HopsanLoader, AGasAccumulatorChargesAsItsGasLawSays) {
   for (size_t i = 0; i < t.size(); ++i) EXPECT_NEAR(pa[i], p0 / std::pow(1.0 - x[i], kappa), 1e-6 * pa[i]) << "t = " << t[i];
   EXPECT_NEAR(x.back(), 1.0 - std::pow(p0 / ps, 1.0 / kappa), 1e-3);
 }
+
+// Hopsan's hose (HoseC: distributed friction, Hopsan's HydraulicHose). Once
+// the run has settled (2 s, a hundred wave round trips, the flows in and out
+// equal to 1e-4), its pressure drop is the laminar resistance times the flow,
+// 128·η·l/(π·d⁴)·q, to 1e-4 (measured: 2e-5), at a Reynolds number of 350.
+TEST(HopsanLoader, AHoseDropsItsLaminarPressureWhenSettled) {
+  testing_support::TempDir dir;
+  tlm::HmfModel hmf = tlm::read_hmf(kDir + "/hose.hmf");
+  EXPECT_EQ(hmf.spec.find("hose")->type, "HoseC");
+  tlm::System(std::move(hmf.spec)).run(dir.file("h.h5"), false);
+  const std::string h5 = dir.file("h.h5");
+  auto last = [&](const std::string& name) { return h5io::read_series(h5, name).back(); };
+  const double q_in = last("nodes/hose.P1/q"), q_out = -last("nodes/hose.P2/q");
+  EXPECT_NEAR(q_in, q_out, 1e-4 * q_in) << "settled";
+  const double R = 128.0 * 0.03 * 20.0 / (M_PI * std::pow(0.01, 4));
+  EXPECT_NEAR(last("nodes/hose.P1/p") - last("nodes/hose.P2/p"), R * q_in, 1e-4 * R * q_in);
+  EXPECT_LT(4.0 * 870.0 * q_in / (M_PI * 0.01 * 0.03), 2300.0) << "laminar";
+}

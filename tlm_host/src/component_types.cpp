@@ -7,6 +7,7 @@
 #include "components/FmuQ.hpp"
 #include "components/GasAccumulatorC.hpp"
 #include "components/HammerPistonQ.hpp"
+#include "components/HoseC.hpp"
 #include "components/HydraulicTurbulentOrificeQ.hpp"
 #include "components/HydraulicVolumeC.hpp"
 #include "components/LaminarOrificeQ.hpp"
@@ -62,6 +63,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"Valve32Q", make<Valve32Q>()},
       {"PressureReliefValveQ", make<PressureReliefValveQ>()},
       {"AccumulatorQ", make<AccumulatorQ>()},
+      {"HoseC", make<HoseC>()},
   };
   return types;
 }

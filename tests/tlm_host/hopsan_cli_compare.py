@@ -12,12 +12,15 @@ component#port#variable) at every time Hopsan logs.
 
 Tolerance: Hopsan's CSV prints 7 significant digits (%e with 6 decimals), so
 its value is within half a unit of the 7th digit, 5e-7 of the value; 1e-6
-allows for that rounding twice. Added to it, 1e-12 of the column's largest
-value: Hopsan's clock is a running sum of the time step (mTime += dt), which
-after n steps differs from ours (n·dt) by about n·1e-16·t; a ramp evaluated
-at the two clocks differs by that fraction of its amplitude (8.7e-21 against
-0 where a ramp starts), far below 1e-12. A one-step shift in either run
-(the error this test is for) differs by 1e-3 to 1 of the value.
+allows for that rounding twice. Added to it, 2e-7 of the column's largest
+value, for values near zero where round-off is all that differs: a
+turbulent orifice's flow near Δp = 0 is K·√Δp, so a round-off difference of
+1e-16 of the pressures (1.5e-9 Pa at 150 bar) makes up to K·√1.5e-9 of flow,
+1.8e-7 of the largest flow in the accumulator model (measured: 6e-10 there,
+where the runs' linear solves differ, Eigen's LU here and Hopsan's own);
+Hopsan's clock, a running sum of the time step, differs from ours (n·dt) by
+about n·1e-16·t, far less. A one-step shift in either run (the error this
+test is for) differs by 1e-3 to 1 of the value.
 
 With --fmu, the model holds Hopsan's FMIWrapperQ with our FMU (a Hopsan-
 convention FMU from fmugen), copied beside the model: fe_server serves two
@@ -89,7 +92,7 @@ def compare(hopsan, tlm_host, model, tmp, env):
         scale = max(abs(v) for v in b[n])
         for t, va in zip(a["Time"], a[n]):
             vb = b[n][round(t / dt)]
-            excess = abs(va - vb) - (1e-6 * max(abs(va), abs(vb)) + 1e-12 * scale)
+            excess = abs(va - vb) - (1e-6 * max(abs(va), abs(vb)) + 2e-7 * scale)
             if excess > worst:
                 worst, where = excess, f"{n} at t = {t:g}: Hopsan {va:.7e}, ours {vb:.12e}"
     print(f"{name}: {len(common)} columns x {len(a['Time'])} times compared"

@@ -63,6 +63,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"Valve32Q", make<Valve32Q>()},
       {"PressureReliefValveQ", make<PressureReliefValveQ>()},
       {"AccumulatorQ", make<AccumulatorQ>()},
+      {"PistonAccumulatorQ", make<PistonAccumulatorQ>()},
       {"HoseC", make<HoseC>()},
   };
   return types;

@@ -189,6 +189,19 @@ const std::map<std::string, Mapping>& mappings() {
          {"vmp#Value", "v0", 0.0}},
         {},
         {"Va#Value"}}},  // computed from the state of charge
+      {"HydraulicPistonAckumulator",
+       {"PistonAccumulatorQ",
+        {{"Ap#Value", "Ap", 1e-3},
+         {"SL#Value", "SL", 0.5},
+         {"Bp#Value", "Bp", 10.0},
+         {"ML#Value", "ML", 1.0},
+         {"kappa#Value", "kappa", 1.2},
+         {"p0#Value", "p0", 1e7},
+         {"pa#Value", "pa0", 1e7},
+         {"xmp#Value", "x0", 0.0},
+         {"vmp#Value", "v0", 0.0}},
+        {},
+        {"Va#Value"}}},  // computed from the piston's position
       // Directional valves (DirectionalValves.hpp: Hopsan's equations).
       {"Hydraulic43Valve",
        {"Valve43Q",
@@ -248,7 +261,7 @@ constexpr const char* kOwnPrefix = "Pcs";
 // (ComponentSpec::initial_step).
 const std::set<std::string> kStepInInitialize = {"HydraulicTurbulentOrifice", "HydraulicFlowSourceQ",
                                                  "HydraulicPressureSourceC", "SignalStep", "SignalGain", "SignalAdd",
-                                                 "HydraulicAckumulator"};
+                                                 "HydraulicAckumulator", "HydraulicPistonAckumulator"};
 
 // Hopsan's sensors read a node; their nodes are logged anyway.
 const std::set<std::string> kSensors = {"HydraulicPressureSensor", "HydraulicFlowSensor", "HydraulicNodeSensor"};

@@ -122,7 +122,7 @@ def main():
                 if server.poll() is None:
                     server.kill()
             return 0 if ok else 1
-        tlm_host, models = args[0], args[1:]
+        tlm_host, models = args[0], [os.path.abspath(m) for m in args[1:]]
         failures = sum(not compare(hopsan, tlm_host, m, tmp, dict(os.environ)) for m in models)
     return 1 if failures else 0
 

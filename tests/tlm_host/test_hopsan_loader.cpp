@@ -141,6 +141,29 @@ TEST(HopsanLoader, SignalsDriveAFlowSourceIntoAVolume) {
   EXPECT_GT(p.back(), 2.8e6) << "the pump ran";
 }
 
+// Hopsan's SignalConstant (our SignalStep with y0 = y1) in place of the
+// step: the flow source delivers 2·1e-5 m³/s from the start, so the shut
+// volume's pressure rises at β·q/V = 2.8e8 Pa/s from t = 0 (to one step's
+// worth of that rise, as above).
+TEST(HopsanLoader, AConstantSignalDrivesTheFlowSourceFromTheStart) {
+  testing_support::TempDir dir;
+  std::string hmf = text_of(kDir + "/step_flow.hmf");
+  hmf = replaced(hmf, "<component typename=\"SignalStep\" name=\"step\">", "<component typename=\"SignalConstant\" name=\"step\">");
+  hmf = replaced(hmf, "<parameter value=\"0\" name=\"y_0#Value\"/>", "<parameter value=\"1e-5\" name=\"y#Value\"/>");
+  hmf = replaced(hmf, "<parameter value=\"1e-5\" name=\"y_A#Value\"/>", "");
+  hmf = replaced(hmf, "<parameter value=\"0.010005\" name=\"t_step#Value\"/>", "");
+  hmf = replaced(hmf, "startcomponent=\"step\" startport=\"out\"", "startcomponent=\"step\" startport=\"y\"");  // Hopsan's port
+  ASSERT_NE(hmf, "");
+  std::ofstream(dir.file("c.hmf")) << hmf;
+  tlm::HmfModel model = tlm::read_hmf(dir.file("c.hmf"));
+  const double dt = model.spec.dt;
+  tlm::System(std::move(model.spec)).run(dir.file("c.h5"), false);
+  const auto t = h5io::read_series(dir.file("c.h5"), "time");
+  const auto p = h5io::read_series(dir.file("c.h5"), "nodes/chamber.P1/p");
+  const double rate = 1.4e9 * 2e-5 / 1e-4;
+  for (size_t i = 0; i < t.size(); ++i) EXPECT_NEAR(p[i], 1e5 + rate * t[i], 1.01 * rate * dt) << "t = " << t[i];
+}
+
 // Hopsan's multiport volume (one port P1 taking three connections) and its
 // lossless TLM line (Z_c, deltat) run as our 3-port volume and our line
 // given by impedance and delay: bit for bit, every series.

@@ -112,7 +112,7 @@ const std::map<std::string, Mapping>& mappings() {
       {"HydraulicTankC", {"PressureSourceC", {{"p", "p", 1e5}}}},
       {"HydraulicFlowSourceQ", {"FlowSourceQ", {{"q#Value", "q", 1e-3}}}},
       // Signals (Hopsan evaluates them at the step's end time, as ours do).
-      {"SignalConstant", {"SignalStep", {{"y#Value", "y0", 1.0}, {"y#Value", "y1", 1.0}}}},
+      {"SignalConstant", {"SignalStep", {{"y#Value", "y0", 1.0}, {"y#Value", "y1", 1.0}}}},  // its port is y, as ours
       {"SignalStep",
        {"SignalStep",
         {{"y_0#Value", "y0", 0.0}, {"t_step#Value", "t_step", 1.0}, {"y_A#Value", "", 1.0}},

@@ -8,7 +8,9 @@ Runs each model in HopsanCLI ($PCS_HOPSAN_CLI: the hopsancli executable of a
 Hopsan built outside this repository; skipped, exit 77, when unset) and in
 tlm_host, tlm_host logging every step and Hopsan every k-th (at most 10000
 samples), and compares every column both write (Hopsan's CSV names,
-component#port#variable) at every time Hopsan logs.
+component#port#variable) at every time Hopsan logs; the two CSV files must
+have the same columns in the same order (less Hopsan's Temperature and
+HeatFlow, and a subsystem's own port and time columns and a sensor's).
 
 Tolerance: Hopsan's CSV prints 7 significant digits (%e with 6 decimals), so
 its value is within half a unit of the 7th digit, 5e-7 of the value; 1e-6
@@ -30,6 +32,7 @@ The same tolerance: both hosts send fe_server the same c and Zc.
 """
 import csv
 import os
+import re
 import secrets
 import shutil
 import subprocess
@@ -83,6 +86,19 @@ def compare(hopsan, tlm_host, model, tmp, env):
         print(f"{name}: hopsancli failed ({run.returncode}):\n{run.stdout}\n{run.stderr}")
         return False
     a = read_hopsan_csv(theirs)
+    # The same columns in the same order, but for Hopsan's Temperature and
+    # HeatFlow (the model here is isothermal) and a subsystem's own ports and
+    # time (sub#port#…, sub$Time) and a sensor's (the same values are under
+    # the names of the components at those nodes).
+    subsystems = {n.split("$")[0] for n in a if "$" in n}
+    sensors = set(re.findall(r'typename="Hydraulic\w*Sensor" name="([^"]+)"', open(model).read()))
+    expected = [n for n in a if not n.endswith("#Temperature") and not n.endswith("#HeatFlow")
+                and n.split("#")[0] not in subsystems | sensors and not n.endswith("$Time")]
+    if list(b) != expected:
+        print(f"{name}: columns differ from Hopsan's: ours only {[n for n in b if n not in a]}, "
+              f"Hopsan's only {[n for n in expected if n not in b]}, same order: "
+              f"{[n for n in expected if n in b] == [n for n in b if n in a]}")
+        return False
     common = [n for n in b if n in a and n != "Time"]
     if len(common) < 4:
         print(f"{name}: only {len(common)} columns in common")

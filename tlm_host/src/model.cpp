@@ -255,12 +255,13 @@ void System::hopsan_names(h5io::TimeSeriesWriter& out,
                           const std::function<void(const std::string&, const std::string&, const double*)>& add,
                           std::vector<const double*>& csv_sources, std::vector<std::string>& csv_header,
                           const double* time) {
-  // Hopsan's CSV: the components in name order, each port's node variables
-  // in NodeHydraulic's order (Temperature and HeatFlow left out: the model is
-  // isothermal), a signal port's Value, Time last; three header lines (name,
-  // alias, unit). Its HDF5 export's paths: results/<component>/<port>/<variable>.
-  // A subsystem's own ports and time are not written (the same values are
-  // under the names of the components inside).
+  // Hopsan's CSV: the components in name order, their ports in name order,
+  // each port's node variables in its node's data order (Temperature and
+  // HeatFlow left out: the model is isothermal) or a signal port's Value,
+  // Time last; three header lines (name, alias, unit). Its HDF5 export's
+  // paths: results/<component>/<port>/<variable>. A subsystem's own ports
+  // and time, and a sensor's, are not written (the same values are under
+  // the names of the components at those nodes).
   std::vector<Component*> sorted;
   for (auto& c : components_) sorted.push_back(c.get());
   std::sort(sorted.begin(), sorted.end(), [](Component* a, Component* b) { return a->name() < b->name(); });
@@ -274,42 +275,45 @@ void System::hopsan_names(h5io::TimeSeriesWriter& out,
     // A subsystem's component (valve$edge) is a group below its subsystem's.
     std::string group = c->name();
     std::replace(group.begin(), group.end(), '$', '/');
+    // Hopsan lists a component's ports by name, each port's variables in
+    // its node's data order.
+    using Slot = std::tuple<std::string, std::string, const double*>;  // variable, unit, value
+    std::vector<std::pair<std::string, std::vector<Slot>>> columns;
     for (const Port& p : c->ports()) {
       if (spec_.unlogged_ports.count(c->name() + "." + p.name)) continue;
-      const std::string name = c->name() + "#" + hopsan_port(c, p.name);
-      const std::string path = "results/" + group + "/" + hopsan_port(c, p.name) + "/";
-      const std::string node = "/nodes/" + p.node->name + "/";
+      const std::string port = hopsan_port(c, p.name);
+      const std::string path = "results/" + group + "/" + port + "/", node = "/nodes/" + p.node->name + "/";
       HydraulicNode& n = *p.node;
-      using Slot = std::tuple<const char*, const char*, const double*>;
-      // Hopsan's NodeHydraulic and NodeMechanic in their data order.
-      const std::vector<Slot> slots =
-          n.mechanical ? std::vector<Slot>{{"Velocity", "m/s", &n.q}, {"Force", "N", &n.p}, {"Position", "m", &n.x},
-                                           {"WaveVariable", "N", &n.c}, {"CharImpedance", "N s/m", &n.Zc},
-                                           {"EquivalentMass", "kg", &n.me}}
-                       : std::vector<Slot>{{"Flow", "m^3/s", &n.q}, {"Pressure", "Pa", &n.p},
-                                           {"WaveVariable", "Pa", &n.c}, {"CharImpedance", "Pa s/m^3", &n.Zc}};
       if (n.mechanical) {
         out.add_link(path + "Velocity", node + "v");
         out.add_link(path + "Force", node + "F");
         out.add_link(path + "Position", node + "x");
+        columns.push_back({port,
+                           {{"Velocity", "m/s", &n.q}, {"Force", "N", &n.p}, {"Position", "m", &n.x},
+                            {"WaveVariable", "N", &n.c}, {"CharImpedance", "N s/m", &n.Zc},
+                            {"EquivalentMass", "kg", &n.me}}});
       } else {
         out.add_link(path + "Flow", node + "q");
         out.add_link(path + "Pressure", node + "p");
-      }
-      for (const auto& [var, unit, value] : slots) {
-        csv_names.push_back(name + "#" + var);
-        csv_units.push_back(unit);
-        csv_sources.push_back(value);
+        columns.push_back({port,
+                           {{"Flow", "m^3/s", &n.q}, {"Pressure", "Pa", &n.p}, {"WaveVariable", "Pa", &n.c},
+                            {"CharImpedance", "Pa s/m^3", &n.Zc}}});
       }
     }
     for (const SignalPort& sp : c->signals()) {
       if (!sp.output && !bound_.count(&sp)) continue;  // an input left open: Hopsan logs it only when connected
       const double* value = sp.output ? sp.value : *sp.source;
-      add("results/" + group + "/" + hopsan_port(c, sp.name) + "/Value", "", value);
-      csv_names.push_back(c->name() + "#" + hopsan_port(c, sp.name) + "#Value");
-      csv_units.push_back("");
-      csv_sources.push_back(value);
+      const std::string port = hopsan_port(c, sp.name);
+      add("results/" + group + "/" + port + "/Value", "", value);
+      columns.push_back({port, {{"Value", "", value}}});
     }
+    std::stable_sort(columns.begin(), columns.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [port, slots] : columns)
+      for (const auto& [var, unit, value] : slots) {
+        csv_names.push_back(c->name() + "#" + port + "#" + var);
+        csv_units.push_back(unit);
+        csv_sources.push_back(value);
+      }
   }
   out.add_link("results/Time", "/time");
   csv_names.push_back("Time");

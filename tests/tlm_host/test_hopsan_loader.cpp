@@ -57,6 +57,16 @@ void expect_same_series(const std::string& other, const std::string& reference, 
   }
 }
 
+// Runs a Hopsan model (into hmf.h5) and its twin in our format (tlm.h5),
+// the same components from the same parameters; Hopsan's own start (the
+// first step some of its components take in initialize(), tested on its
+// own) is not in our format, so it is left out here.
+void run_twins(tlm::ModelSpec hmf, const std::string& twin, const testing_support::TempDir& dir) {
+  for (auto& c : hmf.components) c.initial_step = false;
+  tlm::System(std::move(hmf)).run(dir.file("hmf.h5"), false);
+  tlm::System(tlm::read_model(twin)).run(dir.file("tlm.h5"), false);
+}
+
 }  // namespace
 
 TEST(HopsanLoader, AHopsanModelRunsAsItsTwinInOurFormatAndReachesTheSteadyState) {
@@ -68,12 +78,7 @@ TEST(HopsanLoader, AHopsanModelRunsAsItsTwinInOurFormatAndReachesTheSteadyState)
             std::string::npos)
       << hmf.notes[0];
   EXPECT_NE(hmf.notes[1].find("gauge: a Hopsan sensor"), std::string::npos) << hmf.notes[1];
-  // The same components from the same parameters; Hopsan's own start (the
-  // first step some of its components take in initialize(), tested below)
-  // is not in our format.
-  for (auto& c : hmf.spec.components) c.initial_step = false;
-  tlm::System(std::move(hmf.spec)).run(dir.file("hmf.h5"), false);
-  tlm::System(tlm::read_model(kDir + "/orifice_volume.tlm")).run(dir.file("tlm.h5"), false);
+  run_twins(std::move(hmf.spec), kDir + "/orifice_volume.tlm", dir);
   expect_same_series(dir.file("hmf.h5"), dir.file("tlm.h5"), 11);
   // Steady state: the turbulent inflow C_q·A·√(2(p_s − p)/ρ) equals the
   // laminar outflow K_c·(p − p_t). The volume's time constant V/(β·dq/dp),
@@ -173,9 +178,7 @@ TEST(HopsanLoader, AMultiportVolumeAndATlmLineRunAsTheirTwinInOurFormat) {
   const tlm::ComponentSpec* hub = hmf.spec.find("hub");
   ASSERT_NE(hub, nullptr);
   EXPECT_EQ(hub->type, "HydraulicVolumeC");
-  for (auto& c : hmf.spec.components) c.initial_step = false;  // Hopsan's start: tested below
-  tlm::System(std::move(hmf.spec)).run(dir.file("hmf.h5"), false);
-  tlm::System(tlm::read_model(kDir + "/line_multiport.tlm")).run(dir.file("tlm.h5"), false);
+  run_twins(std::move(hmf.spec), kDir + "/line_multiport.tlm", dir);
   expect_same_series(dir.file("hmf.h5"), dir.file("tlm.h5"), 16);
   // The line's delay is the 100 steps of deltat: the seal sees the supply
   // only after it (the hose and the tank start 1 bar apart, so the seal
@@ -433,9 +436,7 @@ TEST(HopsanLoader, ANestedSubsystemRunsAsItsFlatTwin) {
   const tlm::ComponentSpec* edge = hmf.spec.find("valve$edge");
   ASSERT_NE(edge, nullptr);
   EXPECT_EQ(edge->type, "HydraulicTurbulentOrificeQ");
-  for (auto& c : hmf.spec.components) c.initial_step = false;  // Hopsan's start: tested above
-  tlm::System(std::move(hmf.spec)).run(dir.file("hmf.h5"), false);
-  tlm::System(tlm::read_model(kDir + "/nested.tlm")).run(dir.file("tlm.h5"), false);
+  run_twins(std::move(hmf.spec), kDir + "/nested.tlm", dir);
   expect_same_series(dir.file("hmf.h5"), dir.file("tlm.h5"), 11);
   EXPECT_EQ(h5io::read_series(dir.file("hmf.h5"), "results/valve/edge/P2/Pressure"),
             h5io::read_series(dir.file("hmf.h5"), "nodes/chamber.P1/p"));

@@ -55,30 +55,46 @@ inline double hopsan_limit(double x, double lo, double hi) { return std::min(std
 // A limit's derivative in Hopsan's generated code: 1e-9 at and beyond its bounds.
 inline double hopsan_dx_limit(double x, double lo, double hi) { return x >= hi || x <= lo ? 1e-9 : 1.0; }
 
-class AccumulatorQ : public Component {
+// What both accumulators share: the port, the start values of the gas
+// pressure and the charge and its rate, the outputs Hopsan gives them
+// (Va, pa, xmp, vmp), and the node's pressure and flow at the start.
+class AccumulatorBase : public Component {
  public:
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
-  const char* type_name() const override { return "AccumulatorQ"; }
-  void configure(ParameterSet& prm) override {
-    V0_ = prm.positive("V0", 1e-3);      // m³, the accumulator's volume
-    Kca_ = prm.positive("Kca", 1e-8);    // m³/(s·Pa), the inlet's coefficient
-    kappa_ = prm.positive("kappa", 1.2); // polytropic exponent of the gas
-    p0_ = prm.positive("p0", 1e7);       // Pa, precharge
-    pa_ = prm.real("pa0", 1e7);          // Pa, the gas's start pressure
-    x_ = prm.real("x0", 0.0);            // start state of charge
-    v_ = prm.real("v0", 0.0);            // 1/s, its start rate
+
+ protected:
+  void configure_state(ParameterSet& prm) {
+    pa_ = prm.real("pa0", 1e7);  // Pa, the gas's start pressure
+    x_ = prm.real("x0", 0.0);    // the start charge (a fraction, or the piston's position in m)
+    v_ = prm.real("v0", 0.0);    // its start rate
     add_port("P1", Kind::Q);
     add_signal_output("Va", &Va_);
     add_signal_output("pa", &pa_);
     add_signal_output("xmp", &x_);
     add_signal_output("vmp", &v_);
   }
-  void initialize(double dt) override {
+  void start_from_node(double dt) {
     dt_ = dt;
-    const HydraulicNode& n = *ports_[0].node;
-    p1_ = n.p;
-    q1_ = n.q;
+    p1_ = ports_[0].node->p;
+    q1_ = ports_[0].node->q;
+  }
+  double dt_ = 0, v_ = 0, x_ = 0, q1_ = 0, pa_ = 0, p1_ = 0, Va_ = 0;
+};
+
+class AccumulatorQ : public AccumulatorBase {
+ public:
+  using AccumulatorBase::AccumulatorBase;
+  const char* type_name() const override { return "AccumulatorQ"; }
+  void configure(ParameterSet& prm) override {
+    V0_ = prm.positive("V0", 1e-3);      // m³, the accumulator's volume
+    Kca_ = prm.positive("Kca", 1e-8);    // m³/(s·Pa), the inlet's coefficient
+    kappa_ = prm.positive("kappa", 1.2); // polytropic exponent of the gas
+    p0_ = prm.positive("p0", 1e7);       // Pa, precharge
+    configure_state(prm);
+  }
+  void initialize(double dt) override {
+    start_from_node(dt);
     D_ = delayed_part();
     Va_ = V0_ * (1.0 - x_);
   }
@@ -121,14 +137,12 @@ class AccumulatorQ : public Component {
   double delayed_part() const {
     return (-(Kca_ * dt_ * p1_ * V0_) + Kca_ * dt_ * pa_ * V0_ - 2.0 * std::pow(V0_, 2) * x_) / (2.0 * std::pow(V0_, 2));
   }
-  double V0_ = 0, Kca_ = 0, kappa_ = 0, p0_ = 0, dt_ = 0;
-  double v_ = 0, x_ = 0, q1_ = 0, pa_ = 0, p1_ = 0, D_ = 0, Va_ = 0;
+  double V0_ = 0, Kca_ = 0, kappa_ = 0, p0_ = 0, D_ = 0;
 };
 
-class PistonAccumulatorQ : public Component {
+class PistonAccumulatorQ : public AccumulatorBase {
  public:
-  using Component::Component;
-  Kind kind() const override { return Kind::Q; }
+  using AccumulatorBase::AccumulatorBase;
   const char* type_name() const override { return "PistonAccumulatorQ"; }
   void configure(ParameterSet& prm) override {
     Ap_ = prm.positive("Ap", 1e-3);       // m², piston area
@@ -137,20 +151,10 @@ class PistonAccumulatorQ : public Component {
     ML_ = prm.positive("ML", 1.0);        // kg, the piston's mass
     kappa_ = prm.positive("kappa", 1.2);  // polytropic exponent of the gas
     p0_ = prm.positive("p0", 1e7);        // Pa, precharge
-    pa_ = prm.real("pa0", 1e7);           // Pa, the gas's start pressure
-    x_ = prm.real("x0", 0.0);             // m, the piston's start position
-    v_ = prm.real("v0", 0.0);             // m/s
-    add_port("P1", Kind::Q);
-    add_signal_output("Va", &Va_);
-    add_signal_output("pa", &pa_);
-    add_signal_output("xmp", &x_);
-    add_signal_output("vmp", &v_);
+    configure_state(prm);
   }
   void initialize(double dt) override {
-    dt_ = dt;
-    const HydraulicNode& n = *ports_[0].node;
-    p1_ = n.p;
-    q1_ = n.q;
+    start_from_node(dt);
     memory();
     D12_ = D12_prev_ = D12_new_;
     Va_ = Ap_ * (SL_ - x_);
@@ -197,8 +201,7 @@ class PistonAccumulatorQ : public Component {
     D12_new_ = (-(Ap_ * dt2 * p1_) + Ap_ * dt2 * pa_ + 4.0 * ML_ * x_ - 2.0 * Bp_ * dt_ * x_) / den2;
     D21_ = (-(Ap_ * dt_ * p1_) + Ap_ * dt_ * pa_ - 2.0 * ML_ * v_ + Bp_ * dt_ * v_) / den1;
   }
-  double Ap_ = 0, SL_ = 0, Bp_ = 0, ML_ = 0, kappa_ = 0, p0_ = 0, dt_ = 0;
-  double x_ = 0, v_ = 0, q1_ = 0, pa_ = 0, p1_ = 0, Va_ = 0;
+  double Ap_ = 0, SL_ = 0, Bp_ = 0, ML_ = 0, kappa_ = 0, p0_ = 0;
   double D11_ = 0, D12_ = 0, D12_prev_ = 0, D12_new_ = 0, D21_ = 0;
 };
 

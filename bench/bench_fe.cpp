@@ -223,13 +223,17 @@ void thread_scaling() {
 }
 }  // namespace
 
-int main() {
-  hammer_fe_step_cost();
-  thread_scaling();
-  element_cycle_cost();
-  bar_cycle_cost();
-  axi_cycle_cost();
-  bar_impact_convergence();
-  axi_bar_impact_convergence();
+// bench_fe [NAME...]: every benchmark, or those named (hammer, threads,
+// hex8, bar, axi4, bar_impact, axi_bar_impact), in this order.
+int main(int argc, char** argv) {
+  const std::pair<const char*, void (*)()> all[] = {
+      {"hammer", hammer_fe_step_cost}, {"threads", thread_scaling},      {"hex8", element_cycle_cost},
+      {"bar", bar_cycle_cost},         {"axi4", axi_cycle_cost},          {"bar_impact", bar_impact_convergence},
+      {"axi_bar_impact", axi_bar_impact_convergence}};
+  for (const auto& [name, run] : all) {
+    bool wanted = argc < 2;
+    for (int i = 1; i < argc; ++i) wanted |= std::string(argv[i]) == name;
+    if (wanted) run();
+  }
   return 0;
 }

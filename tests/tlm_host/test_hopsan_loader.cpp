@@ -146,6 +146,31 @@ TEST(HopsanLoader, SignalsDriveAFlowSourceIntoAVolume) {
   EXPECT_GT(p.back(), 2.8e6) << "the pump ran";
 }
 
+// A hostile model file: an entity that would expand a billion-fold is
+// refused, not expanded; an external entity (a file of the machine's) is
+// not read; a truncated file is refused; each with libxml2's reason and the
+// line where it found it.
+TEST(HopsanLoader, AHostileXmlFileIsRefusedWithItsReasonAndLine) {
+  std::string bomb = "<?xml version=\"1.0\"?>\n<!DOCTYPE m [\n<!ENTITY a \"aaaaaaaaaa\">\n";
+  for (int i = 1; i < 10; ++i) {
+    bomb += "<!ENTITY a" + std::to_string(i) + " \"";
+    for (int k = 0; k < 10; ++k) bomb += i == 1 ? "&a;" : "&a" + std::to_string(i - 1) + ";";
+    bomb += "\">\n";
+  }
+  bomb += "]>\n<hopsanmodelfile><system name=\"s\"><simulationtime stop=\"0.01\" timestep=\"1e-5\" start=\"0\"/>\n"
+          "<objects><component typename=\"HydraulicTankC\" name=\"&a9;\"/></objects></system></hopsanmodelfile>\n";
+  std::string e = error_of(bomb);
+  EXPECT_NE(e.find("m.hmf:15: not a readable XML file"), std::string::npos) << e;
+  EXPECT_NE(e.find("entity"), std::string::npos) << "libxml2's reason: " << e;
+  e = error_of("<?xml version=\"1.0\"?>\n<!DOCTYPE m [ <!ENTITY x SYSTEM \"file:///etc/hostname\"> ]>\n"
+               "<hopsanmodelfile><system name=\"s\"><simulationtime stop=\"0.01\" timestep=\"1e-5\" start=\"0\"/>\n"
+               "<parameters><parameter name=\"p\" value=\"&x;\"/></parameters></system></hopsanmodelfile>\n");
+  EXPECT_NE(e.find("m.hmf:4: not a readable XML file"), std::string::npos) << e;
+  EXPECT_NE(e.find("external entity"), std::string::npos) << e;
+  e = error_of("<hopsanmodelfile>\n<system>\n<objects>");
+  EXPECT_NE(e.find("m.hmf:3: not a readable XML file"), std::string::npos) << e;
+}
+
 // Hopsan's SignalConstant (our SignalStep with y0 = y1) in place of the
 // step: the flow source delivers 2·1e-5 m³/s from the start, so the shut
 // volume's pressure rises at β·q/V = 2.8e8 Pa/s from t = 0 (to one step's

@@ -5,6 +5,7 @@
 #include <muParser.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
@@ -419,10 +420,6 @@ void fmu_wrapper(ComponentSpec& s, xmlNode* params, const std::string& model_dir
   if (!host.empty() && !port.empty() && port != "0") s.params.set("server", host + ":" + port, server_at);
 }
 
-}  // namespace
-
-namespace {
-
 using config::InputError;
 using config::SourceLocation;
 
@@ -689,7 +686,13 @@ HmfModel read_hmf(const std::string& path) {
   std::unique_ptr<xmlDoc, void (*)(xmlDoc*)> doc(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR |
                                                                                      XML_PARSE_NOWARNING),
                                                  xmlFreeDoc);
-  if (!doc) throw InputError({path, 1}, "not a readable XML file (a Hopsan model is XML: .hmf)");
+  if (!doc) {  // libxml2's own reason and line: a malformed file, an entity that would expand without end, …
+    const xmlError* err = xmlGetLastError();
+    std::string why = err && err->message ? err->message : "";
+    while (!why.empty() && std::isspace(static_cast<unsigned char>(why.back()))) why.pop_back();
+    throw InputError({path, err && err->line > 0 ? err->line : 1},
+                     "not a readable XML file (a Hopsan model is XML: .hmf)" + (why.empty() ? "" : ": " + why));
+  }
   xmlNode* root = xmlDocGetRootElement(doc.get());
   if (!root || !is(root, "hopsanmodelfile")) throw InputError({path, 1}, "not a Hopsan model file (no <hopsanmodelfile>)");
   HmfModel out;

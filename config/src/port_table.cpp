@@ -338,9 +338,8 @@ std::string hopsan_portspecs(const PortTable& t) {
   std::string s;
   for (const auto& p : t.ports) {
     if (p.type != PortType::Hydraulic) continue;
-    const std::string& l = p.label;
-    s += (s.empty() ? "" : ";") + std::string("NodeHydraulic:") + l + "," + l + ".q," + l + ".p," + l + ".T," + l +
-         ".c," + l + ".Zc," + l + ".Qdot";
+    s += (s.empty() ? "" : ";") + std::string("NodeHydraulic:") + p.label;
+    for (const char* slot : kHopsanNodeHydraulic) s += "," + p.label + "." + slot;
   }
   return s;
 }

@@ -117,6 +117,11 @@ constexpr unsigned kVrTimeout = 1000003;
 
 std::vector<FmuVariable> fmu_variables(const PortTable& table);
 
+// Hopsan's NodeHydraulic in its data order (Flow, Pressure, Temperature,
+// WaveVariable, CharImpedance, HeatFlow): the variable of each slot, after
+// the port's label and a dot.
+inline constexpr const char* kHopsanNodeHydraulic[6] = {"q", "p", "T", "c", "Zc", "Qdot"};
+
 // Hopsan's FMIWrapperQ "portspecs" for an FMU of the Hopsan convention:
 // "NodeHydraulic:label,label.q,label.p,label.T,label.c,label.Zc,label.Qdot;..."
 // (empty for another table).

@@ -1,5 +1,6 @@
 #include "FmuQ.hpp"
 
+#include "config/port_table.hpp"
 #include "socketlib/socketlib.h"
 
 #include <algorithm>
@@ -82,10 +83,7 @@ void FmuQ::configure(ParameterSet& prm) {
   }
 }
 
-// Hopsan's NodeHydraulic in its data order (Flow, Pressure, Temperature,
-// WaveVariable, CharImpedance, HeatFlow): the variable FMIWrapperQ maps onto
-// each slot.
-static const char* const kHopsanNodeHydraulic[] = {"q", "p", "T", "c", "Zc", "Qdot"};
+using config::kHopsanNodeHydraulic;  // the variable FMIWrapperQ maps onto each of the node's slots
 
 bool FmuQ::port_variable(const std::string& name) const {
   for (const auto& port : ports_)

@@ -25,8 +25,9 @@ struct HydraulicNode {
   // slots: p is the force F (N), q the velocity v (m/s), c and Zc the wave
   // variable (N) and impedance (N·s/m) with F = c + Zc·v; besides them the
   // position x (m) and the equivalent mass me (kg) the Q side moves, both
-  // written by the Q side (me starts at 1 kg, Hopsan's start value). x and v are counted in the Q component's
-  // direction at that port, as Hopsan counts them.
+  // written by the Q side (me starts at 1 kg, Hopsan's start value). x and
+  // v are counted in the Q component's direction at that port, as Hopsan
+  // counts them.
   bool mechanical = false;
   double x = 0.0;
   double me = 0.0;

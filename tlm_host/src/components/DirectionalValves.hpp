@@ -40,17 +40,20 @@ class DirectionalValveQ : public Component {
     spool_.set(dt, num, den);
     spool_.reset(xv_, xv_);
     xv_ = spool_.value();
+    for (Edge& e : edges_) e.gain = Cq_ * e.f * M_PI * d_;  // K = gain·opening·√(2/ρ), in Hopsan's order
+    root_ = std::sqrt(2.0 / rho_);
   }
   void simulate_one_step(double) override {
     xv_ = spool_.update(command());
     const size_t n = ports_.size();
-    std::array<double, 4> c{}, Z{}, q{};
+    std::array<double, 4> c{}, Z{}, q{}, K{};
     for (size_t i = 0; i < n; ++i) c[i] = ports_[i].node->c, Z[i] = ports_[i].node->Zc;
+    for (size_t k = 0; k < edges_.size(); ++k) K[k] = edges_[k].gain * std::max(opening(edges_[k]), 0.0) * root_;
     auto solve = [&] {
       q.fill(0.0);
-      for (const Edge& e : edges_) {
-        const double K = Cq_ * e.f * M_PI * d_ * std::max(opening(e), 0.0) * std::sqrt(2.0 / rho_);
-        const double flow = turbulent_orifice_flow(c[e.from], c[e.to], Z[e.from], Z[e.to], K);
+      for (size_t k = 0; k < edges_.size(); ++k) {
+        const Edge& e = edges_[k];
+        const double flow = turbulent_orifice_flow(c[e.from], c[e.to], Z[e.from], Z[e.to], K[k]);
         q[e.from] -= flow;
         q[e.to] += flow;
       }
@@ -76,6 +79,7 @@ class DirectionalValveQ : public Component {
     double f;         // fraction of the circumference
     double overlap;   // m (negative: underlap)
     int sign;         // opens with +xv or −xv; 0: with x_vmax − xv
+    double gain = 0;  // C_q·f·π·d
   };
   virtual double command() const = 0;
   double opening(const Edge& e) const { return e.sign == 0 ? xv_max_ - xv_ : e.sign * xv_ - e.overlap; }
@@ -90,7 +94,7 @@ class DirectionalValveQ : public Component {
     add_signal_output("xv", &xv_);
   }
   std::vector<Edge> edges_;
-  double Cq_ = 0, rho_ = 0, d_ = 0, xv_max_ = 0, omega_ = 0, delta_ = 0, xv_ = 0, xv_lo_ = 0, xv_hi_ = 0;
+  double Cq_ = 0, rho_ = 0, d_ = 0, xv_max_ = 0, omega_ = 0, delta_ = 0, xv_ = 0, xv_lo_ = 0, xv_hi_ = 0, root_ = 0;
   const double* in_ = nullptr;
   BilinearSecondOrder spool_;
 };

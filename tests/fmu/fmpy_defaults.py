@@ -17,8 +17,10 @@ import secrets
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "support"))
+from fe_server_process import start_fe_server  # noqa: E402
 
 SKIP = 77
 
@@ -26,16 +28,7 @@ SKIP = 77
 def start_server(fe_server, scene, d, tag, extra, env):
     """fe_server for the one-DOF scene on an ephemeral loopback port; returns
     the process and the environment that points the FMU at it."""
-    port_file = d / f"port_{tag}"
-    server = subprocess.Popen([fe_server, "--model", str(scene / "piston.k"), "--ports", str(scene / "ports.cfg"),
-                               "--listen", "127.0.0.1:0", "--port-file", str(port_file), "--accept-timeout", "30",
-                               "--quiet"] + extra, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    for _ in range(500):  # 10 s at most
-        if port_file.exists() and port_file.read_text().strip():
-            break
-        time.sleep(0.02)
-    port = port_file.read_text().strip() if port_file.exists() else "0"
-    return server, {**env, "PCS_SERVER_HOST": "127.0.0.1", "PCS_SERVER_PORT": port}
+    return start_fe_server(fe_server, scene / "piston.k", scene / "ports.cfg", d / f"port_{tag}", extra, env)
 
 
 def main():

@@ -38,7 +38,9 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from fe_server_process import start_fe_server  # noqa: E402
 
 
 def read_hopsan_csv(path):
@@ -48,23 +50,6 @@ def read_hopsan_csv(path):
     names = rows[0]
     data = [[float(x) for x in r] for r in rows[3:] if r]
     return {n: [r[i] for r in data] for i, n in enumerate(names)}
-
-
-def start_fe_server(fe_server, deck, ports, tmp):
-    """fe_server for two sessions on an ephemeral loopback port; the process
-    and the environment that points the FMU at it."""
-    env = {**os.environ, "PCS_TOKEN": secrets.token_hex(16)}
-    port_file = os.path.join(tmp, "port")
-    server = subprocess.Popen([fe_server, "--model", deck, "--ports", ports, "--listen", "127.0.0.1:0",
-                               "--port-file", port_file, "--accept-timeout", "60", "--sessions", "2",
-                               "--out", os.path.join(tmp, "fe_{session}.h5"), "--quiet"],
-                              env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    for _ in range(500):  # 10 s at most
-        if os.path.exists(port_file) and open(port_file).read().strip():
-            break
-        time.sleep(0.02)
-    port = open(port_file).read().strip() if os.path.exists(port_file) else "0"
-    return server, {**env, "PCS_SERVER_HOST": "127.0.0.1", "PCS_SERVER_PORT": port}
 
 
 def compare(hopsan, tlm_host, model, tmp, env):
@@ -127,7 +112,10 @@ def main():
             fmu, fe_server, deck, ports, tlm_host, model = args[1:7]
             shutil.copy(fmu, tmp)
             shutil.copy(model, tmp)
-            server, env = start_fe_server(fe_server, deck, ports, tmp)
+            # Two sessions: one for tlm_host, one for Hopsan.
+            server, env = start_fe_server(fe_server, deck, ports, os.path.join(tmp, "port"),
+                                          ["--sessions", "2", "--out", os.path.join(tmp, "fe_{session}.h5")],
+                                          {**os.environ, "PCS_TOKEN": secrets.token_hex(16)}, accept_timeout=60)
             try:
                 ok = compare(hopsan, tlm_host, os.path.join(tmp, os.path.basename(model)), tmp, env)
                 code = server.wait(timeout=60)

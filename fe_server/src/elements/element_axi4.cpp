@@ -121,6 +121,17 @@ Axi4State::Axi4State(const Model& m)
                     axi4_hourglass_coefficient(g, m.hourglass_q, mat.rho, mat.wave_speed()),
                     mat.plastic ? &mat : nullptr};
   }
+  lanes.assign((elements.size() + kAxi4Lanes - 1) / kAxi4Lanes, Lanes{});
+  for (size_t k = 0; k < elements.size(); ++k) {
+    Lanes& L = lanes[k / kAxi4Lanes];
+    const size_t l = k % kAxi4Lanes;
+    const size_t e = static_cast<size_t>(elements[k]);
+    for (int a = 0; a < 4; ++a) L.node[a][l] = m.axis[e].n[a];
+    const Constants& c = constants[e];
+    L.lambda[l] = c.lambda, L.two_mu[l] = 2.0 * c.mu, L.rho[l] = c.rho, L.c[l] = c.wave_speed, L.ch[l] = c.hourglass;
+    L.count = static_cast<int>(l) + 1;
+    L.any_plastic = L.any_plastic || c.plastic;
+  }
   force.assign(8 * elements.size(), 0.0);
   blocks.resize((elements.size() + kAxi4Block - 1) / kAxi4Block);
   for (BlockResult& b : blocks) b.part_internal.assign(m.parts.size(), 0.0), b.part_hourglass.assign(m.parts.size(), 0.0);
@@ -228,38 +239,37 @@ void axi4_block(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const
   res.reset();
   Axi4Batch B;
   for (size_t k0 = first; k0 < last; k0 += kAxi4Lanes) {
-    const int n = static_cast<int>(std::min(kAxi4Lanes, last - k0));
-    bool any_plastic = false;
-    for (int l = 0; l < W; ++l) {
-      if (l < n) {
-        const size_t e = static_cast<size_t>(st.elements[k0 + static_cast<size_t>(l)]);
-        const AxiElement& el = m.axis[e];
-        for (int a = 0; a < 4; ++a) {
-          const size_t node = static_cast<size_t>(el.n[a]);
-          B.r[a][l] = x[node].x(), B.y[a][l] = x[node].y(), B.vr[a][l] = v[node].x(), B.vy[a][l] = v[node].y();
-        }
-        const Axi4State::Constants& k = st.constants[e];
-        B.lambda[l] = k.lambda, B.two_mu[l] = 2.0 * k.mu, B.rho[l] = k.rho, B.c[l] = k.wave_speed, B.ch[l] = k.hourglass;
-        for (int c = 0; c < 4; ++c) B.sig[c][l] = st.sigma[e](c);
-        B.plastic[l] = k.plastic;
-        if (k.plastic) {
-          any_plastic = true;
+    const Axi4State::Lanes& K = st.lanes[k0 / kAxi4Lanes];  // blocks start on a batch boundary
+    const int n = K.count;
+    for (int a = 0; a < 4; ++a)
+      for (int l = 0; l < n; ++l) {
+        const Vec3 &p = x[static_cast<size_t>(K.node[a][l])], &u = v[static_cast<size_t>(K.node[a][l])];
+        B.r[a][l] = p.x(), B.y[a][l] = p.y(), B.vr[a][l] = u.x(), B.vy[a][l] = u.y();
+      }
+    std::copy_n(K.lambda, W, B.lambda), std::copy_n(K.two_mu, W, B.two_mu), std::copy_n(K.rho, W, B.rho);
+    std::copy_n(K.c, W, B.c), std::copy_n(K.ch, W, B.ch);
+    for (int l = 0; l < n; ++l) {
+      const Eigen::Matrix<double, 6, 1>& s = st.sigma[static_cast<size_t>(st.elements[k0 + static_cast<size_t>(l)])];
+      for (int c = 0; c < 4; ++c) B.sig[c][l] = s(c);
+    }
+    for (int l = n; l < W; ++l) {  // idle lanes (the last batch): a unit square at rest, no stress
+      for (int a = 0; a < 4; ++a)
+        B.r[a][l] = 1.5 + 0.5 * kXi[a], B.y[a][l] = 0.5 + 0.5 * kEta[a], B.vr[a][l] = B.vy[a][l] = 0.0;
+      for (int c = 0; c < 4; ++c) B.sig[c][l] = 0.0;
+    }
+    if (K.any_plastic) {
+      for (int l = 0; l < W; ++l) {
+        const size_t e = l < n ? static_cast<size_t>(st.elements[k0 + static_cast<size_t>(l)]) : 0;
+        B.plastic[l] = l < n ? st.constants[e].plastic : nullptr;
+        if (B.plastic[l]) {
           B.ep[l] = st.plastic_strain[e];
           for (int c = 0; c < 4; ++c) B.alpha[c][l] = st.back_stress[e](c);
         }
-      } else {
-        for (int a = 0; a < 4; ++a) {
-          B.r[a][l] = 1.5 + 0.5 * kXi[a], B.y[a][l] = 0.5 + 0.5 * kEta[a], B.vr[a][l] = B.vy[a][l] = 0.0;
-        }
-        B.lambda[l] = B.two_mu[l] = B.rho[l] = B.c[l] = B.ch[l] = 0.0;
-        for (int c = 0; c < 4; ++c) B.sig[c][l] = 0.0;
-        B.plastic[l] = nullptr;
       }
-    }
-    if (any_plastic)
       axi4_kernel_plastic(B, dt, m.bulk_q1, m.bulk_q2);
-    else
+    } else {
       axi4_kernel(B, dt, m.bulk_q1, m.bulk_q2);
+    }
     for (int l = 0; l < n; ++l) {
       const size_t k = k0 + static_cast<size_t>(l);
       if (!(B.det[l] > 0.0 && B.r_c[l] > 0.0) && res.inverted < 0) {
@@ -268,7 +278,7 @@ void axi4_block(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const
       }
       const size_t e = static_cast<size_t>(st.elements[k]);
       for (int c = 0; c < 4; ++c) st.sigma[e](c) = B.sig[c][l];
-      if (B.plastic[l]) {
+      if (K.any_plastic && B.plastic[l]) {
         st.plastic_strain[e] = B.ep[l];
         for (int c = 0; c < 4; ++c) st.back_stress[e](c) = B.alpha[c][l];
       }

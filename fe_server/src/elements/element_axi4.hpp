@@ -82,6 +82,9 @@ double axi4_characteristic_length(const Mat42& x, double area);
 double axi4_stable_step(const Mat42& x, double lambda, double mu, double rho, double q2,
                         const bool fixed_r[4]);
 
+// Elements per task, and per batch of the kernel (side by side in vector lanes).
+constexpr size_t kAxi4Block = 512, kAxi4Lanes = 8;
+
 // The axisymmetric elements' state in the solver: stress per element and
 // what is resolved once, so the element loop does no lookups; per
 // deformable element its force slot (8 doubles: r and y of each corner), the
@@ -98,14 +101,21 @@ struct Axi4State {
   std::vector<int> elements;                       // the elements of deformable parts
   std::vector<int> part_slot;                      // per deformable element: its part's dense index
   std::vector<Constants> constants;                // per element of the model
+  // Per batch of kAxi4Lanes deformable elements (in `elements` order): their
+  // nodes and constants side by side as the kernel reads them, so a batch's
+  // gather is the nodal state only. Lanes past the end: no nodes, zeros.
+  struct Lanes {
+    int node[4][kAxi4Lanes];
+    double lambda[kAxi4Lanes], two_mu[kAxi4Lanes], rho[kAxi4Lanes], c[kAxi4Lanes], ch[kAxi4Lanes];
+    int count;         // lanes in use
+    bool any_plastic;  // a lane of a plastic material
+  };
+  std::vector<Lanes> lanes;
   std::vector<double> force;
   NodalGather gather;
   std::vector<BlockResult> blocks;
   explicit Axi4State(const Model& m);
 };
-
-// Elements per task, and per batch of the kernel (side by side in vector lanes).
-constexpr size_t kAxi4Block = 512, kAxi4Lanes = 8;
 
 // One step of every axisymmetric element: the formulas above (the stress on
 // the Jaumann rate, J2 plasticity where the material has it) in batches of

@@ -260,6 +260,7 @@ Solver::Solver(const Model& model, double dt)
         inv_mass_free_[i][k] = model.fixed[i][k] || !(mass_[i] > 0.0) ? 0.0 : 1.0 / mass_[i];
       }
     }
+  free_runs_ = runs_of(free_);
   for (const TieDef& d : model.ties) build_ties(d);
   build_node_lists();
   // Mobility of stage 6: a node alone, or its body's translation.
@@ -347,6 +348,29 @@ void Solver::for_each_node(const std::vector<int>& nodes, F&& f) {
   auto block = [&](size_t b) {
     const size_t end = std::min(n, (b + 1) * kNodeBlock);
     for (size_t k = b * kNodeBlock; k < end; ++k) f(static_cast<size_t>(nodes[k]));
+  };
+  run_blocks(blocks, blocks > 1 ? pool_.get() : nullptr, block);
+}
+
+Solver::NodeRuns Solver::runs_of(const std::vector<int>& nodes) {
+  NodeRuns r;
+  for (size_t k = 0; k < nodes.size(); ++k) {
+    if (k % kNodeBlock == 0) r.block_start.push_back(r.runs.size());
+    const size_t i = static_cast<size_t>(nodes[k]);
+    if (k % kNodeBlock != 0 && r.runs.back().second == i)
+      ++r.runs.back().second;
+    else
+      r.runs.emplace_back(i, i + 1);
+  }
+  r.block_start.push_back(r.runs.size());
+  return r;
+}
+
+template <class R>
+void Solver::for_each_run(const NodeRuns& r, R&& run) {
+  const size_t blocks = r.block_start.size() - 1;
+  auto block = [&](size_t b) {
+    for (size_t k = r.block_start[b]; k < r.block_start[b + 1]; ++k) run(b, r.runs[k].first, r.runs[k].second);
   };
   run_blocks(blocks, blocks > 1 ? pool_.get() : nullptr, block);
 }
@@ -548,9 +572,17 @@ void Solver::velocities() {
     for (int k = 0; k < t.corners; ++k) f_int_[static_cast<size_t>(t.master[k])] += t.w[k] * F;
   }
   // a = (f_ext + f_int + f_con)/m, zero on fixed DOFs, and v += h·a in one pass.
-  for_each_node(free_, [&](size_t i) {
-    v_prev_[i] = v_[i];
-    v_[i] += h * inv_mass_free_[i].cwiseProduct(f_ext_[i] + f_int_[i] + f_con_[i]);
+  // Over flat arrays of doubles (a Vec3 is three in a row): the same
+  // operations in the same order as v += h·m⁻¹∘(f_ext + f_int + f_con).
+  double* v = v_.data()->data();
+  double* vp = v_prev_.data()->data();
+  const double *im = inv_mass_free_.data()->data(), *fe = f_ext_.data()->data(), *fi = f_int_.data()->data(),
+               *fc = f_con_.data()->data();
+  for_each_run(free_runs_, [&](size_t, size_t first, size_t end) {
+    for (size_t j = 3 * first; j < 3 * end; ++j) {
+      vp[j] = v[j];
+      v[j] += h * (im[j] * ((fe[j] + fi[j]) + fc[j]));
+    }
   });
   for (size_t b = 0; b < bodies_.size(); ++b)
     for (int i : bodies_[b].live) v_prev_[static_cast<size_t>(i)] = v_[static_cast<size_t>(i)];
@@ -857,12 +889,28 @@ void Solver::positions() {
   // the free nodes' share in the same pass as their positions.
   const bool first = n_ == 0;
   double ke = bodies_.kinetic_energy(first);
-  ke += sum_over(free_, [&](size_t i) {
-    const Vec3 vn = first ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
-    x_prev_[i] = x_[i];
-    x_[i] += dt_ * v_[i];
-    return 0.5 * mass_[i] * vn.squaredNorm();
+  // Per block: the kinetic energy summed node by node in list order (a
+  // fixed order: the same sum for any thread count), then x over flat
+  // arrays (vectorised).
+  ke_partial_.assign(free_runs_.block_start.size() - 1, 0.0);
+  double* x = x_.data()->data();
+  double* xp = x_prev_.data()->data();
+  const double* v = v_.data()->data();
+  for_each_run(free_runs_, [&](size_t b, size_t first_node, size_t end) {
+    double sum = ke_partial_[b];
+    for (size_t i = first_node; i < end; ++i) {
+      const Vec3 vn = first ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
+      sum += 0.5 * mass_[i] * vn.squaredNorm();
+    }
+    ke_partial_[b] = sum;
+    for (size_t j = 3 * first_node; j < 3 * end; ++j) {
+      xp[j] = x[j];
+      x[j] += dt_ * v[j];
+    }
   });
+  double total = 0.0;
+  for (double p : ke_partial_) total += p;
+  ke += total;
   energies_.kinetic = ke;
   for (size_t b = 0; b < bodies_.size(); ++b)
     for (int i : bodies_[b].live) x_prev_[static_cast<size_t>(i)] = x_[static_cast<size_t>(i)];

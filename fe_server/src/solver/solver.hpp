@@ -248,6 +248,20 @@ class Solver {
   template <class G>
   double sum_over(const std::vector<int>& nodes, G&& g);
   std::vector<double> partial_;
+  // A node list as runs of consecutive node numbers [first, end), cut at
+  // the same block boundaries as for_each_node's: the hot passes over the
+  // free nodes (velocities, positions) then run over flat arrays the
+  // compiler vectorises, in the list's order, block by block as before.
+  struct NodeRuns {
+    std::vector<size_t> block_start;  // per block, its first run; one more entry at the end
+    std::vector<std::pair<size_t, size_t>> runs;
+  };
+  static NodeRuns runs_of(const std::vector<int>& nodes);
+  // run(first, end) for each run of block b, for every block, on the pool when there are several.
+  template <class R>
+  void for_each_run(const NodeRuns& runs, R&& run);
+  NodeRuns free_runs_;
+  std::vector<double> ke_partial_;
 
   const Model& m_;
   double dt_;

@@ -38,8 +38,11 @@ inline std::string block(int pid, int first_id, double r0, double r1, int nr, do
 // Two coaxial cylinders, x the radius and y the axis: a piston (part 1,
 // radius rp, length Lp) moving at −v0 along y onto a tool (part 2, radius rt,
 // length Lt) below it, 0.1 mm apart; cells of about h; steel with Poisson's
-// ratio nu; 2D contact between the two parts (20 % damping).
-inline std::string bar_impact_deck(double Lp, double rp, double Lt, double rt, double h, double v0, double nu) {
+// ratio nu; 2D contact between the two parts with vdc % of critical damping
+// (0: the elastic interface of the 1D theory; 20: as the 3D impact decks)
+// and stiffness factor sfact.
+inline std::string bar_impact_deck(double Lp, double rp, double Lt, double rt, double h, double v0, double nu,
+                                   double vdc, double sfact = 1.0) {
   const int nrp = std::max(1, static_cast<int>(std::lround(rp / h))), nrt = std::max(1, static_cast<int>(std::lround(rt / h)));
   std::ostringstream d;
   d.precision(17);
@@ -49,7 +52,7 @@ inline std::string bar_impact_deck(double Lp, double rp, double Lt, double rt, d
   d << "*PART\npiston\n1,1,1\n*PART\ntool\n2,1,1\n*SECTION_SHELL\n1,15\n0,0,0,0\n";
   d << "*MAT_ELASTIC\n1," << kRho << "," << kE << "," << nu << "\n";
   d << "*SET_PART_LIST\n1\n1\n*SET_PART_LIST\n2\n2\n";
-  d << "*CONTACT_2D_AUTOMATIC_SURFACE_TO_SURFACE\n1,2,1.0\n0,1e20\n0,20\n";
+  d << "*CONTACT_2D_AUTOMATIC_SURFACE_TO_SURFACE\n1,2," << sfact << "\n0,1e20\n0," << vdc << "\n";
   d << "*INITIAL_VELOCITY_GENERATION\n1,2,0,0," << -v0 << ",0\n0,0,0,0,0,0\n";
   return d.str();
 }
@@ -73,8 +76,8 @@ struct Impact {
 
 // Runs the impact to t_end, recording the section-mean axial stress at each gauge depth.
 inline Impact run_bar_impact(double Lp, double rp, double Lt, double rt, double h, double v0, double nu,
-                             std::vector<double> depths, double t_end) {
-  fe::Model m = fe::parse_deck(bar_impact_deck(Lp, rp, Lt, rt, h, v0, nu), "axi_impact.k");
+                             std::vector<double> depths, double t_end, double vdc, double sfact = 1.0) {
+  fe::Model m = fe::parse_deck(bar_impact_deck(Lp, rp, Lt, rt, h, v0, nu, vdc, sfact), "axi_impact.k");
   const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
   fe::Solver s(m, dt);
   Impact out;

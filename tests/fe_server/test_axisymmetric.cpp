@@ -138,7 +138,7 @@ TEST(Axi4, LameThickCylinderStressProfile) {
 // disperse (Pochhammer–Chree): the front rises over ~10 µs and rings.
 TEST(Axi4BarImpact, EqualImpedanceMatchesOneDimensionalWaveTheory) {
   const double v0 = 8.0, c0 = std::sqrt(kE / kRho);
-  auto r = axi_test::run_bar_impact(0.3, 0.03, 0.6, 0.03, 0.0025, v0, 0.3, {0.1, 0.3}, 2.4e-4);
+  auto r = axi_test::run_bar_impact(0.3, 0.03, 0.6, 0.03, 0.0025, v0, 0.3, {0.1, 0.3}, 2.4e-4, 0.0);
   const double plateau = -kRho * c0 * v0 / 2.0, length = 2 * 0.3 / c0;
   const auto far = axi_test::pulse_of(r.t, r.gauges[1].sigma);
   EXPECT_NEAR(far.plateau, plateau, 0.01 * std::fabs(plateau)) << "mean of the central 60 % at 0.3 m";
@@ -152,11 +152,18 @@ TEST(Axi4BarImpact, EqualImpedanceMatchesOneDimensionalWaveTheory) {
   for (size_t i = 1; i < r.t.size(); ++i)
     if (r.t[i] > near.start - 2 * near.rise && r.t[i] < near.end + 2 * near.rise)
       W += (r.area_tool * c0 / kE) * std::pow(r.gauges[0].sigma[i], 2) * (r.t[i] - r.t[i - 1]);
-  // 98 %: the measured 98.2 % is the same with selective reduced integration
-  // (98.2 %) and at half the element size (98.25 %): the piston keeps 0.5 %
-  // as motion after it separates (Pochhammer–Chree: it does not stop dead as
-  // a 1D bar does), bulk viscosity and hourglass viscosity take 0.5 % each.
-  EXPECT_GE(W / r.ke0, 0.98);
+  // 98.2 %: measured 98.46 % (h = 2.5 mm; 98.30 % at 1.25 mm), with an
+  // elastic interface as the 1D theory has (20 % contact damping takes
+  // 0.2 % more). Issue 12 asked for 98.5 %; the energy accounts say what
+  // stands between a converged mesh and that figure. After separation the
+  // piston keeps 1.06 % (h = 2.5 mm) and 1.22 % (1.25 mm) as ringing
+  // (Pochhammer–Chree: it grows as the mesh resolves it, so it is physics,
+  // not mesh); the tool holds 98.80 % and 98.61 %. The 1D formula
+  // under-reads a dispersed pulse by 0.3 % of the energy that crosses the
+  // gauge. Bulk and hourglass viscosity take 0.25 %: with both turned down
+  // to almost nothing, W is 98.57 % at 2.5 mm and 98.40 % at 1.25 mm. The
+  // bound is the measured value less the viscous share.
+  EXPECT_GE(W / r.ke0, 0.982);
   EXPECT_LE(W / r.ke0, 1.03) << "more than the piston had: something else is counted";
   EXPECT_LT(r.max_balance, 0.01 * r.ke0) << "energy balance within its 1 % bound";
   EXPECT_LT(r.piston_energy_end, 0.01 * r.ke0) << "the piston all but stops (1D theory: exactly)";
@@ -165,12 +172,28 @@ TEST(Axi4BarImpact, EqualImpedanceMatchesOneDimensionalWaveTheory) {
               far.plateau / 1e6, (far.end - far.start) * 1e6, far.rise * 1e6, W / r.ke0, r.elements, r.steps);
 }
 
+// The impact with a contact three times softer (SFACT 0.3): a node pressed
+// onto a vertex of the other face, kinked a little by the wave, projects
+// past the ends of both lines there; when the contact let go of it for a
+// step and caught it again, the contact was not conservative and pumped
+// 9 % of the impact energy into the faces' hourglass modes (contact energy
+// −9 %, hourglass 10 %). Now both stay within 0.1 % of the impact energy
+// (measured 0.01 % and 0.00 %), as with the stiffer default (0.06 %).
+TEST(Axi4BarImpact, ASofterContactStaysConservative) {
+  const auto r = axi_test::run_bar_impact(0.3, 0.03, 0.6, 0.03, 0.0025, 8.0, 0.3, {0.1}, 1.6e-4, 0.0, 0.3);
+  EXPECT_LT(r.hourglass, 1e-3 * r.ke0);
+  EXPECT_LT(std::fabs(r.contact_energy), 1e-3 * r.ke0) << "the contact gives back what it took";
+  EXPECT_LT(r.max_balance, 0.01 * r.ke0);
+  std::printf("SFACT 0.3: hourglass %.2g, contact %.2g of the impact energy\n", r.hourglass / r.ke0,
+              r.contact_energy / r.ke0);
+}
+
 // The same piston onto a Ø45 mm, 1.2 m tool: the impedance step sends
 // −ρc0v0·A_p/(A_p + A_t) = −207.9 MPa, then the piston's reflected wave a
 // second step of −207.9·(A_p − A_t)/(A_p + A_t) = −58.2 MPa.
 TEST(Axi4BarImpact, SteppedImpedanceGivesBothSteps) {
   const double v0 = 8.0, c0 = std::sqrt(kE / kRho);
-  auto r = axi_test::run_bar_impact(0.3, 0.03, 1.2, 0.0225, 0.0025, v0, 0.3, {0.3}, 3.6e-4);
+  auto r = axi_test::run_bar_impact(0.3, 0.03, 1.2, 0.0225, 0.0025, v0, 0.3, {0.3}, 3.6e-4, 0.0);
   const double Ap = 0.03 * 0.03, At = 0.0225 * 0.0225;
   const double step1 = -kRho * c0 * v0 * Ap / (Ap + At), step2 = step1 * (Ap - At) / (Ap + At);
   const double T = 2 * 0.3 / c0;
@@ -355,7 +378,7 @@ TEST(Axi4BarImpact, AgreesWithTheHex8MeshOfTheSameImpact) {
     t3.push_back(s.time());
     s3.push_back(sz);
   }
-  const auto axi = axi_test::run_bar_impact(Lp, r, Lt, r, h, v0, nu, {0.1}, t_end);
+  const auto axi = axi_test::run_bar_impact(Lp, r, Lt, r, h, v0, nu, {0.1}, t_end, 20.0);  // the 3D deck's contact damping
   // ∫σ²dt over one window for both: the first pulse and its ringing tail.
   const auto q3 = axi_test::pulse_of(t3, s3), q2 = axi_test::pulse_of(axi.t, axi.gauges[0].sigma);
   const double from = std::min(q3.start, q2.start) - 2 * std::max(q3.rise, q2.rise);
@@ -480,6 +503,32 @@ TEST(Axi4Mixed, BodiesTouchingAtTheStartAreNeitherPenetratedAtAnEdgeNorThroughTh
   // penetration is still found at an edge.
   for (size_t i = 0; i < m.x0.size(); ++i)
     if (m.node_ids[i] < 1000) m.x0[i].y() -= 1e-3;
+  EXPECT_THROW(fe::Solver(m, dt), std::runtime_error);
+}
+
+// A node's foot may fall up to 5 % of a line past its end (the wedge at a
+// kinked vertex, a corner where two bodies of one radius meet), but at a
+// corner of the body only while the node is not beside the body by more
+// than it is pressed: a ring 0.1 mm beside a tool's top corner and 20 µm
+// below the top's plane (its foot 4 % past the last line's end) is not on
+// the tool. Counted, it would be an initial penetration and refused.
+TEST(Axi4Mixed, ANodeBesideACornerIsNotOnTheFacePastIt) {
+  std::ostringstream d;
+  d << "*KEYWORD\n" << axi_test::block(2, 1, 0.0, 0.01, 4, -0.01, 0.0, 4)  // the tool, 2.5 mm cells
+    << axi_test::block(1, 1000, 0.0101, 0.02, 4, -2e-5, 0.01, 4);        // a ring beside its top corner
+  d << "*PART\nring\n1,1,1\n*PART\ntool\n2,1,1\n*SECTION_SHELL\n1,15\n0\n";
+  d << "*MAT_ELASTIC\n1," << kRho << "," << kE << ",0.3\n";
+  d << "*SET_PART_LIST\n1\n1\n*SET_PART_LIST\n2\n2\n";
+  d << "*CONTACT_2D_AUTOMATIC_SURFACE_TO_SURFACE\n1,2,1.0\n0,1e20\n0,0\n";
+  fe::Model m = fe::parse_deck(d.str(), "beside.k");
+  const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
+  std::unique_ptr<fe::Solver> s;
+  ASSERT_NO_THROW(s = std::make_unique<fe::Solver>(m, dt));
+  for (int i = 0; i < 20; ++i) s->step();
+  EXPECT_EQ(s->contact_force(), 0.0);
+  // Moved 0.1 mm inwards, over the tool's top, the same ring is 20 µm into it: refused.
+  for (size_t i = 0; i < m.x0.size(); ++i)
+    if (m.node_ids[i] >= 1000) m.x0[i].x() -= 1e-4;
   EXPECT_THROW(fe::Solver(m, dt), std::runtime_error);
 }
 

@@ -120,9 +120,9 @@ TEST(SteppedPistonScene, FirstPlateauMatchesTheImpedanceStepAndEnergyIsConserved
 // The 2D LS-DYNA-style deck of the bar impact (axisymmetric quads, ν = 0.3)
 // run by fe_server as a user would, checked from its HDF5 histories: the
 // plateau at 0.3 m within 1 % of −ρ·c0·v0/2 (mean of the central 60 % of the
-// pulse), the pulse energy at 0.1 m at least 98 % of the piston's kinetic
-// energy (tests/fe_server/test_axisymmetric.cpp says why 98), energy balance
-// within its bound.
+// pulse), the pulse energy at 0.1 m at least 98.2 % of the piston's kinetic
+// energy (tests/fe_server/test_axisymmetric.cpp says why 98.2, not 98.5),
+// energy balance within its bound.
 TEST(BarImpactAxiScene, TwoDimensionalDeckMeetsTheOneDimensionalFigures) {
   TempDir dir;
   const std::string out = run_scene("bar_impact_axi", dir);
@@ -173,8 +173,9 @@ TEST(BarImpactAxiScene, TwoDimensionalDeckMeetsTheOneDimensionalFigures) {
   for (size_t i = 1; i < t.size(); ++i)
     if (t[i] > t[na] - 30e-6 && t[i] < t[nb] + 30e-6) W += A * c0 / E * near[i] * near[i] * (t[i] - t[i - 1]);
   const double ke = h5io::read_series(out, "energy/kinetic").front();
-  EXPECT_GE(W, 0.98 * ke);
+  EXPECT_GE(W, 0.982 * ke);
   EXPECT_LE(W, 1.03 * ke);
+  std::printf("bar_impact_axi scene: W/KE %.4f\n", W / ke);
   const auto bal = h5io::read_series(out, "energy/balance_error");
   double worst = 0;
   for (double x : bal) worst = std::max(worst, std::fabs(x));

@@ -52,7 +52,7 @@ PenaltyContact::PenaltyContact(const Model& model, const ContactDef& def, double
     // One side: every node of the surface against its faces; each face's
     // element found once (the face's nodes are all among its eight).
     single_ = true;
-    sides_.push_back(Side{master, nodes_of(master), {}, {}, {}, {}});
+    sides_.push_back(Side{master, nodes_of(master), {}, {}, {}, {}, {}, {}});
     std::map<int, std::vector<size_t>> elements_of;  // node → solids that have it
     const std::set<int> parts(def.part_ids.begin(), def.part_ids.end());
     for (size_t e = 0; e < model.solids.size(); ++e)
@@ -75,10 +75,31 @@ PenaltyContact::PenaltyContact(const Model& model, const ContactDef& def, double
   } else if (def.slave_nodes) {
     std::vector<int> nodes;
     for (int id : model.node_sets.at(def.slave_set)) nodes.push_back(model.index_of(id, def.where));
-    sides_.push_back(Side{master, nodes, {}, {}, {}, {}});  // one-sided: nodes against the master's segments
+    sides_.push_back(Side{master, nodes, {}, {}, {}, {}, {}, {}});  // one-sided: nodes against the master's segments
   } else {
-    sides_.push_back(Side{master, nodes_of(slave), {}, {}, {}, {}});
-    sides_.push_back(Side{slave, nodes_of(master), {}, {}, {}, {}});
+    sides_.push_back(Side{master, nodes_of(slave), {}, {}, {}, {}, {}, {}});
+    sides_.push_back(Side{slave, nodes_of(master), {}, {}, {}, {}, {}, {}});
+  }
+  for (Side& s : sides_) {
+    // Lines by their first and by their second node; a vertex is where one
+    // line's second node is the next one's first (the outward normal to the
+    // right of n0 → n1: the body on the left).
+    std::map<int, size_t> starting, ending;
+    for (size_t j = 0; j < s.segments.size(); ++j)
+      if (s.segments[j].line()) starting[s.segments[j].n[0]] = j, ending[s.segments[j].n[1]] = j;
+    s.past.assign(s.segments.size(), {1e-6, 1e-6});
+    s.corner.assign(s.segments.size(), {-1, -1});
+    for (const auto& [node, a] : ending) {
+      const auto next = starting.find(node);
+      if (next == starting.end()) continue;
+      const size_t b = next->second;
+      const Vec3 da = model.x0[static_cast<size_t>(s.segments[a].n[1])] - model.x0[static_cast<size_t>(s.segments[a].n[0])];
+      const Vec3 db = model.x0[static_cast<size_t>(s.segments[b].n[1])] - model.x0[static_cast<size_t>(s.segments[b].n[0])];
+      s.past[a][1] = s.past[b][0] = 0.05;
+      const double sin_turn = (da.x() * db.y() - da.y() * db.x()) / (da.norm() * db.norm());
+      if (da.dot(db) <= 0.0 || std::fabs(sin_turn) > std::sin(10.0 * M_PI / 180.0))
+        s.corner[a][1] = static_cast<int>(b), s.corner[b][0] = static_cast<int>(a);
+    }
   }
   double sum = 0.0;
   int count = 0;
@@ -122,7 +143,7 @@ void PenaltyContact::search(Side& s, const std::vector<Vec3>& x) {
 }
 
 bool project_onto_segment(const Segment& seg, const Vec3& point, const std::vector<Vec3>& x, double window, double& g,
-                          Vec3& n, double w[4]) {
+                          Vec3& n, double w[4], const std::array<double, 2>& past, double* t_out) {
   const int nc = corners(seg);
   if (seg.line()) {  // 2D: the outward normal lies to the right of n0 → n1 in the x–y plane
     const Vec3& a = x[static_cast<size_t>(seg.n[0])];
@@ -133,8 +154,9 @@ bool project_onto_segment(const Segment& seg, const Vec3& point, const std::vect
     g = (point - a).dot(n);
     if (std::fabs(g) > window) return false;
     const double t = (point - a).dot(d) / len2;
-    if (t < -1e-6 || t > 1.0 + 1e-6) return false;
-    w[0] = 1.0 - t, w[1] = t, w[2] = w[3] = 0.0;
+    if (t < -past[0] || t > 1.0 + past[1]) return false;
+    if (t_out) *t_out = t;
+    w[1] = std::clamp(t, 0.0, 1.0), w[0] = 1.0 - w[1], w[2] = w[3] = 0.0;
     return true;
   }
   const Vec3 area = segment_area_vector(seg, x);
@@ -164,11 +186,25 @@ bool project_onto_segment(const Segment& seg, const Vec3& point, const std::vect
   return true;
 }
 
-bool PenaltyContact::project(const Segment& seg, size_t node, const std::vector<Vec3>& x, double window,
+bool PenaltyContact::project(const Side& s, size_t j, size_t node, const std::vector<Vec3>& x, double window,
                              Contact& c) const {
+  const Segment& seg = s.segments[j];
   for (int k = 0; k < corners(seg); ++k)
     if (static_cast<size_t>(seg.n[k]) == node) return false;
-  return project_onto_segment(seg, x[node], x, window, c.g, c.n, c.w);
+  double t = 0.5;
+  if (!project_onto_segment(seg, x[node], x, window, c.g, c.n, c.w, s.past[j], &t)) return false;
+  if (!seg.line() || (t >= 0.0 && t <= 1.0)) return true;
+  const int next = s.corner[j][t < 0.0 ? 0 : 1];
+  if (next < 0) return true;
+  // Past the end at a corner: beside the body if farther in front of the
+  // next line than pressed into this one (the two bodies' corners of one
+  // radius part by nanometres as the faces tilt).
+  const Segment& other = s.segments[static_cast<size_t>(next)];
+  const Vec3& a = x[static_cast<size_t>(other.n[0])];
+  const Vec3 d = x[static_cast<size_t>(other.n[1])] - a;
+  const double len = d.norm();
+  const double beside = (x[node] - a).dot(Vec3(d.y(), -d.x(), 0.0)) / len;
+  return beside <= std::max(-c.g, 1e-6 * len);
 }
 
 bool PenaltyContact::touching(const Side& s, size_t i, const std::vector<Vec3>& x, double window, bool reach_check,
@@ -184,7 +220,7 @@ bool PenaltyContact::touching(const Side& s, size_t i, const std::vector<Vec3>& 
       continue;  // too far to touch
     if (single_ && std::find(owner_[j].begin(), owner_[j].end(), static_cast<int>(node)) != owner_[j].end())
       continue;  // a face of one of its own elements
-    if (!project(s.segments[j], node, x, window, trial)) continue;
+    if (!project(s, j, node, x, window, trial)) continue;
     if (trial.g >= 0.0) {
       on_or_in_front = true;
     } else if (-trial.g <= shallow) {

@@ -156,19 +156,17 @@ void RigidBodies::scale_velocities(double factor, const std::vector<Vec3>& x, st
   }
 }
 
-void RigidBodies::set_live_velocities(const RigidBodyState& s, const std::vector<Vec3>& x,
-                                      std::vector<Vec3>& v) const {
-  if (!s.rotates) {
-    for (int i : s.live) v[static_cast<size_t>(i)] = s.v;
-    return;
-  }
+void RigidBodies::set_live_velocities(const RigidBodyState& s, const std::vector<Vec3>& x, std::vector<Vec3>& v,
+                                      std::vector<Vec3>* v_prev) const {
   for (int i : s.live) {
     const size_t k = static_cast<size_t>(i);
-    v[k] = s.v + s.omega.cross(x[k] - s.com);
+    if (v_prev) (*v_prev)[k] = v[k];
+    v[k] = s.rotates ? Vec3(s.v + s.omega.cross(x[k] - s.com)) : s.v;
   }
 }
 
-void RigidBodies::advance_velocities(double h, double dt, const std::vector<Vec3>& x, std::vector<Vec3>& v) {
+void RigidBodies::advance_velocities(double h, double dt, const std::vector<Vec3>& x, std::vector<Vec3>& v,
+                                     std::vector<Vec3>& v_prev) {
   for (RigidBodyState& s : bodies_) {
     s.v_prev = s.v;
     s.omega_prev = s.omega;
@@ -177,7 +175,7 @@ void RigidBodies::advance_velocities(double h, double dt, const std::vector<Vec3
       s.L += h * s.moment.cwiseProduct(s.free_rotation);
       s.omega = angular_velocity(s, dt);
     }
-    set_live_velocities(s, x, v);
+    set_live_velocities(s, x, v, &v_prev);
   }
 }
 
@@ -192,13 +190,14 @@ void RigidBodies::add_impulse(size_t b, const Vec3& f, const Vec3& moment, doubl
   set_live_velocities(s, x, v);
 }
 
-void RigidBodies::advance_positions(double dt, std::vector<Vec3>& x, std::vector<Vec3>& v) {
+void RigidBodies::advance_positions(double dt, std::vector<Vec3>& x, std::vector<Vec3>& v, std::vector<Vec3>& x_prev) {
   for (RigidBodyState& s : bodies_) {
     s.com += dt * s.v;
     if (!s.rotates) {
       // A body that only translates: the same update as a free node's.
       for (int i : s.live) {
         const size_t k = static_cast<size_t>(i);
+        x_prev[k] = x[k];
         x[k] += dt * s.v;
       }
       continue;
@@ -212,6 +211,7 @@ void RigidBodies::advance_positions(double dt, std::vector<Vec3>& x, std::vector
     for (int i : s.live) {
       const size_t k = static_cast<size_t>(i);
       const Vec3 r0 = m_.x0[k] - s.com0;
+      x_prev[k] = x[k];
       x[k] = s.com + s.Q * r0;
       v[k] = s.v + s.rotation_rate * r0;
     }

@@ -79,14 +79,17 @@ class RigidBodies {
   void sum_loads(const std::vector<Vec3>& f_int, const std::vector<Vec3>& f_ext, const std::vector<Vec3>& f_con,
                  const std::vector<Vec3>& x);
   // Stage 5: v_c and L (h = Δt, Δt/2 on the first step), ω, and the live
-  // nodes' predicted velocities v_c + ω × (x_i − x_c).
-  void advance_velocities(double h, double dt, const std::vector<Vec3>& x, std::vector<Vec3>& v);
+  // nodes' predicted velocities v_c + ω × (x_i − x_c), their old ones kept
+  // in v_prev (the same pass).
+  void advance_velocities(double h, double dt, const std::vector<Vec3>& x, std::vector<Vec3>& v,
+                          std::vector<Vec3>& v_prev);
   // Stage 6: force f and moment about x_c acting on body b for h more,
   // then its live nodes' velocities again.
   void add_impulse(size_t b, const Vec3& f, const Vec3& moment, double h, double dt, const std::vector<Vec3>& x,
                    std::vector<Vec3>& v);
-  // Stage 8: x_c, Q, and the live nodes' positions and chord velocities.
-  void advance_positions(double dt, std::vector<Vec3>& x, std::vector<Vec3>& v);
+  // Stage 8: x_c, Q, and the live nodes' positions and chord velocities,
+  // their old positions kept in x_prev (the same pass).
+  void advance_positions(double dt, std::vector<Vec3>& x, std::vector<Vec3>& v, std::vector<Vec3>& x_prev);
   // Dynamic relaxation: every body's v_c, L and ω times `factor` (0: at
   // rest, both half steps), and its live nodes' velocities with them.
   void scale_velocities(double factor, const std::vector<Vec3>& x, std::vector<Vec3>& v);
@@ -100,7 +103,8 @@ class RigidBodies {
  private:
   // ω = I⁻¹·L with I at the rotation of t_n + dt/2 (estimated with ω_{n-1/2}).
   Vec3 angular_velocity(RigidBodyState& s, double dt) const;
-  void set_live_velocities(const RigidBodyState& s, const std::vector<Vec3>& x, std::vector<Vec3>& v) const;
+  void set_live_velocities(const RigidBodyState& s, const std::vector<Vec3>& x, std::vector<Vec3>& v,
+                           std::vector<Vec3>* v_prev = nullptr) const;
 
   const Model& m_;
   std::vector<RigidBodyState> bodies_;

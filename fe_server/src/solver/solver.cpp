@@ -553,8 +553,22 @@ void Solver::contact() {
   for (auto& c : contacts_) c->apply(x_, v_, f_con_, n_);
   // Energy taken by the contact: minus the work its forces did on the nodes.
   energies_.contact -= step_work(f_con_prev_, f_con_, con_nodes_);
-  const double total = sum_over(con_nodes_, [&](size_t i) { return f_con_[i].norm(); });
-  contact_force_ = 0.5 * total;  // each pair appears twice (node and segment side)
+  contact_force_stale_ = true;
+}
+
+double Solver::contact_force() const {
+  if (contact_force_stale_) {
+    double total = 0.0;
+    for (size_t b = 0; b * kNodeBlock < con_nodes_.size(); ++b) {
+      double sum = 0.0;
+      for (size_t k = b * kNodeBlock; k < std::min(con_nodes_.size(), (b + 1) * kNodeBlock); ++k)
+        sum += f_con_[static_cast<size_t>(con_nodes_[k])].norm();
+      total += sum;
+    }
+    contact_force_ = 0.5 * total;
+    contact_force_stale_ = false;
+  }
+  return contact_force_;
 }
 
 void Solver::accelerations() {
@@ -584,9 +598,7 @@ void Solver::velocities() {
       v[j] += h * (im[j] * ((fe[j] + fi[j]) + fc[j]));
     }
   });
-  for (size_t b = 0; b < bodies_.size(); ++b)
-    for (int i : bodies_[b].live) v_prev_[static_cast<size_t>(i)] = v_[static_cast<size_t>(i)];
-  bodies_.advance_velocities(h, dt_, x_, v_);
+  bodies_.advance_velocities(h, dt_, x_, v_, v_prev_);
   if (relaxing_) {  // dynamic relaxation: every velocity times DRFCTR
     const double f = m_.relaxation.drfctr;
     for_each_node(free_, [&](size_t i) { v_[i] *= f; });
@@ -912,9 +924,7 @@ void Solver::positions() {
   for (double p : ke_partial_) total += p;
   ke += total;
   energies_.kinetic = ke;
-  for (size_t b = 0; b < bodies_.size(); ++b)
-    for (int i : bodies_[b].live) x_prev_[static_cast<size_t>(i)] = x_[static_cast<size_t>(i)];
-  bodies_.advance_positions(dt_, x_, v_);
+  bodies_.advance_positions(dt_, x_, v_, x_prev_);
   interior_placed_ = bodies_.size() == 0;
 }
 
@@ -1003,7 +1013,9 @@ void Solver::state(config::StateIO& io) {
     io.value("rigid motion com prev", r.com_prev);
   }
   io.value("damping power", damping_power_);
+  contact_force();  // summed now if the last step left it to be asked
   io.value("contact force", contact_force_);
+  contact_force_stale_ = false;
   io.value("energy kinetic", energies_.kinetic);
   io.value("energy internal", energies_.internal);
   io.value("energy spring", energies_.spring);

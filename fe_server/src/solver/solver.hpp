@@ -180,7 +180,11 @@ class Solver {
   // Mean velocity of 1D bar element e's two nodes along its axis (n1 → n2)
   // at stress_time(), m/s.
   double bar_axial_velocity(size_t e) const;
-  double contact_force() const { return contact_force_; }  // total normal force of the last step, N
+  // Total normal force of the last step, N: half the sum of |f_con| over
+  // the contact nodes (each pair appears on both sides), summed when asked
+  // (histories ask at their interval, not every step), per fixed block as
+  // sum_over does: the same value for any thread count.
+  double contact_force() const;
   // The contacts in deck order (their resultants: rcforc).
   const std::vector<std::unique_ptr<PenaltyContact>>& contacts() const { return contacts_; }
   // Velocities v_{n-1/2} of the last step's start (with v(), the acceleration at t_n).
@@ -303,7 +307,9 @@ class Solver {
     std::vector<std::pair<int, int>> bar_ends;
   };
   std::vector<SectionSlots> sections_;
-  double damping_power_ = 0.0, contact_force_ = 0.0;
+  double damping_power_ = 0.0;
+  mutable double contact_force_ = 0.0;
+  mutable bool contact_force_stale_ = false;
   Energies energies_;
   double energy0_ = 0.0;
 };

@@ -11,11 +11,17 @@
 //  (6) the hammer scene's deck (rigid piston, spool and rock block, 1D-bar
 //      tool) on its own: µs per FE step at the co-simulation's 1 µs step;
 //  (7) thread scaling, 1 → 2 threads, hex8 and axisymmetric decks of
-//      30k+ elements, the two counts interleaved three times (median).
+//      30k+ elements, the two counts interleaved three times (median);
+//  (8) against CalculiX (ccx, Debian's calculix-ccx; skipped without it):
+//      the bar impact's h = 2.5 mm hex8 mesh as C3D8R, explicit, one
+//      thread each, output only at the end.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "axi_decks.hpp"
@@ -225,11 +231,97 @@ void thread_scaling() {
 
 // bench_fe [NAME...]: every benchmark, or those named (hammer, threads,
 // hex8, bar, axi4, bar_impact, axi_bar_impact), in this order.
+// The Ø20 mm bar impact's two bodies (piston 0.2 m at 8 m/s, tool 0.8 m)
+// meshed at h, without contact: both codes step the same two free bodies,
+// element and nodal work only.
+fe::Model bar_impact_bodies(double h) {
+  fe::RevolutionMeshOptions t, p;
+  t.element_size = p.element_size = h;
+  t.part = 2, t.z0 = -0.8;
+  p.part = 1, p.z0 = 1e-4, p.node_offset = 1000000, p.element_offset = 1000000, p.set_offset = 10;
+  return fe::parse_deck("*KEYWORD\n" + fe::mesh_revolution({{0.8, 0.01, 0}}, t).keyword_text +
+                            fe::mesh_revolution({{0.2, 0.01, 0}}, p).keyword_text + materials(0.3) +
+                            "*INITIAL_VELOCITY_GENERATION\n1,2,0,0,0,-8\n0,0,0,0,0,0\n",
+                        "bodies.k");
+}
+
+// CalculiX's input for model m as C3D8R (LS-DYNA's hex node order is
+// CalculiX's), explicit over `duration`, the piston's velocities printed
+// once at the end.
+void write_ccx_input(const fe::Model& m, double dt, double duration, const std::string& path) {
+  std::ofstream o(path);
+  o.precision(10);  // CalculiX reads fixed-width fields: 17 digits overflow them
+  o << "*HEADING\nbar impact bodies\n*NODE, NSET=NALL\n";
+  for (size_t i = 0; i < m.x0.size(); ++i) o << i + 1 << ", " << m.x0[i].x() << ", " << m.x0[i].y() << ", " << m.x0[i].z() << "\n";
+  o << "*ELEMENT, TYPE=C3D8R, ELSET=EALL\n";
+  for (size_t e = 0; e < m.solids.size(); ++e) {
+    o << e + 1;
+    for (int a = 0; a < 8; ++a) o << ", " << m.solids[e].n[a] + 1;
+    o << "\n";
+  }
+  o << "*NSET, NSET=PISTON\n";
+  int k = 0;
+  for (size_t i = 0; i < m.x0.size(); ++i)
+    if (m.node_ids[i] >= 1000000) o << i + 1 << (++k % 8 == 0 ? ",\n" : ", ");
+  o << "\n*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n";
+  o << "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*INITIAL CONDITIONS, TYPE=VELOCITY\nPISTON, 3, -8.0\n";
+  // *DYNAMIC, EXPLICIT with CalculiX's own stable increment (DIRECT and
+  // NLGEOM made ccx 2.20 iterate at t = 0 without advancing, tried).
+  o << "*STEP, INC=10000000\n*DYNAMIC, EXPLICIT\n" << dt << ", " << duration << "\n";
+  o << "*NODE PRINT, NSET=PISTON, FREQUENCY=10000000\nV\n*END STEP\n";
+}
+
+void calculix_comparison() {
+  if (std::system("command -v ccx > /dev/null 2>&1") != 0) {
+    std::printf("CalculiX (ccx) not found: comparison skipped (Debian: calculix-ccx)\ncsv:calculix,skipped\n");
+    return;
+  }
+  fe::Model m = bar_impact_bodies(0.0025);
+  const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
+  fe::Solver s(m, dt);
+  const int steps = 200;
+  auto t0 = Clock::now();
+  for (int k = 0; k < steps; ++k) s.step();
+  const double ours = 1e9 * since(t0) / (static_cast<double>(steps) * m.solids.size());
+  // CalculiX: two runs of different length; the difference removes its
+  // start-up (reading, structure of the matrix, masses), leaving the increments.
+  char dir_template[] = "/tmp/pcs_ccx_XXXXXX";
+  const std::string dir = mkdtemp(dir_template);
+  double wall[2] = {0, 0}, ccx_dt = 0.0;
+  long increments[2] = {0, 0};
+  const int ours_steps[2] = {20, 120};
+  for (int r = 0; r < 2; ++r) {
+    const double duration = ours_steps[r] * dt;
+    write_ccx_input(m, dt, duration, dir + "/run" + std::to_string(r) + ".inp");
+    const std::string cmd = "cd " + dir + " && OMP_NUM_THREADS=1 CCX_NPROC_RESULTS=1 CCX_NPROC_EQUATION_SOLVER=1 ccx -i run" +
+                            std::to_string(r) + " > run" + std::to_string(r) + ".log 2>&1";
+    auto c0 = Clock::now();
+    const int rc = std::system(cmd.c_str());
+    wall[r] = since(c0);
+    std::ifstream log(dir + "/run" + std::to_string(r) + ".log");
+    std::string line;
+    while (std::getline(log, line))
+      if (const auto at = line.find("SELECTED time increment:"); at != std::string::npos) ccx_dt = std::atof(line.c_str() + at + 24);
+    if (rc != 0 || !(ccx_dt > 0.0)) {
+      std::printf("CalculiX failed (exit %d; its log: %s/run%d.log): comparison skipped\ncsv:calculix,failed\n", rc,
+                  dir.c_str(), r);
+      return;
+    }
+    increments[r] = static_cast<long>(std::ceil(duration / ccx_dt - 1e-9));
+  }
+  std::filesystem::remove_all(dir);
+  const double theirs = 1e9 * (wall[1] - wall[0]) / (static_cast<double>(increments[1] - increments[0]) * m.solids.size());
+  std::printf("against CalculiX (C3D8R explicit, one thread each, %zu elements): ours %.1f ns, ccx %.1f ns per "
+              "element-cycle, %.1fx; steps %.3g s (ours) and %.3g s (ccx's own stable increment)\n",
+              m.solids.size(), ours, theirs, theirs / ours, dt, ccx_dt);
+  std::printf("csv:calculix,%zu,%.2f,%.2f,%.2f,%.4g,%.4g\n", m.solids.size(), ours, theirs, theirs / ours, dt, ccx_dt);
+}
+
 int main(int argc, char** argv) {
   const std::pair<const char*, void (*)()> all[] = {
       {"hammer", hammer_fe_step_cost}, {"threads", thread_scaling},      {"hex8", element_cycle_cost},
       {"bar", bar_cycle_cost},         {"axi4", axi_cycle_cost},          {"bar_impact", bar_impact_convergence},
-      {"axi_bar_impact", axi_bar_impact_convergence}};
+      {"axi_bar_impact", axi_bar_impact_convergence}, {"calculix", calculix_comparison}};
   for (const auto& [name, run] : all) {
     bool wanted = argc < 2;
     for (int i = 1; i < argc; ++i) wanted |= std::string(argv[i]) == name;

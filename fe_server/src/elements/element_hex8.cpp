@@ -259,32 +259,42 @@ __attribute__((target_clones("avx2", "default"))) void hex8_kernel(Hex8Batch& B,
       B.f[a][1][l] = -V * (s[3][l] * bx + s[1][l] * by + s[4][l] * bz);
       B.f[a][2][l] = -V * (s[5][l] * bx + s[4][l] * by + s[2][l] * bz);
     }
-  // Hourglass (viscous FB): γ_α = h_α − (h_α·x_i) b_i, q_αi = Σ_a v_ai γ_αa,
-  // f_ai −= c_h Σ_α γ_αa q_αi.
-  double hg_energy[W];
+  // Hourglass (viscous FB): γ_α = h_α − (h_α·x_j) b_j, q_αi = Σ_a v_ai γ_αa,
+  // f_ai −= c_h Σ_α γ_αa q_αi. With L_ij = Σ_a v_ai b_aj already at hand,
+  // q_αi = h_α·v_i − Σ_j (h_α·x_j) L_ij, and the force's γ splits into
+  // Σ_α h_αa q_αi − Σ_j b_aj P_ji with P_ji = Σ_α (h_α·x_j) q_αi: the
+  // h_α sums are additions of ±1 terms, and γ is never formed.
+  double hq[8][3][W], P[3][3][W], hg_energy[W];
   for (int l = 0; l < W; ++l) hg_energy[l] = 0.0;
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i)
+      for (int l = 0; l < W; ++l) hq[a][i][l] = 0.0;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+      for (int l = 0; l < W; ++l) P[j][i][l] = 0.0;
   for (int al = 0; al < 4; ++al) {
-    double hx[3][W], gam[8][W], qa[3][W];
+    double hx[3][W], qa[3][W];
     for (int i = 0; i < 3; ++i)
       for (int l = 0; l < W; ++l) {
-        double sum = 0.0;
-        for (int a = 0; a < 8; ++a) sum += h[al][a] * B.x[a][i][l];
-        hx[i][l] = sum;
+        double sx = 0.0, sv = 0.0;
+        for (int a = 0; a < 8; ++a) sx += h[al][a] * B.x[a][i][l], sv += h[al][a] * B.v[a][i][l];
+        hx[i][l] = sx;
+        qa[i][l] = sv;
       }
-    for (int a = 0; a < 8; ++a)
-      for (int l = 0; l < W; ++l)
-        gam[a][l] = h[al][a] - (hx[0][l] * b[a][0][l] + hx[1][l] * b[a][1][l] + hx[2][l] * b[a][2][l]);
     for (int i = 0; i < 3; ++i)
-      for (int l = 0; l < W; ++l) {
-        double sum = 0.0;
-        for (int a = 0; a < 8; ++a) sum += B.v[a][i][l] * gam[a][l];
-        qa[i][l] = sum;
-      }
+      for (int l = 0; l < W; ++l) qa[i][l] -= hx[0][l] * L[i][0][l] + hx[1][l] * L[i][1][l] + hx[2][l] * L[i][2][l];
     for (int a = 0; a < 8; ++a)
       for (int i = 0; i < 3; ++i)
-        for (int l = 0; l < W; ++l) B.f[a][i][l] -= B.ch[l] * gam[a][l] * qa[i][l];
+        for (int l = 0; l < W; ++l) hq[a][i][l] += h[al][a] * qa[i][l];
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i)
+        for (int l = 0; l < W; ++l) P[j][i][l] += hx[j][l] * qa[i][l];
     for (int l = 0; l < W; ++l) hg_energy[l] += qa[0][l] * qa[0][l] + qa[1][l] * qa[1][l] + qa[2][l] * qa[2][l];
   }
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i)
+      for (int l = 0; l < W; ++l)
+        B.f[a][i][l] -= B.ch[l] * (hq[a][i][l] - (b[a][0][l] * P[0][i][l] + b[a][1][l] * P[1][i][l] + b[a][2][l] * P[2][i][l]));
   for (int l = 0; l < W; ++l) B.hourglass[l] = B.ch[l] * hg_energy[l] * dt;
 }
 

@@ -261,7 +261,8 @@ class Solver {
     std::vector<std::pair<size_t, size_t>> runs;
   };
   static NodeRuns runs_of(const std::vector<int>& nodes);
-  // run(first, end) for each run of block b, for every block, on the pool when there are several.
+  // run(b, first, end) for each run [first, end) of block b, for every
+  // block, on the pool when there are several.
   template <class R>
   void for_each_run(const NodeRuns& runs, R&& run);
   NodeRuns free_runs_;

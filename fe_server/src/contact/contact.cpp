@@ -203,6 +203,7 @@ bool PenaltyContact::project(const Side& s, size_t j, size_t node, const std::ve
   const Vec3& a = x[static_cast<size_t>(other.n[0])];
   const Vec3 d = x[static_cast<size_t>(other.n[1])] - a;
   const double len = d.norm();
+  if (!(len > 0.0)) return true;  // a line of no length turns nothing
   const double beside = (x[node] - a).dot(Vec3(d.y(), -d.x(), 0.0)) / len;
   return beside <= std::max(-c.g, 1e-6 * len);
 }

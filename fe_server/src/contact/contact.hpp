@@ -86,7 +86,7 @@ class PenaltyContact {
     // at the corner where two bodies of one radius meet, after round-off),
     // and a contact that lets go there and catches again a step later is
     // not conservative: on the axisymmetric bar impact with SFACT 0.3 it
-    // pumped 9 % of the impact energy into the faces' hourglass modes.
+    // pumped 20 % of the impact energy into the faces' hourglass modes.
     // Where the next line turns by more than 10° (a corner of the body), a
     // node past the end counts only while it is no farther in front of that
     // next line than it is pressed into this one: a node beside the body is

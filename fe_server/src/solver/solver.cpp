@@ -559,12 +559,7 @@ void Solver::contact() {
 double Solver::contact_force() const {
   if (contact_force_stale_) {
     double total = 0.0;
-    for (size_t b = 0; b * kNodeBlock < con_nodes_.size(); ++b) {
-      double sum = 0.0;
-      for (size_t k = b * kNodeBlock; k < std::min(con_nodes_.size(), (b + 1) * kNodeBlock); ++k)
-        sum += f_con_[static_cast<size_t>(con_nodes_[k])].norm();
-      total += sum;
-    }
+    for (int i : con_nodes_) total += f_con_[static_cast<size_t>(i)].norm();
     contact_force_ = 0.5 * total;
     contact_force_stale_ = false;
   }

@@ -182,8 +182,8 @@ class Solver {
   double bar_axial_velocity(size_t e) const;
   // Total normal force of the last step, N: half the sum of |f_con| over
   // the contact nodes (each pair appears on both sides), summed when asked
-  // (histories ask at their interval, not every step), per fixed block as
-  // sum_over does: the same value for any thread count.
+  // (histories ask at their interval, not every step), on the calling
+  // thread in list order: the same value for any thread count.
   double contact_force() const;
   // The contacts in deck order (their resultants: rcforc).
   const std::vector<std::unique_ptr<PenaltyContact>>& contacts() const { return contacts_; }

@@ -38,6 +38,8 @@ namespace {
 
 int usage(std::ostream& os, int rc) {
   os << "usage: fe_server --model DECK.k [--ports ports.cfg] [options]\n"
+        "       mpirun -n P fe_server ... (or srun): the same run on P ranks, the elements partitioned\n"
+        "                        (METIS), rank 0 the host's only link; results as on one rank up to round-off\n"
         "  --model FILE          keyword deck of the structure\n"
         "  --ports FILE          port configuration; without it the deck runs standalone. Repeat it\n"
         "                        for one FMU per part (piston, valve): the session then waits for\n"
@@ -196,12 +198,23 @@ std::string default_checkpoint_path(const std::string& out) {
   return (h5 ? out.substr(0, out.size() - 3) : out) + ".ckpt";
 }
 
+// What the partition gave: said once by rank 0.
+std::string ranks_text(const fe::Solver& solver) {
+  const fe::Partition& p = solver.partition();
+  std::ostringstream s;
+  s << "fe_server: " << p.ranks << " ranks (" << p.method << "), elements per rank";
+  for (long n : p.elements_per_rank) s << " " << n;
+  s << "; rank 0 shares " << solver.shared_nodes() << " nodes with other ranks";
+  return s.str();
+}
+
 int run_standalone(fe::Model& model, const std::string& out, bool quiet, int threads, const CheckpointOptions& ck) {
   if (!(model.end_time > 0.0)) {
     std::cerr << "fe_server: " << model.source
               << ": a standalone run needs *CONTROL_TERMINATION with ENDTIM > 0\n";
     return fe::kExitInput;
   }
+  const fe::Domain& dom = fe::Domain::world();
   const fe::StableStep crit = fe::Solver::stable_dt(model);
   double dt = model.dt2ms < 0.0 ? -model.dt2ms : model.dt_scale * crit.dt;
   if (!std::isfinite(dt) || dt > 1e299) {
@@ -209,9 +222,10 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
     return fe::kExitInput;
   }
   prepare_step(model, dt, quiet);
-  fe::Solver solver(model, dt);
+  fe::Solver solver(model, dt, dom);
   solver.set_threads(threads);
   for (const auto& note : solver.notes()) std::cerr << "fe_server: note: " << note << "\n";
+  if (dom.parallel() && !quiet) std::cout << ranks_text(solver) << std::endl;
   std::unique_ptr<fe::SqueezeFilmLoad> films;
   try {
     films = std::make_unique<fe::SqueezeFilmLoad>(model);
@@ -227,11 +241,13 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   fe::UserLoad* loads = films->empty() ? nullptr : films.get();
   // Without *DATABASE_ DT cards: 10000 rows over the run.
   std::unique_ptr<fe::History> history_owner;
+  fe::FollowerHistory follower(model);  // ranks other than 0: no files
   fe::CheckpointIdentity id{ck.deck_digest, 0, 0};
   long first = 0;
+  const bool writes = dom.rank() == 0;
   try {
     if (resume) fe::check_checkpoint(ck.restart, id);
-    history_owner = std::make_unique<fe::History>(out, model, nullptr, dt, model.end_time / 1e4, resume);
+    if (writes) history_owner = std::make_unique<fe::History>(out, model, nullptr, dt, model.end_time / 1e4, resume);
     if (resume) {
       first = static_cast<long>(fe::load_checkpoint(ck.restart, id, solver, loads, *history_owner));
       if (!quiet)
@@ -242,8 +258,20 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
     std::cerr << "fe_server: " << e.what() << "\n";
     return fe::kExitInput;
   }
-  fe::History& history = *history_owner;
   const long steps = static_cast<long>(std::ceil(model.end_time / dt));
+  if (!writes) {  // a follower: the same steps; its errors are rank 0's too (solver.hpp)
+    try {
+      for (long k = first; k < steps; ++k) {
+        if ((k & 63) == 0 && dom.any(config::stop_signal() != 0)) return fe::stopped_by(SIGTERM);
+        solver.step();
+        follower.record(solver);
+      }
+    } catch (const std::exception&) {
+      return fe::kExitNumerical;
+    }
+    return fe::kExitOk;
+  }
+  fe::History& history = *history_owner;
   const auto t0 = std::chrono::steady_clock::now();
   auto last = t0, last_checkpoint = t0;
   auto checkpoint = [&](long k) {
@@ -253,7 +281,10 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   };
   try {
     for (long k = first; k < steps; ++k) {
-      if (const int signo = config::stop_signal()) {
+      // Across ranks they agree every 64 steps on whether any saw a stop signal.
+      const bool stop = dom.parallel() ? (k & 63) == 0 && dom.any(config::stop_signal() != 0) : config::stop_signal() != 0;
+      if (stop) {
+        const int signo = config::stop_signal() ? config::stop_signal() : SIGTERM;
         history.flush();
         std::string saved;
         if (ck.enabled()) {
@@ -299,9 +330,37 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   return energy_verdict(energy, drift, failed);
 }
 
+// Everything fe_server can refuse before a run across ranks starts.
+void check_for_ranks(const fe::Model& model, const CheckpointOptions& ck) {
+  if (model.relaxes())
+    throw std::invalid_argument(model.relaxation.where.str() +
+                                ": dynamic relaxation runs on one rank only for now: run this deck without mpirun");
+  if (ck.enabled())
+    throw std::invalid_argument("--checkpoint, --checkpoint-every and --restart work on one rank only for now: "
+                                "run without mpirun to checkpoint");
+}
+
+int run_main(int argc, char** argv);
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  fe::Domain::init(&argc, &argv);
+  const int rc = run_main(argc, argv);
+  fe::Domain::finalize();
+  return rc;
+}
+
+namespace {
+
+int run_main(int argc, char** argv) {
+  const fe::Domain& dom = fe::Domain::world();
+  // Ranks other than 0 say nothing: their errors are rank 0's (solver.hpp).
+  static std::ofstream null_stream;  // outlives main: cout and cerr are flushed at exit
+  if (dom.rank() != 0) {
+    std::cout.rdbuf(null_stream.rdbuf());
+    std::cerr.rdbuf(null_stream.rdbuf());
+  }
   std::signal(SIGPIPE, SIG_IGN);
   config::install_stop_handlers();
   std::string deck, listen = "127.0.0.1:0", out = "fe_results.h5";
@@ -350,7 +409,8 @@ int main(int argc, char** argv) {
     if (sl_parse_endpoint(listen.c_str(), host, sizeof host, &opt.listen_port) != SL_OK)
       throw std::invalid_argument("--listen '" + listen + "' is not HOST:PORT");
     opt.listen_host = host;
-    if (threads == 0) threads = default_threads(ports_paths.empty() || !is_loopback(opt.listen_host));
+    // Across ranks, one thread each: the ranks take the cores.
+    if (threads == 0) threads = dom.parallel() ? 1 : default_threads(ports_paths.empty() || !is_loopback(opt.listen_host));
     opt.token = token_file.empty() ? config::token_from_environment() : config::read_token_file(token_file);
     if (!is_loopback(opt.listen_host) && opt.token.size() < PCS_MIN_TOKEN_OFF_LOOPBACK)
       throw std::invalid_argument("--listen " + listen + " is off loopback: a token of at least " +
@@ -370,8 +430,9 @@ int main(int argc, char** argv) {
     fe::DeckWarnings warnings;
     model = fe::read_deck(deck, &warnings);
     for (const auto& w : warnings.messages) std::cerr << w << "\n";
-    // In a session the host decides when to checkpoint: always ready.
-    if (!ports_paths.empty() && ck.path.empty()) ck.path = default_checkpoint_path(out);
+    if (dom.parallel()) check_for_ranks(model, ck);
+    // In a session the host decides when to checkpoint: always ready (on one rank).
+    if (!ports_paths.empty() && ck.path.empty() && !dom.parallel()) ck.path = default_checkpoint_path(out);
     if (ck.enabled()) ck.deck_digest = config::file_sha256(deck);
     if (ports_paths.empty()) return run_standalone(model, out, opt.quiet, threads, ck);
     for (const auto& p : ports_paths) tables.push_back(config::read_port_table(p));
@@ -385,7 +446,8 @@ int main(int argc, char** argv) {
   try {
     const fe::Model pristine = model;  // each session starts from the deck's state (mass scaling included)
     fe::CouplingServer server(opt, tables);
-    server.bind();
+    if (dom.rank() == 0) server.bind();  // rank 0 owns the link; it tells the others what to do
+    server.set_domain(&dom);
     fe::ExitCode worst = fe::kExitOk;
     for (int session = 1; sessions == 0 || session <= sessions; ++session) {
       const bool last = sessions != 0 && session == sessions;
@@ -402,10 +464,11 @@ int main(int argc, char** argv) {
       // Printed before mass scaling: the estimate is about the physical piston.
       if (!quiet) std::cout << fe::coupling_stability_text(fe::coupling_stability(model, table, 1.4e9), table, 1.4e9);
       prepare_step(model, table.dt / table.subcycles, quiet);
-      fe::Solver solver(model, table.dt / table.subcycles);
+      fe::Solver solver(model, table.dt / table.subcycles, dom);
       solver.set_threads(threads);
       if (!quiet)
         for (const auto& note : solver.notes()) std::cerr << "fe_server: note: " << note << "\n";
+      if (dom.parallel() && !quiet) std::cout << ranks_text(solver) << std::endl;
       // Before the host's loads: they start with the transient. A host that
       // connected meanwhile waits (its handshake deadline is the port
       // table's timeout).
@@ -413,6 +476,18 @@ int main(int argc, char** argv) {
       if (!resume)  // a checkpoint holds the settled state
         if (const fe::ExitCode code = relax(solver, model, quiet); code != fe::kExitOk) return code;
       solver.set_user_load(&loads);
+      if (dom.rank() != 0) {  // the same steps as rank 0, on its word
+        fe::FollowerHistory follower(model);
+        fe::ExitCode code = fe::kExitNumerical;
+        try {
+          code = fe::follow_session(dom, solver, ports, follower, table.to_fe.size(), table.to_host.size(), table.subcycles);
+        } catch (const std::exception&) {  // a failed FE step: rank 0 fails alike and says why
+          return fe::kExitNumerical;
+        }
+        if (code >= fe::kExitStopped || code == fe::kExitAcceptTimeout || code == fe::kExitCheckpointed) return code;
+        if (code != fe::kExitOk) worst = code;
+        continue;
+      }
       const std::string path = session_path(out, session, sessions);
       if (resume) {
         try {
@@ -491,3 +566,5 @@ int main(int argc, char** argv) {
     return fe::kExitInput;
   }
 }
+
+}  // namespace

@@ -510,7 +510,46 @@ int CouplingServer::receive(Client& c, pcs_header& h, uint64_t step, int64_t dea
   return rc;
 }
 
+namespace {
+constexpr double kCommandStep = 0.0, kCommandEnd = 1.0;
+}
+
+void CouplingServer::tell_ranks(double kind, double code, const std::vector<double>& in) {
+  if (!dom_ || !dom_->parallel()) return;
+  command_.assign(2, 0.0);
+  command_[0] = kind, command_[1] = code;
+  command_.insert(command_.end(), in.begin(), in.end());
+  dom_->broadcast_waiting(command_.data(), command_.size() * sizeof(double));
+}
+
 ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, std::string& message) {
+  // A failed FE step fails on every rank alike (solver.hpp); anything else
+  // ends here with the session's code, which the other ranks are told.
+  const ExitCode code = run_steps(solver, ports, history, message);
+  size_t n_in = 0;  // all clients' inputs, as follow_session expects them
+  for (const auto& t : tables_) n_in += t.to_fe.size();
+  tell_ranks(kCommandEnd, static_cast<double>(code), std::vector<double>(n_in, 0.0));
+  return code;
+}
+
+ExitCode follow_session(const Domain& domain, Solver& solver, PortMap& ports, FollowerHistory& history, size_t inputs,
+                        size_t outputs, int subcycles) {
+  std::vector<double> command(2 + inputs), in(inputs), out(outputs);
+  for (;;) {
+    domain.broadcast_waiting(command.data(), command.size() * sizeof(double));
+    if (command[0] == kCommandEnd) return static_cast<ExitCode>(static_cast<int>(command[1]));
+    std::copy(command.begin() + 2, command.end(), in.begin());
+    ports.apply_inputs(in);
+    for (int s = 0; s < subcycles; ++s) {
+      solver.step();
+      ports.accumulate(solver);
+      history.record(solver);
+    }
+    ports.measure_outputs(solver, out);
+  }
+}
+
+ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, History& history, std::string& message) {
   stopping_ = false;
   checkpointed_at_ = -1;
   if (listener_.fd < 0) bind();
@@ -627,6 +666,7 @@ ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, s
       return kExitLinkLost;
     }
 
+    tell_ranks(kCommandStep, 0.0, in);
     ports.apply_inputs(in);
     // Heartbeats keep the host's deadline from expiring during a long step.
     const double beat = std::min(1.0, 0.25 * timeout_);

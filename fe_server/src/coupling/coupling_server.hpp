@@ -100,6 +100,10 @@ class CouplingServer {
   }
   // Serve one session. Returns an exit code; `message` says what happened.
   ExitCode run(Solver& solver, PortMap& ports, History& history, std::string& message);
+  // fe_server across ranks: this server is rank 0's; every coupling step it
+  // tells the other ranks (follow_session) to step with the host's inputs,
+  // and at the session's end its exit code.
+  void set_domain(const Domain* domain) { dom_ = domain; }
 
   // A connection in its handshake: HELLO expected, then (after our
   // CHALLENGE) AUTH.
@@ -125,6 +129,10 @@ class CouplingServer {
   HandshakeProgress handshake_step(Pending& p, std::string& why);
 
  private:
+  ExitCode run_steps(Solver& solver, PortMap& ports, History& history, std::string& message);
+  void tell_ranks(double kind, double code, const std::vector<double>& in);
+  const Domain* dom_ = nullptr;
+  std::vector<double> command_;
   struct Client {
     const config::PortTable* table = nullptr;
     sl_socket conn = SL_SOCKET_INIT;
@@ -181,5 +189,11 @@ class CouplingServer {
   std::vector<uint8_t> buf_;
   std::vector<uint8_t> peek_;  // what handshake_step looks at
 };
+
+// The other ranks' side of a session (CouplingServer::set_domain): each
+// coupling step the host's inputs from rank 0, the same FE steps, until
+// rank 0 says the session ended; returns its exit code.
+ExitCode follow_session(const Domain& domain, Solver& solver, PortMap& ports, FollowerHistory& history, size_t inputs,
+                        size_t outputs, int subcycles);
 
 }  // namespace fe

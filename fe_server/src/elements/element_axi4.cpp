@@ -106,7 +106,7 @@ double axi4_stable_step(const Mat42& x, double lambda, double mu, double rho, do
   return 2.0 / std::sqrt(lmax) * (std::sqrt(1.0 + q2 * q2) - q2);
 }
 
-Axi4State::Axi4State(const Model& m)
+Axi4State::Axi4State(const Model& m, const std::vector<int>* owner, int rank)
     : sigma(m.axis.size(), Eigen::Matrix<double, 6, 1>::Zero()),
       plastic_strain(m.axis.size(), 0.0),
       back_stress(m.axis.size(), Eigen::Matrix<double, 6, 1>::Zero()),
@@ -114,7 +114,7 @@ Axi4State::Axi4State(const Model& m)
   for (size_t e = 0; e < m.axis.size(); ++e) {
     const AxiElement& el = m.axis[e];
     const Material& mat = m.materials.at(m.parts.at(el.part).material);
-    if (!mat.rigid) elements.push_back(static_cast<int>(e)), part_slot.push_back(fe::part_slot(m, el.part));
+    if (!mat.rigid && (!owner || (*owner)[e] == rank)) elements.push_back(static_cast<int>(e)), part_slot.push_back(fe::part_slot(m, el.part));
     Axi4Geometry g;
     axi4_geometry(axi4_gather(m.x0, el), g);
     constants[e] = {mat.lambda(), mat.mu(), mat.rho, mat.wave_speed(),

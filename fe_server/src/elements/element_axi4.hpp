@@ -114,7 +114,8 @@ struct Axi4State {
   std::vector<double> force;
   NodalGather gather;
   std::vector<BlockResult> blocks;
-  explicit Axi4State(const Model& m);
+  // owner: as Hex8State's.
+  explicit Axi4State(const Model& m, const std::vector<int>* owner = nullptr, int rank = 0);
 };
 
 // One step of every axisymmetric element: the formulas above (the stress on

@@ -2,7 +2,7 @@
 
 namespace fe {
 
-BarState::BarState(const Model& m)
+BarState::BarState(const Model& m, const std::vector<int>* owner, int rank)
     : force(m.bars.size(), 0.0), area(m.bars.size(), 0.0), EA(m.bars.size(), 0.0), length0(m.bars.size(), 0.0),
       length(m.bars.size(), 0.0) {
   for (size_t e = 0; e < m.bars.size(); ++e) {
@@ -11,7 +11,7 @@ BarState::BarState(const Model& m)
     const Material& mat = m.materials.at(part.material);
     area[e] = part.bar_area;
     length0[e] = length[e] = (m.x0[static_cast<size_t>(b.n2)] - m.x0[static_cast<size_t>(b.n1)]).norm();
-    if (mat.rigid) continue;
+    if (mat.rigid || (owner && (*owner)[e] != rank)) continue;
     elements.push_back(static_cast<int>(e));
     EA[e] = mat.E * part.bar_area;
   }

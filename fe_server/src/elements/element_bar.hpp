@@ -23,7 +23,8 @@ struct BarState {
   std::vector<int> elements;
   std::vector<double> area, EA;
   std::vector<double> length0, length;  // reference and last length, m
-  explicit BarState(const Model& m);
+  // owner: as Hex8State's.
+  explicit BarState(const Model& m, const std::vector<int>* owner = nullptr, int rank = 0);
 };
 
 // The axial forces at positions x, added to f; the internal work since the

@@ -91,14 +91,14 @@ Mat83 hex8_gather(const std::vector<Vec3>& a, const SolidElement& e) {
   return out;
 }
 
-Hex8State::Hex8State(const Model& m)
+Hex8State::Hex8State(const Model& m, const std::vector<int>* owner, int rank)
     : sigma(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()),
       plastic_strain(m.solids.size(), 0.0),
       back_stress(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()) {
   for (size_t e = 0; e < m.solids.size(); ++e) {
     const SolidElement& el = m.solids[e];
     const Material& mat = m.materials.at(m.parts.at(el.part).material);
-    if (mat.rigid) continue;
+    if (mat.rigid || (owner && (*owner)[e] != rank)) continue;
     elements.push_back(static_cast<int>(e));
     Mat83 b;
     double volume = 0.0;

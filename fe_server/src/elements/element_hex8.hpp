@@ -67,7 +67,9 @@ struct Hex8State {
   std::vector<double> force;      // 24 per element: the nodal forces of the last step
   NodalGather gather;
   std::vector<BlockResult> blocks;
-  explicit Hex8State(const Model& m);
+  // owner: the elements' ranks (partition.hpp); only those of `rank` are
+  // computed here. nullptr: every element.
+  explicit Hex8State(const Model& m, const std::vector<int>* owner = nullptr, int rank = 0);
 };
 
 // Elements per task of the element loop; a block is processed as batches of

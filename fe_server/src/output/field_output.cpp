@@ -131,13 +131,13 @@ void FieldWriter::write_int_dataset(const std::string& name, const std::vector<i
 }
 
 void FieldWriter::write(const Solver& s) {
-  std::vector<Eigen::Matrix<double, 6, 1>> stress(cells());
-  std::vector<double> plastic(cells(), 0.0);
-  for (size_t e = 0; e < stress.size(); ++e) {
-    stress[e] = axisymmetric() ? s.axi_stress(e) : s.stress(e);
-    plastic[e] = axisymmetric() ? s.axi_plastic_strain(e) : s.plastic_strain(e);
-  }
-  write_snapshot(s.time(), s.x(), s.v(), stress, plastic);
+  // Across ranks the other ranks take part in gathering it (History's
+  // follower: history.hpp).
+  std::vector<Vec3> x, v;
+  std::vector<Eigen::Matrix<double, 6, 1>> stress;
+  std::vector<double> plastic;
+  s.gather_fields(x, v, stress, plastic, axisymmetric());
+  write_snapshot(s.time(), x, v, stress, plastic);
 }
 
 void FieldWriter::write_snapshot(double time, const std::vector<Vec3>& x, const std::vector<Vec3>& v,

@@ -109,6 +109,19 @@ History::History(const std::string& path, const Model& model, const config::Port
 
 History::~History() = default;
 
+FollowerHistory::FollowerHistory(const Model& model) : model_(model), next_snapshot_(model.snapshot_interval) {}
+
+void FollowerHistory::record(const Solver& s) {
+  // The same test as History::record's, on the same (shared) time.
+  if (model_.snapshot_interval > 0.0 && s.time() >= next_snapshot_ - 1e-12 * model_.snapshot_interval) {
+    std::vector<Vec3> x, v;
+    std::vector<Eigen::Matrix<double, 6, 1>> stress;
+    std::vector<double> plastic;
+    s.gather_fields(x, v, stress, plastic, model_.solids.empty() && !model_.axis.empty());
+    next_snapshot_ += model_.snapshot_interval;
+  }
+}
+
 void History::flush() {
   writer_.flush();
   if (ascii_) ascii_->flush();

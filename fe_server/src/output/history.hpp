@@ -31,6 +31,19 @@ namespace fe {
 // Without a DT the stream uses the default interval given to the
 // constructor (fe_server: the coupling step in a co-simulation, 1/10000 of
 // the run standalone); node and element streams default to the first's.
+// On the ranks other than 0 (fe_server across ranks, parallel/domain.hpp):
+// no files; takes part in what History on rank 0 gathers, a field snapshot
+// at the same steps. Called after every FE step, as History::record.
+class FollowerHistory {
+ public:
+  explicit FollowerHistory(const Model& model);
+  void record(const Solver& s);
+
+ private:
+  const Model& model_;
+  double next_snapshot_ = 0.0;
+};
+
 class History {
  public:
   // resume: continue the file of a run restarted from a checkpoint (state()

@@ -168,8 +168,15 @@ StableStep Solver::stable_dt(const Model& m) {
   return best;
 }
 
-Solver::Solver(const Model& model, double dt)
-    : m_(model), dt_(dt), bodies_(model, std::vector<char>(model.x0.size(), 0)), hex8_(model), axi4_(model), bars_(model) {
+Solver::Solver(const Model& model, double dt, const Domain& domain)
+    : dom_(domain),
+      part_(partition_elements(model, domain.size(), domain.rank())),
+      m_(model),
+      dt_(dt),
+      bodies_(model, std::vector<char>(model.x0.size(), 0)),
+      hex8_(model, part_.serial() ? nullptr : &part_.solid, part_.rank),
+      axi4_(model, part_.serial() ? nullptr : &part_.axi, part_.rank),
+      bars_(model, part_.serial() ? nullptr : &part_.bar, part_.rank) {
   if (!(dt > 0.0) || !std::isfinite(dt)) throw std::runtime_error("FE time step must be positive");
   const StableStep crit = stable_dt(model);
   // 1e-12 relative: mass scaling sets the density for exactly dt = TSSFAC·Δt_e,
@@ -290,24 +297,37 @@ Solver::Solver(const Model& model, double dt)
   for (size_t k = 0; k < hex8_.elements.size(); ++k) hex_pos[static_cast<size_t>(hex8_.elements[k])] = static_cast<int>(k);
   for (size_t k = 0; k < axi4_.elements.size(); ++k) axi_pos[static_cast<size_t>(axi4_.elements[k])] = static_cast<int>(k);
   for (const CrossSection& cs : model.cross_sections) {
+    // The slots of this rank's elements (across ranks the others' forces
+    // come in the exchange of stage 1); the check is on every element.
     SectionSlots slots;
+    bool any_on_cut = false;
     auto on_cut = [&](int node) { return std::binary_search(cs.nodes.begin(), cs.nodes.end(), node); };
     for (int e : cs.solids)
       for (int a = 0; a < 8; ++a)
-        if (on_cut(model.solids[static_cast<size_t>(e)].n[a]))
-          slots.hex.push_back(24 * hex_pos[static_cast<size_t>(e)] + 3 * a);
+        if (on_cut(model.solids[static_cast<size_t>(e)].n[a])) {
+          any_on_cut = true;
+          if (hex_pos[static_cast<size_t>(e)] >= 0) slots.hex.push_back(24 * hex_pos[static_cast<size_t>(e)] + 3 * a);
+        }
     for (int e : cs.axis)
       for (int a = 0; a < 4; ++a)
-        if (on_cut(model.axis[static_cast<size_t>(e)].n[a])) slots.axi.push_back(8 * axi_pos[static_cast<size_t>(e)] + 2 * a);
+        if (on_cut(model.axis[static_cast<size_t>(e)].n[a])) {
+          any_on_cut = true;
+          if (axi_pos[static_cast<size_t>(e)] >= 0) slots.axi.push_back(8 * axi_pos[static_cast<size_t>(e)] + 2 * a);
+        }
     for (int e : cs.bars) {
-      if (on_cut(model.bars[static_cast<size_t>(e)].n1)) slots.bar_ends.emplace_back(e, 0);
-      if (on_cut(model.bars[static_cast<size_t>(e)].n2)) slots.bar_ends.emplace_back(e, 1);
+      const bool here = part_.owns_bar(static_cast<size_t>(e));
+      for (int end : {0, 1})
+        if (on_cut(end == 0 ? model.bars[static_cast<size_t>(e)].n1 : model.bars[static_cast<size_t>(e)].n2)) {
+          any_on_cut = true;
+          if (here) slots.bar_ends.emplace_back(e, end);
+        }
     }
-    if (slots.hex.empty() && slots.axi.empty() && slots.bar_ends.empty())
+    if (!any_on_cut)
       throw std::runtime_error(cs.where.str() + ": cross section " + std::to_string(cs.id) +
                                ": none of its elements has a node on the cut (NSID)");
     sections_.push_back(std::move(slots));
   }
+  section_total_.assign(sections_.size(), Vec3::Zero());
   for (const auto& c : model.contacts) {
     contacts_.push_back(std::make_unique<PenaltyContact>(model, c, dt, contact_mass_));
     contacts_.back()->refuse_initial_penetration(model, c, x_);
@@ -338,8 +358,105 @@ void Solver::build_node_lists() {
     active[i] = body_of_[i] < 0 || live[i];
   }
   bodies_.set_live(live);
+  if (dom_.parallel()) {
+    // Global: everything but element forces reads or loads them.
+    std::vector<char> global(n, 0);
+    for (size_t i = 0; i < n; ++i)
+      global[i] = r.contact[i] || r.loading[i] || r.history[i] || (body_of_[i] >= 0 && live[i]);
+    for (const Tie& t : ties_) {
+      global[static_cast<size_t>(t.slave)] = 1;
+      for (int k = 0; k < t.corners; ++k) global[static_cast<size_t>(t.master[k])] = 1;
+    }
+    for (const auto& d : m_.discretes) global[static_cast<size_t>(d.n1)] = global[static_cast<size_t>(d.n2)] = 1;
+    for (const auto& cs : m_.cross_sections)
+      for (int i : cs.nodes) global[static_cast<size_t>(i)] = 1;
+    for (int e : m_.history_bars)
+      global[static_cast<size_t>(m_.bars[static_cast<size_t>(e)].n1)] =
+          global[static_cast<size_t>(m_.bars[static_cast<size_t>(e)].n2)] = 1;
+    plan_ranks(global);
+    auto held = [&](size_t i) {
+      const auto& s = sharers_[i];
+      return std::binary_search(s.begin(), s.end(), dom_.rank());
+    };
+    // This rank's nodes only; f_int is zeroed on the shared ones too (the
+    // exchange writes their totals there).
+    for (size_t i = 0; i < n; ++i) {
+      active[i] = active[i] && held(i);
+      r.internal[i] = held(i) && (r.internal[i] || sharers_[i].size() > 1);
+    }
+    int_nodes_ = listed(r.internal);
+    free_.clear();
+    mass_ke_.assign(n, 0.0);
+    for (size_t i = 0; i < n; ++i)
+      if (body_of_[i] < 0 && held(i)) {
+        free_.push_back(static_cast<int>(i));
+        if (sharers_[i].front() == dom_.rank()) mass_ke_[i] = mass_[i];  // counted by the lowest rank that holds it
+      }
+    free_runs_ = runs_of(free_);
+  }
   active_ = listed(active);
   interior_placed_ = false;
+}
+
+void Solver::plan_ranks(const std::vector<char>& global) {
+  const size_t n = m_.x0.size();
+  const int ranks = dom_.size(), me = dom_.rank();
+  sharers_.assign(n, {});
+  auto add = [&](int node, int rank) {
+    auto& s = sharers_[static_cast<size_t>(node)];
+    auto at = std::lower_bound(s.begin(), s.end(), rank);
+    if (at == s.end() || *at != rank) s.insert(at, rank);
+  };
+  for (size_t e = 0; e < m_.solids.size(); ++e)
+    if (part_.solid[e] >= 0)
+      for (int k : m_.solids[e].n) add(k, part_.solid[e]);
+  for (size_t e = 0; e < m_.axis.size(); ++e)
+    if (part_.axi[e] >= 0)
+      for (int k : m_.axis[e].n) add(k, part_.axi[e]);
+  for (size_t e = 0; e < m_.bars.size(); ++e)
+    if (part_.bar[e] >= 0) add(m_.bars[e].n1, part_.bar[e]), add(m_.bars[e].n2, part_.bar[e]);
+  std::vector<int> all(static_cast<size_t>(ranks));
+  for (int q = 0; q < ranks; ++q) all[static_cast<size_t>(q)] = q;
+  for (size_t i = 0; i < n; ++i) {
+    if (global[i]) sharers_[i] = all;
+    if (sharers_[i].empty()) sharers_[i] = {0};  // a node of nothing (or a rigid body's interior): rank 0's
+  }
+  // The exchange: per peer the shared nodes in ascending order, and per
+  // shared node where each rank's partial force will be, in rank order.
+  ex_ = Exchange{};
+  std::vector<int> peer_index(static_cast<size_t>(ranks), -1);
+  for (size_t i = 0; i < n; ++i) {
+    const auto& s = sharers_[i];
+    if (s.size() < 2 || !std::binary_search(s.begin(), s.end(), me)) continue;
+    ex_.shared.push_back(static_cast<int>(i));
+    for (int q : s)
+      if (q != me && peer_index[static_cast<size_t>(q)] < 0) peer_index[static_cast<size_t>(q)] = 0;
+  }
+  for (int q = 0; q < ranks; ++q)
+    if (peer_index[static_cast<size_t>(q)] == 0) {
+      peer_index[static_cast<size_t>(q)] = static_cast<int>(ex_.peers.size());
+      ex_.peers.push_back(q);
+    }
+  ex_.nodes.assign(ex_.peers.size(), {});
+  ex_.first.push_back(0);
+  for (int i : ex_.shared) {
+    for (int q : sharers_[static_cast<size_t>(i)]) {
+      if (q == me) {
+        ex_.sources.emplace_back(-1, 0);
+        continue;
+      }
+      auto& list = ex_.nodes[static_cast<size_t>(peer_index[static_cast<size_t>(q)])];
+      ex_.sources.emplace_back(peer_index[static_cast<size_t>(q)], 3 * list.size());
+      list.push_back(i);
+    }
+    ex_.first.push_back(ex_.sources.size());
+  }
+  ex_.send.resize(ex_.peers.size());
+  ex_.recv.resize(ex_.peers.size());
+  for (size_t k = 0; k < ex_.peers.size(); ++k) {
+    ex_.send[k].assign(3 * ex_.nodes[k].size(), 0.0);
+    ex_.recv[k].assign(3 * ex_.nodes[k].size(), 0.0);
+  }
 }
 
 template <class F>
@@ -426,7 +543,9 @@ double Solver::max_penetration() const {
 
 double Solver::bar_stress(size_t e) const { return bars_.force[e] / bars_.area[e]; }
 
-Vec3 Solver::section_force(size_t k) const {
+Vec3 Solver::section_force(size_t k) const { return dom_.parallel() ? section_total_[k] : local_section_force(k); }
+
+Vec3 Solver::local_section_force(size_t k) const {
   const SectionSlots& sl = sections_[k];
   Vec3 f = Vec3::Zero();
   for (int slot : sl.hex) f += Vec3(hex8_.force[static_cast<size_t>(slot)], hex8_.force[static_cast<size_t>(slot) + 1],
@@ -446,6 +565,129 @@ double Solver::bar_axial_velocity(size_t e) const {
   return 0.5 * (velocity_at_stress_time(i) + velocity_at_stress_time(j)).dot(axis);
 }
 
+double Solver::sum_in_rank_order(double mine) {
+  scalars_all_.resize(static_cast<size_t>(dom_.size()));
+  dom_.allgather(&mine, 1, scalars_all_.data());
+  double sum = scalars_all_[0];
+  for (size_t r = 1; r < scalars_all_.size(); ++r) sum += scalars_all_[r];
+  return sum;
+}
+
+void Solver::reduce_element_work(ElementWork& w, const std::string& error) {
+  // Shared nodes: this rank's partial forces to each peer, then every
+  // contribution summed in rank order (the same bits on every rank).
+  for (size_t k = 0; k < ex_.peers.size(); ++k) {
+    double* out = ex_.send[k].data();
+    for (int i : ex_.nodes[k])
+      for (int c = 0; c < 3; ++c) *out++ = f_int_[static_cast<size_t>(i)][c];
+  }
+  dom_.exchange(ex_.peers, ex_.send, ex_.recv);
+  for (size_t k = 0; k < ex_.shared.size(); ++k) {
+    const size_t i = static_cast<size_t>(ex_.shared[k]);
+    Vec3 sum = Vec3::Zero();
+    for (size_t j = ex_.first[k]; j < ex_.first[k + 1]; ++j) {
+      const auto [peer, at] = ex_.sources[j];
+      sum += peer < 0 ? f_int_[i] : Vec3(ex_.recv[static_cast<size_t>(peer)][at], ex_.recv[static_cast<size_t>(peer)][at + 1],
+                                         ex_.recv[static_cast<size_t>(peer)][at + 2]);
+    }
+    f_int_[i] = sum;
+  }
+  // Scalars, one row per rank: an error flag, the element energies, the
+  // history elements' state (from their owner, zeros elsewhere: exact),
+  // this rank's share of each cross section's force.
+  std::vector<double>& row = scalars_mine_;
+  row.clear();
+  row.push_back(error.empty() ? 0.0 : 1.0);
+  row.insert(row.end(), {w.internal, w.hourglass, w.damping_power, w.spring_energy});
+  row.insert(row.end(), part_internal_step_.begin(), part_internal_step_.end());
+  row.insert(row.end(), part_hourglass_step_.begin(), part_hourglass_step_.end());
+  for (int el : m_.history_solids) {
+    const size_t e = static_cast<size_t>(el);
+    const bool mine = part_.solid[e] == dom_.rank();
+    for (int c = 0; c < 6; ++c) row.push_back(mine ? hex8_.sigma[e][c] : 0.0);
+    row.push_back(mine ? hex8_.plastic_strain[e] : 0.0);
+  }
+  for (int el : m_.history_axis) {
+    const size_t e = static_cast<size_t>(el);
+    const bool mine = part_.axi[e] == dom_.rank();
+    for (int c = 0; c < 6; ++c) row.push_back(mine ? axi4_.sigma[e][c] : 0.0);
+    row.push_back(mine ? axi4_.plastic_strain[e] : 0.0);
+  }
+  for (int el : m_.history_bars) row.push_back(part_.bar[static_cast<size_t>(el)] == dom_.rank() ? bars_.force[static_cast<size_t>(el)] : 0.0);
+  for (size_t k = 0; k < sections_.size(); ++k) {
+    const Vec3 f = local_section_force(k);
+    row.insert(row.end(), {f.x(), f.y(), f.z()});
+  }
+  const size_t width = row.size(), ranks = static_cast<size_t>(dom_.size());
+  scalars_all_.resize(width * ranks);
+  dom_.allgather(row.data(), width, scalars_all_.data());
+  std::vector<double>& total = row;  // summed in rank order, in place of this rank's row
+  for (size_t j = 0; j < width; ++j) {
+    double sum = scalars_all_[j];
+    for (size_t r = 1; r < ranks; ++r) sum += scalars_all_[r * width + j];
+    total[j] = sum;
+  }
+  if (total[0] != 0.0) {  // the lowest rank with an error tells its message
+    int from = 0;
+    while (scalars_all_[static_cast<size_t>(from) * width] == 0.0) ++from;
+    char text[1024] = {0};
+    if (dom_.rank() == from) std::snprintf(text, sizeof text, "%s", error.c_str());
+    dom_.broadcast(text, sizeof text, from);
+    throw std::runtime_error(std::string(text) + " (on rank " + std::to_string(from) + ")");
+  }
+  size_t j = 1;
+  w.internal = total[j++], w.hourglass = total[j++], w.damping_power = total[j++], w.spring_energy = total[j++];
+  for (double& v : part_internal_step_) v = total[j++];
+  for (double& v : part_hourglass_step_) v = total[j++];
+  for (int el : m_.history_solids) {
+    const size_t e = static_cast<size_t>(el);
+    for (int c = 0; c < 6; ++c) hex8_.sigma[e][c] = total[j++];
+    hex8_.plastic_strain[e] = total[j++];
+  }
+  for (int el : m_.history_axis) {
+    const size_t e = static_cast<size_t>(el);
+    for (int c = 0; c < 6; ++c) axi4_.sigma[e][c] = total[j++];
+    axi4_.plastic_strain[e] = total[j++];
+  }
+  for (int el : m_.history_bars) bars_.force[static_cast<size_t>(el)] = total[j++];
+  for (Vec3& f : section_total_) f = Vec3(total[j], total[j + 1], total[j + 2]), j += 3;
+}
+
+void Solver::gather_fields(std::vector<Vec3>& x, std::vector<Vec3>& v, std::vector<Eigen::Matrix<double, 6, 1>>& stress,
+                           std::vector<double>& plastic, bool axisymmetric) const {
+  const size_t n = m_.x0.size(), ne = axisymmetric ? m_.axis.size() : m_.solids.size();
+  const std::vector<Vec3>& xs = this->x();  // places the bodies' interior nodes
+  auto stress_of = [&](size_t e) -> const Eigen::Matrix<double, 6, 1>& { return axisymmetric ? axi4_.sigma[e] : hex8_.sigma[e]; };
+  auto plastic_of = [&](size_t e) { return axisymmetric ? axi4_.plastic_strain[e] : hex8_.plastic_strain[e]; };
+  if (!dom_.parallel()) {
+    x = xs, v = v_;
+    stress.resize(ne), plastic.resize(ne);
+    for (size_t e = 0; e < ne; ++e) stress[e] = stress_of(e), plastic[e] = plastic_of(e);
+    return;
+  }
+  // Each value from one rank (the node's lowest holder, the element's
+  // owner), zeros elsewhere: the sum at rank 0 is exact.
+  std::vector<double> buf(6 * n + 7 * ne, 0.0);
+  for (size_t i = 0; i < n; ++i)
+    if (sharers_[i].front() == dom_.rank())
+      for (int c = 0; c < 3; ++c) buf[6 * i + static_cast<size_t>(c)] = xs[i][c], buf[6 * i + 3 + static_cast<size_t>(c)] = v_[i][c];
+  const std::vector<int>& owner = axisymmetric ? part_.axi : part_.solid;
+  for (size_t e = 0; e < ne; ++e)
+    if (owner[e] == dom_.rank()) {
+      for (int c = 0; c < 6; ++c) buf[6 * n + 7 * e + static_cast<size_t>(c)] = stress_of(e)[c];
+      buf[6 * n + 7 * e + 6] = plastic_of(e);
+    }
+  dom_.sum_at_root(buf.data(), buf.size());
+  if (dom_.rank() != 0) return;
+  x.resize(n), v.resize(n), stress.resize(ne), plastic.resize(ne);
+  for (size_t i = 0; i < n; ++i)
+    x[i] = Vec3(buf[6 * i], buf[6 * i + 1], buf[6 * i + 2]), v[i] = Vec3(buf[6 * i + 3], buf[6 * i + 4], buf[6 * i + 5]);
+  for (size_t e = 0; e < ne; ++e) {
+    for (int c = 0; c < 6; ++c) stress[e][c] = buf[6 * n + 7 * e + static_cast<size_t>(c)];
+    plastic[e] = buf[6 * n + 7 * e + 6];
+  }
+}
+
 void Solver::internal_forces() {
   for_each_node(int_nodes_, [&](size_t i) { f_int_[i].setZero(); });
   ElementWork w;
@@ -453,8 +695,9 @@ void Solver::internal_forces() {
   std::fill(part_hourglass_step_.begin(), part_hourglass_step_.end(), 0.0);
   w.part_internal = &part_internal_step_;
   w.part_hourglass = &part_hourglass_step_;
+  std::string error;
   try {
-    discrete_forces(m_, x_, v_, f_int_, w);
+    if (part_.owns_discretes()) discrete_forces(m_, x_, v_, f_int_, w);
     bar_forces(m_, bars_, x_, v_, dt_, f_int_, w);
     hex8_forces(m_, hex8_, x_, v_, dt_, f_int_, w, pool_.get());
     axi4_forces(m_, axi4_, x_, v_, dt_, f_int_, w, pool_.get());
@@ -462,8 +705,12 @@ void Solver::internal_forces() {
     std::ostringstream s;
     s << e.element << " inverted at t = " << t_ << " s, step " << n_ << " (" << e.measure
       << "): the mesh is too coarse for this deformation, or the step is too large";
-    throw std::runtime_error(s.str());
+    error = s.str();
   }
+  if (dom_.parallel())
+    reduce_element_work(w, error);
+  else if (!error.empty())
+    throw std::runtime_error(error);
   energies_.internal += w.internal;
   energies_.hourglass += w.hourglass;
   for (size_t p = 0; p < part_internal_step_.size(); ++p) {
@@ -736,6 +983,9 @@ Solver::RelaxationReport Solver::relax(const std::function<bool(const Relaxation
   RelaxationReport rep;
   if (!m_.relaxes()) return rep;
   if (n_ > 0) throw std::logic_error("Solver::relax after the first step");
+  if (dom_.parallel())
+    throw std::runtime_error(m_.relaxation.where.str() + ": dynamic relaxation runs on one rank only for now: run this "
+                             "deck without mpirun, or settle it in a run of its own");
   rep.ran = true;
   const DynamicRelaxation& r = m_.relaxation;
   constexpr long kMaxSteps = 4000000;
@@ -896,6 +1146,9 @@ void Solver::positions() {
   // the free nodes' share in the same pass as their positions.
   const bool first = n_ == 0;
   double ke = bodies_.kinetic_energy(first);
+  // Across ranks each node's kinetic energy is counted by one rank, the bodies' by rank 0.
+  const double* mk = dom_.parallel() ? mass_ke_.data() : mass_.data();
+  if (dom_.rank() != 0) ke = 0.0;
   // Per block: the kinetic energy summed node by node in list order (a
   // fixed order: the same sum for any thread count), then x over flat
   // arrays (vectorised).
@@ -907,7 +1160,7 @@ void Solver::positions() {
     double sum = ke_partial_[b];
     for (size_t i = first_node; i < end; ++i) {
       const Vec3 vn = first ? v_prev_[i] : Vec3(0.5 * (v_prev_[i] + v_[i]));
-      sum += 0.5 * mass_[i] * vn.squaredNorm();
+      sum += 0.5 * mk[i] * vn.squaredNorm();
     }
     ke_partial_[b] = sum;
     for (size_t j = 3 * first_node; j < 3 * end; ++j) {
@@ -918,7 +1171,7 @@ void Solver::positions() {
   double total = 0.0;
   for (double p : ke_partial_) total += p;
   ke += total;
-  energies_.kinetic = ke;
+  energies_.kinetic = dom_.parallel() ? sum_in_rank_order(ke) : ke;
   bodies_.advance_positions(dt_, x_, v_, x_prev_);
   interior_placed_ = bodies_.size() == 0;
 }
@@ -962,6 +1215,8 @@ void Solver::step() {
 namespace fe {
 
 void Solver::state(config::StateIO& io) {
+  if (dom_.parallel())
+    throw std::runtime_error("checkpoints are written by one rank only for now: run without mpirun to checkpoint");
   io.expect("nodes", x_.size(), "the number of nodes");
   io.expect("solids", hex8_.sigma.size(), "the number of solid elements");
   io.expect("axisymmetric", axi4_.sigma.size(), "the number of axisymmetric elements");

@@ -30,6 +30,22 @@
 // Per-node passes run over the active nodes only: every node outside rigid
 // bodies, and the live nodes of the bodies (those something loads or
 // reads: rigid_body.hpp). A body's other nodes cost nothing per step.
+//
+// Across MPI ranks (parallel/domain.hpp): each rank computes the forces of
+// the elements it owns (partition.hpp) and integrates the nodes it holds:
+// its elements' nodes and the global nodes, those that contact, a load, a
+// rigid body, a tie, a spring, a history or a cross section reads. A node
+// held by several ranks is shared: at the end of stage 1 its partial
+// internal forces are exchanged with the ranks that share it and summed in
+// rank order, so that every rank holds the same bits for it (the halo
+// exchange). Global nodes are held by every rank, so the stages that read
+// them (2–9) run on every rank on identical inputs and agree without
+// further messages. The energies of the elements and the kinetic energy are
+// summed in rank order (the same value on every rank); the histories'
+// elements and the cross sections' forces are shared with them. Results
+// differ from one rank's by the order of the sums at shared nodes only
+// (round-off). An inverted element on one rank ends the step on every rank
+// with its message.
 #pragma once
 
 #include <functional>
@@ -45,7 +61,9 @@
 #include "elements/element_hex8.hpp"
 #include "model/model.hpp"
 #include "loads/user_load.hpp"
+#include "parallel/domain.hpp"
 #include "parallel/thread_pool.hpp"
+#include "solver/partition.hpp"
 #include "solver/rigid_body.hpp"
 
 namespace fe {
@@ -98,7 +116,9 @@ class Solver {
  public:
   // Throws std::runtime_error naming the limiting element if dt exceeds the
   // model's stable step times its safety factor (TSSFAC).
-  Solver(const Model& model, double dt);
+  // domain: the ranks the model runs on (one unless fe_server runs under
+  // mpirun/srun); every rank constructs the solver with the same model.
+  Solver(const Model& model, double dt, const Domain& domain = Domain::serial());
 
   // Threads for the element loops (1: this thread only). The results are
   // bit-identical for any count.
@@ -204,6 +224,16 @@ class Solver {
   // Largest stable step of the model (without safety factor) and what limits it.
   static StableStep stable_dt(const Model& model);
 
+  // Across ranks: the partition, this rank's nodes, and (collective: every
+  // rank calls it) the whole state at rank 0 for a field snapshot: x, v of
+  // every node, stress and plastic strain of every solid (or axisymmetric
+  // element). Other ranks' outputs are left empty. Serial: copies.
+  const Domain& domain() const { return dom_; }
+  const Partition& partition() const { return part_; }
+  size_t shared_nodes() const { return ex_.shared.size(); }
+  void gather_fields(std::vector<Vec3>& x, std::vector<Vec3>& v, std::vector<Eigen::Matrix<double, 6, 1>>& stress,
+                     std::vector<double>& plastic, bool axisymmetric) const;
+
  private:
   void internal_forces();
   void user_loads();
@@ -268,6 +298,8 @@ class Solver {
   NodeRuns free_runs_;
   std::vector<double> ke_partial_;
 
+  const Domain& dom_;
+  Partition part_;
   const Model& m_;
   double dt_;
   double t_ = 0.0;
@@ -313,6 +345,27 @@ class Solver {
   mutable bool contact_force_stale_ = false;
   Energies energies_;
   double energy0_ = 0.0;
+  // Across ranks (see the top of this file). sharers_[i]: the ranks that
+  // hold node i, ascending ({0} for a node no element touches).
+  void plan_ranks(const std::vector<char>& global);
+  // Stage 1's end: shared nodes' forces summed, element energies, history
+  // elements and section forces shared; `error` (an inverted element here)
+  // ends the step on every rank.
+  void reduce_element_work(ElementWork& w, const std::string& error);
+  double sum_in_rank_order(double mine);
+  Vec3 local_section_force(size_t k) const;
+  std::vector<std::vector<int>> sharers_;
+  struct Exchange {
+    std::vector<int> peers;                      // ranks this one shares nodes with
+    std::vector<std::vector<int>> nodes;         // per peer: the nodes shared with it, ascending
+    std::vector<std::vector<double>> send, recv;
+    std::vector<int> shared;                     // nodes held here and elsewhere, ascending
+    std::vector<size_t> first;                   // per shared node: its sources [first[k], first[k + 1])
+    std::vector<std::pair<int, size_t>> sources; // in rank order: (peer index, offset in recv) or (-1, 0) for this rank's
+  } ex_;
+  std::vector<double> mass_ke_;  // the mass this rank counts in the kinetic energy (0 where another rank counts the node)
+  std::vector<double> scalars_mine_, scalars_all_;
+  std::vector<Vec3> section_total_;
 };
 
 }  // namespace fe

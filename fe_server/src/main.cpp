@@ -146,7 +146,8 @@ fe::ExitCode energy_verdict(const std::string& energy, bool drift, bool failed) 
 fe::ExitCode relax(fe::Solver& solver, const fe::Model& model, bool quiet) {
   auto last = std::chrono::steady_clock::now();
   auto keep_going = [&](const fe::Solver::RelaxationReport& r) {
-    if (config::stop_signal()) return false;
+    // Across ranks: asked on every rank at the same step; they agree.
+    if (solver.domain().any(config::stop_signal() != 0)) return false;
     if (!quiet && std::chrono::steady_clock::now() - last > std::chrono::seconds(5)) {
       last = std::chrono::steady_clock::now();
       std::cout << "fe_server: dynamic relaxation, " << r.steps << " steps (" << r.time << " s), kinetic energy "
@@ -163,7 +164,7 @@ fe::ExitCode relax(fe::Solver& solver, const fe::Model& model, bool quiet) {
   }
   if (!r.ran) return fe::kExitOk;
   if (r.stopped) {
-    const int signo = config::stop_signal();
+    const int signo = config::stop_signal() ? config::stop_signal() : SIGTERM;  // across ranks another may have seen it
     std::cerr << "fe_server: stopped by " << config::signal_name(signo) << " during the dynamic relaxation, after "
               << r.steps << " steps (" << r.time << " s); nothing written\n";
     return fe::stopped_by(signo);
@@ -332,9 +333,6 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
 
 // Everything fe_server can refuse before a run across ranks starts.
 void check_for_ranks(const fe::Model& model, const CheckpointOptions& ck) {
-  if (model.relaxes())
-    throw std::invalid_argument(model.relaxation.where.str() +
-                                ": dynamic relaxation runs on one rank only for now: run this deck without mpirun");
   if (ck.enabled())
     throw std::invalid_argument("--checkpoint, --checkpoint-every and --restart work on one rank only for now: "
                                 "run without mpirun to checkpoint");

@@ -168,9 +168,9 @@ StableStep Solver::stable_dt(const Model& m) {
   return best;
 }
 
-Solver::Solver(const Model& model, double dt, const Domain& domain)
+Solver::Solver(const Model& model, double dt, const Domain& domain, const Partition* partition)
     : dom_(domain),
-      part_(partition_elements(model, domain.size(), domain.rank())),
+      part_(partition ? *partition : partition_elements(model, domain.size(), domain.rank())),
       m_(model),
       dt_(dt),
       bodies_(model, std::vector<char>(model.x0.size(), 0)),
@@ -178,6 +178,10 @@ Solver::Solver(const Model& model, double dt, const Domain& domain)
       axi4_(model, part_.serial() ? nullptr : &part_.axi, part_.rank),
       bars_(model, part_.serial() ? nullptr : &part_.bar, part_.rank) {
   if (!(dt > 0.0) || !std::isfinite(dt)) throw std::runtime_error("FE time step must be positive");
+  if (part_.ranks != domain.size() || part_.rank != domain.rank() ||
+      (!part_.serial() && (part_.solid.size() != model.solids.size() || part_.axi.size() != model.axis.size() ||
+                           part_.bar.size() != model.bars.size())))
+    throw std::logic_error("Solver: the partition is not one of this model on these ranks");
   const StableStep crit = stable_dt(model);
   // 1e-12 relative: mass scaling sets the density for exactly dt = TSSFAC·Δt_e,
   // and the round-off of that density must not refuse its own step.
@@ -968,11 +972,36 @@ void Solver::relaxation_residual(RelaxationReport& rep) const {
       for (int k = 0; k < 3; ++k)
         if (bodies_[b].free_translation[k] == 0.0) held[static_cast<size_t>(i)][k] = true;
   rep.load = rep.resultant = 0.0;
+  // Across ranks each node counts once, at the lowest rank that holds it;
+  // the parts' sums and the largest support force are then combined in
+  // rank order (the same verdict on every rank).
+  const bool across = dom_.parallel();
   for (size_t i = 0; i < x_.size(); ++i) {
+    if (across && sharers_[i].front() != dom_.rank()) {
+      if (part_of[i] != 0) by_part.emplace(part_of[i], Vec3::Zero());
+      continue;
+    }
     Vec3 f = f_int_[i] + f_ext_[i] + f_con_[i];
     for (int k = 0; k < 3; ++k)
       if (held[i][k]) rep.load = std::max(rep.load, std::fabs(f[k])), f[k] = 0.0;
     if (part_of[i] != 0) by_part.emplace(part_of[i], Vec3::Zero()).first->second += f;
+  }
+  if (across) {
+    std::vector<double> mine{rep.load}, all;
+    for (const auto& [part, f] : by_part) mine.insert(mine.end(), {f.x(), f.y(), f.z()});
+    all.resize(mine.size() * static_cast<size_t>(dom_.size()));
+    dom_.allgather(mine.data(), mine.size(), all.data());
+    for (size_t j = 0; j < mine.size(); ++j) {
+      double v = all[j];
+      for (int r = 1; r < dom_.size(); ++r) {
+        const double o = all[static_cast<size_t>(r) * mine.size() + j];
+        v = j == 0 ? std::max(v, o) : v + o;
+      }
+      mine[j] = v;
+    }
+    rep.load = mine[0];
+    size_t j = 1;
+    for (auto& [part, f] : by_part) f = Vec3(mine[j], mine[j + 1], mine[j + 2]), j += 3;
   }
   for (const auto& [part, f] : by_part)
     if (f.norm() >= rep.resultant)
@@ -983,9 +1012,7 @@ Solver::RelaxationReport Solver::relax(const std::function<bool(const Relaxation
   RelaxationReport rep;
   if (!m_.relaxes()) return rep;
   if (n_ > 0) throw std::logic_error("Solver::relax after the first step");
-  if (dom_.parallel())
-    throw std::runtime_error(m_.relaxation.where.str() + ": dynamic relaxation runs on one rank only for now: run this "
-                             "deck without mpirun, or settle it in a run of its own");
+
   rep.ran = true;
   const DynamicRelaxation& r = m_.relaxation;
   constexpr long kMaxSteps = 4000000;

@@ -118,7 +118,9 @@ class Solver {
   // model's stable step times its safety factor (TSSFAC).
   // domain: the ranks the model runs on (one unless fe_server runs under
   // mpirun/srun); every rank constructs the solver with the same model.
-  Solver(const Model& model, double dt, const Domain& domain = Domain::serial());
+  // partition: the elements' owners (default: partition_elements); tests
+  // give their own to cut a contact or a cavity on purpose.
+  Solver(const Model& model, double dt, const Domain& domain = Domain::serial(), const Partition* partition = nullptr);
 
   // Threads for the element loops (1: this thread only). The results are
   // bit-identical for any count.

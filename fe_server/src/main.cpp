@@ -331,8 +331,8 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   return energy_verdict(energy, drift, failed);
 }
 
-// Everything fe_server can refuse before a run across ranks starts.
-void check_for_ranks(const fe::Model& model, const CheckpointOptions& ck) {
+// What fe_server refuses before a run across ranks starts.
+void check_for_ranks(const CheckpointOptions& ck) {
   if (ck.enabled())
     throw std::invalid_argument("--checkpoint, --checkpoint-every and --restart work on one rank only for now: "
                                 "run without mpirun to checkpoint");
@@ -428,7 +428,7 @@ int run_main(int argc, char** argv) {
     fe::DeckWarnings warnings;
     model = fe::read_deck(deck, &warnings);
     for (const auto& w : warnings.messages) std::cerr << w << "\n";
-    if (dom.parallel()) check_for_ranks(model, ck);
+    if (dom.parallel()) check_for_ranks(ck);
     // In a session the host decides when to checkpoint: always ready (on one rank).
     if (!ports_paths.empty() && ck.path.empty() && !dom.parallel()) ck.path = default_checkpoint_path(out);
     if (ck.enabled()) ck.deck_digest = config::file_sha256(deck);
@@ -561,6 +561,8 @@ int run_main(int argc, char** argv) {
   } catch (const std::exception& e) {
     if (history) history->flush();
     std::cerr << "fe_server: " << e.what() << "\n";
+    // Across ranks the others may be waiting for this one: end them all.
+    if (dom.parallel()) dom.abort(fe::kExitInput);
     return fe::kExitInput;
   }
 }

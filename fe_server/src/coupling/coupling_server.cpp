@@ -525,7 +525,9 @@ void CouplingServer::tell_ranks(double kind, double code, const std::vector<doub
 ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, std::string& message) {
   // A failed FE step fails on every rank alike (solver.hpp); anything else
   // ends here with the session's code, which the other ranks are told.
+  ranks_stopped_ = false;
   const ExitCode code = run_steps(solver, ports, history, message);
+  if (ranks_stopped_) return code;
   size_t n_in = 0;  // all clients' inputs, as follow_session expects them
   for (const auto& t : tables_) n_in += t.to_fe.size();
   tell_ranks(kCommandEnd, static_cast<double>(code), std::vector<double>(n_in, 0.0));
@@ -672,25 +674,39 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, History& hist
     const double beat = std::min(1.0, 0.25 * timeout_);
     auto last_beat = std::chrono::steady_clock::now();
     const int subcycles = tables_.front().subcycles;
+    // A lost link ends the session after the coupling step: across ranks
+    // the others are inside the same FE steps and finish them too.
+    ExitCode lost = kExitOk;
     for (int s = 0; s < subcycles; ++s) {
-      solver.step();
+      try {
+        solver.step();
+      } catch (const std::exception& e) {
+        // The step failed on every rank alike (solver.hpp): the host is told
+        // why; the other ranks have stopped with it and are not told.
+        message = "the FE step failed at coupling step " + std::to_string(expected) + ": " + e.what();
+        abort_all(expected, SL_EUNEXPECTED, message);
+        ranks_stopped_ = true;
+        return kExitNumerical;
+      }
       ports.accumulate(solver);
       // The history sees every FE step and writes the rows the deck asks
       // for (a stress gauge can be resolved however long the coupling step);
       // port outputs are the last coupling step's.
       if (s + 1 < subcycles) history.record(solver, in, out);
-      if (std::chrono::duration<double>(std::chrono::steady_clock::now() - last_beat).count() > beat) {
+      if (lost == kExitOk && std::chrono::duration<double>(std::chrono::steady_clock::now() - last_beat).count() > beat) {
         for (Client& c : clients_) {
           int rc = pcs_send_frame(&c.conn, PCS_MSG_HEARTBEAT, expected, nullptr, 0, deadline_after(timeout_));
           if (rc != SL_OK) {
             message = "cannot send HEARTBEAT " + std::to_string(expected) + name_of(c) + ": " + link_error(rc, c.conn);
             abort_all(expected, static_cast<uint32_t>(-rc), message);
-            return kExitLinkLost;
+            lost = kExitLinkLost;
+            break;
           }
         }
         last_beat = std::chrono::steady_clock::now();
       }
     }
+    if (lost != kExitOk) return lost;
     ports.measure_outputs(solver, out);
     history.record(solver, in, out);
     for (size_t i = 0; i < out.size(); ++i)

@@ -132,6 +132,7 @@ class CouplingServer {
   ExitCode run_steps(Solver& solver, PortMap& ports, History& history, std::string& message);
   void tell_ranks(double kind, double code, const std::vector<double>& in);
   const Domain* dom_ = nullptr;
+  bool ranks_stopped_ = false;  // an FE step failed: every rank stopped at once
   std::vector<double> command_;
   struct Client {
     const config::PortTable* table = nullptr;

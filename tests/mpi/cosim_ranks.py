@@ -54,9 +54,13 @@ def start_server(ranks, tmp, tag):
         cmd = [mpiexec, "-n", str(ranks)] + cmd
     log = open(os.path.join(tmp, f"fe_{tag}.log"), "w")
     server = subprocess.Popen(cmd, env=env(), stdout=log, stderr=subprocess.STDOUT)
-    deadline = time.time() + 120  # the relaxation runs before the port is written
+    # The port is written at bind, the relaxation comes after it: the host
+    # starts once fe_server listens with the settled model (on 3 ranks
+    # sharing 2 cores the relaxation can outlast the host's handshake wait).
+    deadline = time.time() + 300
+    log_path = os.path.join(tmp, f"fe_{tag}.log")
     while time.time() < deadline:
-        if os.path.exists(port_file) and open(port_file).read().strip():
+        if os.path.exists(port_file) and "listening on" in open(log_path).read():
             return server, open(port_file).read().strip()
         if server.poll() is not None:
             break
@@ -119,7 +123,12 @@ def session(ranks, tmp, tag, stop="0.004"):
     server, port = start_server(ranks, tmp, tag)
     host = start_host(port, tmp, tag, stop)
     out, _ = host.communicate(timeout=600)
-    rc = server.wait(timeout=120)
+    try:
+        rc = server.wait(timeout=120)
+    except subprocess.TimeoutExpired:
+        server.kill()
+        rc = "none (killed after 120 s)"
+        print(out[-2000:], open(os.path.join(tmp, f"fe_{tag}.log")).read()[-2000:])
     check(host.returncode == 0 and rc == 0, f"{tag}: host exit {host.returncode}, fe_server exit {rc}" +
           ("" if host.returncode == 0 else ": " + out[-400:]))
 

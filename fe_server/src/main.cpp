@@ -242,7 +242,7 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   fe::UserLoad* loads = films->empty() ? nullptr : films.get();
   // Without *DATABASE_ DT cards: 10000 rows over the run.
   std::unique_ptr<fe::History> history_owner;
-  fe::FollowerHistory follower(model);  // ranks other than 0: no files
+  fe::FollowerHistory follower(model, dt);  // ranks other than 0: no files
   fe::CheckpointIdentity id{ck.deck_digest, 0, 0};
   long first = 0;
   const bool writes = dom.rank() == 0;
@@ -343,6 +343,12 @@ int run_main(int argc, char** argv);
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (!fe::Domain::built_with_mpi() && fe::Domain::launched_ranks() > 1) {
+    std::cerr << "fe_server: started on " << fe::Domain::launched_ranks()
+              << " ranks, but this fe_server was built without MPI (libopenmpi-dev and libmetis-dev: "
+                 "scripts/install_deps.sh, then rebuild); each rank would run the whole model alone\n";
+    return fe::kExitUsage;
+  }
   fe::Domain::init(&argc, &argv);
   const int rc = run_main(argc, argv);
   fe::Domain::finalize();
@@ -475,7 +481,7 @@ int run_main(int argc, char** argv) {
         if (const fe::ExitCode code = relax(solver, model, quiet); code != fe::kExitOk) return code;
       solver.set_user_load(&loads);
       if (dom.rank() != 0) {  // the same steps as rank 0, on its word
-        fe::FollowerHistory follower(model);
+        fe::FollowerHistory follower(model, table.dt / table.subcycles);
         fe::ExitCode code = fe::kExitNumerical;
         try {
           code = fe::follow_session(dom, solver, ports, follower, table.to_fe.size(), table.to_host.size(), table.subcycles);

@@ -1,8 +1,11 @@
-"""The co-simulated elastic hammer (scenes/hammer_elastic: its dynamic
-relaxation, contacts, rigid bodies, cavity ports in TLM mode) with fe_server
-on 1, 2 and 3 MPI ranks: the host's results and fe_server's histories must
-match the one-rank run; then a rank killed mid-run must stop the host within
-its deadline with a message, and rank 0's history must stay readable.
+"""fe_server on 1, 2 and 3 MPI ranks against one: standalone, the
+axisymmetric bar impact (scenes/bar_impact_axi) with LS-DYNA ASCII files
+(glstat, matsum: every node's velocity, gathered at rank 0) and field
+snapshots; co-simulated, the elastic hammer (scenes/hammer_elastic: its
+dynamic relaxation, contacts, rigid bodies, cavity ports in TLM mode). The
+histories, fields, ASCII files and the host's results must match the
+one-rank runs; then a rank killed mid-run must stop the host within its
+deadline with a message, and rank 0's history must stay readable.
 
 usage: cosim_ranks.py MPIEXEC FE_SERVER TLM_HOST SCENE_DIR BUILD_SCENE_DIR
 
@@ -48,10 +51,11 @@ def env():
 def start_server(ranks, tmp, tag):
     port_file = os.path.join(tmp, f"port_{tag}")
     cmd = [fe_server, "--model", os.path.join(build_scene, "deck.k"), "--ports", os.path.join(scene, "ports.cfg"),
-           "--listen", "127.0.0.1:0", "--port-file", port_file, "--out", os.path.join(tmp, f"fe_{tag}.h5"),
+           "--listen", "127.0.0.1:0", "--port-file", port_file, "--out", os.path.join(tmp, tag, f"fe_{tag}.h5"),
            "--accept-timeout", "120"]
     if ranks > 0:
         cmd = [mpiexec, "-n", str(ranks)] + cmd
+    os.makedirs(os.path.join(tmp, tag), exist_ok=True)  # its own folder: the LS-DYNA ASCII files go beside the results
     log = open(os.path.join(tmp, f"fe_{tag}.log"), "w")
     server = subprocess.Popen(cmd, env=env(), stdout=log, stderr=subprocess.STDOUT)
     # The port is written at bind, the relaxation comes after it: the host
@@ -119,6 +123,33 @@ def compare(a, b, what, tol):
     check(worst < tol, f"{what}: largest difference {worst:.3g} of its series' scale ({where or 'none'})")
 
 
+def ascii_same(a, b):
+    if not (os.path.exists(a) and os.path.exists(b)):
+        return False
+    def tokens(path):
+        return [ln.split() for ln in open(path) if "zone cycle" not in ln and "date" not in ln]
+    ta, tb = tokens(a), tokens(b)
+    def number(t):
+        try:
+            return float(t)
+        except ValueError:
+            return None
+    scale = max([abs(number(t)) for ln in ta for t in ln if number(t) is not None] or [1.0])
+    if len(ta) != len(tb):
+        return False
+    for la, lb in zip(ta, tb):
+        if len(la) != len(lb):
+            return False
+        for x, y in zip(la, lb):
+            nx, ny = number(x), number(y)
+            if nx is None or ny is None:
+                if x != y:
+                    return False
+            elif abs(nx - ny) > 2e-5 * max(abs(nx), abs(ny)) + 1e-9 * scale:
+                return False
+    return True
+
+
 def session(ranks, tmp, tag, stop="0.004"):
     server, port = start_server(ranks, tmp, tag)
     host = start_host(port, tmp, tag, stop)
@@ -133,13 +164,46 @@ def session(ranks, tmp, tag, stop="0.004"):
           ("" if host.returncode == 0 else ": " + out[-400:]))
 
 
+def standalone(ranks, tmp, tag):
+    """The bar impact run by fe_server alone, in its own folder."""
+    d = os.path.join(tmp, tag)
+    os.makedirs(d, exist_ok=True)
+    deck = os.path.join(tmp, "impact.k")
+    with open(deck, "w") as f:  # the scene's deck with ASCII output every 2 µs
+        f.write("*KEYWORD\n*DATABASE_GLSTAT\n2e-6\n*DATABASE_MATSUM\n2e-6\n*INCLUDE\n" +
+                os.path.join(os.path.dirname(build_scene), "bar_impact_axi", "deck.k") + "\n*END\n")
+    cmd = [fe_server, "--model", deck, "--out", os.path.join(d, "fe.h5"), "--quiet"]
+    if ranks > 0:
+        cmd = [mpiexec, "-n", str(ranks)] + cmd
+    r = subprocess.run(cmd, env=env(), capture_output=True, text=True, timeout=300)
+    check(r.returncode == 0, f"standalone {tag}: exit {r.returncode} {r.stdout[-300:]}")
+    return d
+
+
 with tempfile.TemporaryDirectory() as tmp:
+    one = standalone(0, tmp, "alone_serial")
+    for ranks in (2, 3):
+        many = standalone(ranks, tmp, f"alone_ranks{ranks}")
+        compare(os.path.join(one, "fe.h5"), os.path.join(many, "fe.h5"), f"standalone, {ranks} ranks: history", TOL_FE)
+        compare(os.path.join(one, "fe_fields.h5"), os.path.join(many, "fe_fields.h5"),
+                f"standalone, {ranks} ranks: field snapshots", TOL_FE)
+        for name in ("glstat", "matsum"):
+            check(ascii_same(os.path.join(one, name), os.path.join(many, name)),
+                  f"standalone, {ranks} ranks: {name} as on one rank")
     session(0, tmp, "serial")
     for ranks in (1, 2, 3):
         tag = f"ranks{ranks}"
         session(ranks, tmp, tag)
         compare(os.path.join(tmp, "host_serial.h5"), os.path.join(tmp, f"host_{tag}.h5"), f"{tag}: tlm_host's results", TOL_HOST)
-        compare(os.path.join(tmp, "fe_serial.h5"), os.path.join(tmp, f"fe_{tag}.h5"), f"{tag}: fe_server's histories", TOL_FE)
+        compare(os.path.join(tmp, "serial", "fe_serial.h5"), os.path.join(tmp, tag, f"fe_{tag}.h5"),
+                f"{tag}: fe_server's histories", TOL_FE)
+        # glstat reads every node's velocity (gathered at rank 0): the same
+        # text but for the wall-time line, each number within its last
+        # printed digit (5 significant: 2e-5) or round-off of the file's
+        # largest number (a momentum that is zero but for round-off).
+        for name in ("glstat", "nodout", "elout"):
+            check(ascii_same(os.path.join(tmp, "serial", name), os.path.join(tmp, tag, name)),
+                  f"{tag}: the deck's LS-DYNA ASCII file {name} as on one rank")
     log = open(os.path.join(tmp, "fe_ranks2.log")).read()
     check("2 ranks (METIS" in log, "fe_server said how it partitioned the model")
 
@@ -185,7 +249,7 @@ with tempfile.TemporaryDirectory() as tmp:
         except subprocess.TimeoutExpired:
             server.kill()
             check(False, "mpirun ended after the rank was killed")
-        rows = series(os.path.join(tmp, "fe_killed.h5")).get("time", np.zeros(0))
+        rows = series(os.path.join(tmp, "killed", "fe_killed.h5")).get("time", np.zeros(0))
         check(rows.size > 0 and np.all(np.diff(rows) > 0), f"rank 0's history readable: {rows.size} rows")
     else:
         server.kill()

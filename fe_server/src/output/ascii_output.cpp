@@ -77,6 +77,15 @@ void AsciiOutput::header(std::FILE* f) const {
   std::fprintf(f, "                         ls-dyna (version %-10s)     date %s\n", "fe_server", date);
 }
 
+int AsciiOutput::velocity_reads(const Model& model, double fe_dt, long n) {
+  int reads = 0;
+  for (const char* name : {"glstat", "matsum"}) {  // every = as the constructor computes it
+    const auto it = model.ascii_dt.find(name);
+    if (it != model.ascii_dt.end() && n % std::max(1L, std::lround(it->second / fe_dt)) == 0) ++reads;
+  }
+  return reads;
+}
+
 void AsciiOutput::record(const Solver& s) {
   const long n = s.step_count();
   for (File& f : files_) {
@@ -122,7 +131,8 @@ void AsciiOutput::glstat(std::FILE* f, const Solver& s) {
   const double reference = total - e.balance_error;
   Vec3 momentum = Vec3::Zero();
   double mass = 0.0;
-  const auto& v = s.v();
+  std::vector<Vec3> v;
+  s.gather_velocities(v);  // every node's, at rank 0 across ranks
   for (size_t i = 0; i < v.size(); ++i) momentum += m_.mass[i] * v[i], mass += m_.mass[i];
   const Vec3 global = mass > 0.0 ? Vec3(momentum / mass) : Vec3::Zero();
   const auto now = std::chrono::steady_clock::now();
@@ -151,7 +161,8 @@ void AsciiOutput::glstat(std::FILE* f, const Solver& s) {
 
 void AsciiOutput::matsum(std::FILE* f, const Solver& s) {
   const Energies& e = s.energies();
-  const auto& v = s.v();
+  std::vector<Vec3> v;
+  s.gather_velocities(v);
   std::fprintf(f, "\n\n time =%13.4E\n", s.time());
   for (size_t p = 0; p < part_ids_.size(); ++p) {
     double ke = 0.0, mass = 0.0;

@@ -50,6 +50,10 @@ class AsciiOutput {
   AsciiOutput& operator=(const AsciiOutput&) = delete;
   // After every FE step: the files whose interval is due get their block.
   void record(const Solver& s);
+  // How many of the files due after FE step n read every node's velocity
+  // (glstat, matsum): across ranks each such read gathers them at rank 0,
+  // and the other ranks (FollowerHistory) take part as often.
+  static int velocity_reads(const Model& model, double fe_dt, long n);
   void flush();
   // The bytes written to each file (checkpoints; flush() first).
   void state(config::StateIO& io);

@@ -109,9 +109,15 @@ History::History(const std::string& path, const Model& model, const config::Port
 
 History::~History() = default;
 
-FollowerHistory::FollowerHistory(const Model& model) : model_(model), next_snapshot_(model.snapshot_interval) {}
+FollowerHistory::FollowerHistory(const Model& model, double fe_dt)
+    : model_(model), fe_dt_(fe_dt), next_snapshot_(model.snapshot_interval) {}
 
 void FollowerHistory::record(const Solver& s) {
+  // History::record's order: the ASCII files first, then the snapshot.
+  for (int k = AsciiOutput::velocity_reads(model_, fe_dt_, s.step_count()); k > 0; --k) {
+    std::vector<Vec3> v;
+    s.gather_velocities(v);
+  }
   // The same test as History::record's, on the same (shared) time.
   if (model_.snapshot_interval > 0.0 && s.time() >= next_snapshot_ - 1e-12 * model_.snapshot_interval) {
     std::vector<Vec3> x, v;

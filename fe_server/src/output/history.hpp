@@ -36,11 +36,12 @@ namespace fe {
 // at the same steps. Called after every FE step, as History::record.
 class FollowerHistory {
  public:
-  explicit FollowerHistory(const Model& model);
+  FollowerHistory(const Model& model, double fe_dt);
   void record(const Solver& s);
 
  private:
   const Model& model_;
+  double fe_dt_;
   double next_snapshot_ = 0.0;
 };
 

@@ -1,5 +1,6 @@
 #include "parallel/domain.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -24,6 +25,12 @@ bool launched_by_mpi() {
   return false;
 }
 }  // namespace
+
+int Domain::launched_ranks() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "SLURM_STEP_NUM_TASKS"})
+    if (const char* s = std::getenv(v)) return std::max(1, std::atoi(s));
+  return 1;
+}
 
 bool Domain::built_with_mpi() {
 #ifdef PCS_HAVE_MPI

@@ -34,6 +34,11 @@ class Domain {
   static const Domain& serial();
   // Whether this build can run across ranks.
   static bool built_with_mpi();
+  // The ranks mpirun or srun started (their environment; 1 without them;
+  // SLURM_STEP_NUM_TASKS is srun's, not the batch script's SLURM_NTASKS).
+  // A build without MPI started on several refuses: each would run the
+  // whole model and write the same files.
+  static int launched_ranks();
 
   int rank() const { return rank_; }
   int size() const { return size_; }

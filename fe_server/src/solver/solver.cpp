@@ -692,6 +692,23 @@ void Solver::gather_fields(std::vector<Vec3>& x, std::vector<Vec3>& v, std::vect
   }
 }
 
+void Solver::gather_velocities(std::vector<Vec3>& v) const {
+  const std::vector<Vec3>& vs = this->v();  // places the bodies' interior nodes
+  if (!dom_.parallel()) {
+    v = vs;
+    return;
+  }
+  const size_t n = vs.size();
+  std::vector<double> buf(3 * n, 0.0);
+  for (size_t i = 0; i < n; ++i)
+    if (sharers_[i].front() == dom_.rank())
+      for (int c = 0; c < 3; ++c) buf[3 * i + static_cast<size_t>(c)] = vs[i][c];
+  dom_.sum_at_root(buf.data(), buf.size());
+  if (dom_.rank() != 0) return;
+  v.resize(n);
+  for (size_t i = 0; i < n; ++i) v[i] = Vec3(buf[3 * i], buf[3 * i + 1], buf[3 * i + 2]);
+}
+
 void Solver::internal_forces() {
   for_each_node(int_nodes_, [&](size_t i) { f_int_[i].setZero(); });
   ElementWork w;

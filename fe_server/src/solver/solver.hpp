@@ -235,6 +235,8 @@ class Solver {
   size_t shared_nodes() const { return ex_.shared.size(); }
   void gather_fields(std::vector<Vec3>& x, std::vector<Vec3>& v, std::vector<Eigen::Matrix<double, 6, 1>>& stress,
                      std::vector<double>& plastic, bool axisymmetric) const;
+  // The same for the velocities alone (collective; serial: v()).
+  void gather_velocities(std::vector<Vec3>& v) const;
 
  private:
   void internal_forces();

@@ -255,5 +255,26 @@ with tempfile.TemporaryDirectory() as tmp:
         server.kill()
         host.kill()
 
+    # SIGTERM to mpirun mid-run (SLURM at the wall-time limit, Ctrl-C): it
+    # passes the signal to every rank; rank 0 tells the host why and closes
+    # its history (readable without SWMR), the others end with it.
+    server, port = start_server(2, tmp, "signal")
+    host = start_host(port, tmp, "signal", "0.1")
+    deadline = time.time() + 120
+    while time.time() < deadline and "session accepted" not in open(os.path.join(tmp, "fe_signal.log")).read():
+        time.sleep(0.1)
+    time.sleep(2.0)
+    server.send_signal(signal.SIGTERM)
+    try:
+        out, _ = host.communicate(timeout=60)
+        server.wait(timeout=60)
+    except subprocess.TimeoutExpired:
+        host.kill()
+        server.kill()
+        out = "time-out"
+    check("stopped by SIGTERM" in out, "the host was told of the signal: " + out.strip()[-200:])
+    with h5py.File(os.path.join(tmp, "signal", "fe_signal.h5"), "r") as f:
+        check(f["time"].shape[0] > 0, f"rank 0's history closed with {f['time'].shape[0]} rows")
+
 if failures:
     sys.exit(1)

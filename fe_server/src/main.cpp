@@ -275,6 +275,7 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   fe::History& history = *history_owner;
   const auto t0 = std::chrono::steady_clock::now();
   auto last = t0, last_checkpoint = t0;
+  bool in_step = false;
   auto checkpoint = [&](long k) {
     id.coupling_step = static_cast<uint64_t>(k);
     fe::save_checkpoint(ck.path, id, solver, loads, history);
@@ -302,7 +303,9 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
         checkpoint(k);
         last_checkpoint = std::chrono::steady_clock::now();
       }
+      in_step = true;  // a failure here is every rank's (solver.hpp)
       solver.step();
+      in_step = false;
       history.record(solver, {}, {});
       if (!quiet && (k & 1023) == 0 && std::chrono::steady_clock::now() - last > std::chrono::seconds(5)) {
         last = std::chrono::steady_clock::now();
@@ -313,6 +316,8 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   } catch (const std::exception& e) {
     history.flush();
     std::cerr << "fe_server: " << e.what() << "; history up to the last completed step kept in " << out << "\n";
+    // Rank 0's own failure (writing the history): the others would wait for it.
+    if (dom.parallel() && !in_step) dom.abort(fe::kExitNumerical);
     return fe::kExitNumerical;
   }
   history.flush();

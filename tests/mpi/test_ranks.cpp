@@ -204,6 +204,22 @@ TEST(Ranks, ACavityCutByThePartitionMatchesOneRankInBothModes) {
   }
 }
 
+// Loads on every node (gravity on all parts, global mass damping) make
+// every node global: each rank integrates all of them; still the one-rank
+// result.
+TEST(Ranks, LoadsOnEveryNodeMatchOneRank) {
+  const fe::Model m = fe::parse_deck(fe_test::bar_impact_deck(0.05, 0.15, 0.01, 0.0025, 8.0, fe_test::kE) +
+                                         "*DEFINE_CURVE\n7\n0,9810\n1,9810\n*LOAD_BODY_Z\n7\n"
+                                         "*DAMPING_GLOBAL\n0, 50.0\n",
+                                     "gravity.k");
+  ASSERT_FALSE(m.body_loads.empty());
+  ASSERT_FALSE(m.mass_damping.empty());
+  const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
+  const State one = run(m, dt, fe::Domain::serial(), 300), many = run(m, dt, world(), 300);
+  EXPECT_NE(one.e.external_work, 0.0) << "gravity and damping did work";
+  expect_same(one, many, m, "gravity and mass damping");
+}
+
 // An element that inverts on one rank ends the step on every rank with its
 // message and the rank named, instead of leaving the others waiting.
 TEST(Ranks, AnElementThatInvertsOnOneRankStopsEveryRank) {

@@ -34,7 +34,8 @@ import time
 import h5py
 import numpy as np
 
-mpiexec, fe_server, tlm_host, scene, build_scene = sys.argv[1:6]
+mpiexec = sys.argv[1]
+fe_server, tlm_host, scene, build_scene = (os.path.abspath(a) for a in sys.argv[2:6])
 SANITIZED = "--sanitized" in sys.argv[6:]
 RANKS = (2,) if SANITIZED else (1, 2, 3)
 TOL_FE, TOL_HOST = 1e-9, 1e-6

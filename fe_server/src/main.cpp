@@ -490,8 +490,8 @@ int run_main(int argc, char** argv) {
         fe::ExitCode code = fe::kExitNumerical;
         try {
           code = fe::follow_session(dom, solver, ports, follower, table.to_fe.size(), table.to_host.size(), table.subcycles);
-        } catch (const std::exception&) {  // a failed FE step: rank 0 fails alike and says why
-          return fe::kExitNumerical;
+        } catch (const std::exception&) {  // a failed FE step: rank 0 fails alike, says why and serves the next session
+          code = fe::kExitNumerical;
         }
         if (code >= fe::kExitStopped || code == fe::kExitAcceptTimeout || code == fe::kExitCheckpointed) return code;
         if (code != fe::kExitOk) worst = code;

@@ -171,10 +171,45 @@ def session(ranks, tmp, tag, stop="0.004"):
           ("" if host.returncode == 0 else ": " + out[-400:]))
 
 
-def into_a_session(tmp, tag):
+def rank_pid(server, rank):
+    """The process of `rank` among mpirun's children (its environment says which)."""
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit():
+            continue
+        try:
+            with open(f"/proc/{pid}/stat") as f:
+                ppid = int(f.read().rsplit(")", 1)[1].split()[1])
+            if ppid != server.pid:
+                continue
+            with open(f"/proc/{pid}/environ", "rb") as f:
+                if f"OMPI_COMM_WORLD_RANK={rank}\0".encode() in f.read():
+                    return int(pid)
+        except (OSError, ValueError, IndexError):
+            pass
+    return None
+
+
+def cpu_seconds(pid):
+    with open(f"/proc/{pid}/stat") as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime + stime
+
+
+def into_a_session(tmp, tag, idle_check=False):
     """fe_server on 2 ranks and a host of a long run, 2 s into the session
-    (the relaxation comes before it, rows only after)."""
+    (the relaxation comes before it, rows only after). idle_check: first,
+    with no host yet, rank 1 waiting for rank 0's word must not spin (a
+    spinning rank burns the whole 2 s; with naps of a fixed 20 µs it used
+    0.44 s, with the naps growing to 1 ms 0.04 s; the bound leaves room for
+    a loaded machine)."""
     server, port = start_server(2, tmp, tag)
+    if idle_check:
+        rank1 = rank_pid(server, 1)
+        if rank1 is not None:
+            before = cpu_seconds(rank1)
+            time.sleep(2.0)
+            used = cpu_seconds(rank1) - before
+            check(used < 0.2, f"rank 1 waiting for the host used {used:.2f} s of CPU in 2 s")
     host = start_host(port, tmp, tag, "0.1")
     deadline = time.time() + 120
     while time.time() < deadline and "session accepted" not in open(os.path.join(tmp, f"fe_{tag}.log")).read():
@@ -229,21 +264,8 @@ with tempfile.TemporaryDirectory() as tmp:
     # A rank killed mid-run (a node of the cluster lost): mpirun ends the
     # others, the host's link closes and it stops with a message, well within
     # its 60 s step deadline (ports.cfg); rank 0's history is readable (SWMR).
-    server, host = into_a_session(tmp, "killed")
-    rank1 = None
-    for pid in os.listdir("/proc"):
-        if not pid.isdigit():
-            continue
-        try:
-            with open(f"/proc/{pid}/stat") as f:
-                ppid = int(f.read().rsplit(")", 1)[1].split()[1])
-            if ppid != server.pid:
-                continue
-            with open(f"/proc/{pid}/environ", "rb") as f:
-                if b"OMPI_COMM_WORLD_RANK=1\0" in f.read():
-                    rank1 = int(pid)
-        except (OSError, ValueError, IndexError):
-            pass
+    server, host = into_a_session(tmp, "killed", idle_check=True)
+    rank1 = rank_pid(server, 1)
     check(rank1 is not None, "found rank 1's process")
     if rank1 is not None:
         t0 = time.time()

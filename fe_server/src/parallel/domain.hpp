@@ -47,6 +47,11 @@ class Domain {
   // Collectives: every rank calls them in the same order. Serial: copies.
   // all[r·n + k] = rank r's mine[k].
   void allgather(const double* mine, size_t n, double* all) const;
+  // Every rank's `row` (the same length on all) gathered into `all` (rank r
+  // at r·n), then each entry of `row` replaced by its sum over the ranks in
+  // rank order: the same bits on every rank, whatever MPI's own reduction
+  // order. Serial: row unchanged, all = row.
+  void sum_in_rank_order(std::vector<double>& row, std::vector<double>& all) const;
   // data from rank `root` on every rank.
   void broadcast(void* data, size_t bytes, int root = 0) const;
   // broadcast() from rank 0 for a wait of unknown length (the next command

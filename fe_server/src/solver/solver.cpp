@@ -569,14 +569,6 @@ double Solver::bar_axial_velocity(size_t e) const {
   return 0.5 * (velocity_at_stress_time(i) + velocity_at_stress_time(j)).dot(axis);
 }
 
-double Solver::sum_in_rank_order(double mine) {
-  scalars_all_.resize(static_cast<size_t>(dom_.size()));
-  dom_.allgather(&mine, 1, scalars_all_.data());
-  double sum = scalars_all_[0];
-  for (size_t r = 1; r < scalars_all_.size(); ++r) sum += scalars_all_[r];
-  return sum;
-}
-
 void Solver::reduce_element_work(ElementWork& w, const std::string& error) {
   // Shared nodes: this rank's partial forces to each peer, then every
   // contribution summed in rank order (the same bits on every rank).
@@ -622,15 +614,9 @@ void Solver::reduce_element_work(ElementWork& w, const std::string& error) {
     const Vec3 f = local_section_force(k);
     row.insert(row.end(), {f.x(), f.y(), f.z()});
   }
-  const size_t width = row.size(), ranks = static_cast<size_t>(dom_.size());
-  scalars_all_.resize(width * ranks);
-  dom_.allgather(row.data(), width, scalars_all_.data());
-  std::vector<double>& total = row;  // summed in rank order, in place of this rank's row
-  for (size_t j = 0; j < width; ++j) {
-    double sum = scalars_all_[j];
-    for (size_t r = 1; r < ranks; ++r) sum += scalars_all_[r * width + j];
-    total[j] = sum;
-  }
+  const size_t width = row.size();
+  dom_.sum_in_rank_order(row, scalars_all_);
+  const std::vector<double>& total = row;
   if (total[0] != 0.0) {  // the lowest rank with an error tells its message
     int from = 0;
     while (scalars_all_[static_cast<size_t>(from) * width] == 0.0) ++from;
@@ -1006,17 +992,8 @@ void Solver::relaxation_residual(RelaxationReport& rep) const {
   if (across) {
     std::vector<double> mine{rep.load}, all;
     for (const auto& [part, f] : by_part) mine.insert(mine.end(), {f.x(), f.y(), f.z()});
-    all.resize(mine.size() * static_cast<size_t>(dom_.size()));
-    dom_.allgather(mine.data(), mine.size(), all.data());
-    for (size_t j = 0; j < mine.size(); ++j) {
-      double v = all[j];
-      for (int r = 1; r < dom_.size(); ++r) {
-        const double o = all[static_cast<size_t>(r) * mine.size() + j];
-        v = j == 0 ? std::max(v, o) : v + o;
-      }
-      mine[j] = v;
-    }
-    rep.load = mine[0];
+    dom_.sum_in_rank_order(mine, all);
+    for (int r = 0; r < dom_.size(); ++r) rep.load = std::max(rep.load, all[static_cast<size_t>(r) * mine.size()]);  // the largest, not the sum
     size_t j = 1;
     for (auto& [part, f] : by_part) f = Vec3(mine[j], mine[j + 1], mine[j + 2]), j += 3;
   }
@@ -1215,7 +1192,12 @@ void Solver::positions() {
   double total = 0.0;
   for (double p : ke_partial_) total += p;
   ke += total;
-  energies_.kinetic = dom_.parallel() ? sum_in_rank_order(ke) : ke;
+  if (dom_.parallel()) {
+    scalars_mine_.assign(1, ke);
+    dom_.sum_in_rank_order(scalars_mine_, scalars_all_);
+    ke = scalars_mine_[0];
+  }
+  energies_.kinetic = ke;
   bodies_.advance_positions(dt_, x_, v_, x_prev_);
   interior_placed_ = bodies_.size() == 0;
 }

@@ -356,7 +356,6 @@ class Solver {
   // elements and section forces shared; `error` (an inverted element here)
   // ends the step on every rank.
   void reduce_element_work(ElementWork& w, const std::string& error);
-  double sum_in_rank_order(double mine);
   Vec3 local_section_force(size_t k) const;
   std::vector<std::vector<int>> sharers_;
   struct Exchange {

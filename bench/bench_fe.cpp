@@ -186,7 +186,10 @@ void hammer_fe_step_cost() {
   const config::PortTable table = config::read_port_table(PCS_HAMMER_PORTS);
   fe::CavityPressureLoad load(m, table);
   for (size_t i = 0; i < load.slot_count(); ++i) load.set_pressure(static_cast<int>(i), 5e6);
-  for (bool loaded : {false, true}) {
+  for (int mode : {0, 1, 2}) {  // bare, fixed pressures, TLM waves
+    const bool loaded = mode > 0;
+    if (mode == 2)
+      for (size_t i = 0; i < load.slot_count(); ++i) load.set_wave(static_cast<int>(i), 5e6, 1e10);
     fe::Solver s(m, 1e-6);
     if (loaded) s.set_user_load(&load);
     for (int k = 0; k < 1000; ++k) s.step();  // warm caches and branch predictors
@@ -194,9 +197,11 @@ void hammer_fe_step_cost() {
     auto t0 = Clock::now();
     for (int k = 0; k < steps; ++k) s.step();
     const double us = 1e6 * since(t0) / steps;
+    const char* what[] = {"", " with the cavity loads", " with the cavity loads as TLM waves"};
+    const char* tag[] = {"bare", "loaded", "tlm"};
     std::printf("hammer deck, FE alone%s: %.2f us per FE step (%zu nodes, %zu in the per-node passes)\n",
-                loaded ? " with the cavity loads" : "", us, m.x0.size(), s.active_nodes());
-    std::printf("csv:hammer_fe_step,%s,%zu,%.3f\n", loaded ? "loaded" : "bare", s.active_nodes(), us);
+                what[mode], us, m.x0.size(), s.active_nodes());
+    std::printf("csv:hammer_fe_step,%s,%zu,%.3f\n", tag[mode], s.active_nodes(), us);
   }
 #endif
 }

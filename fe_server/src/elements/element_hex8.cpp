@@ -136,56 +136,97 @@ struct Hex8Batch {
   double f[8][3][W], volume[W], internal[W], hourglass[W], damping_power[W];
 };
 
-// The kernel (see the header for the formulation). Cloned for AVX2 and a
-// baseline; the machine picks one at load time, the same for every thread.
+// Sums of eight corner values u_a against the eight products of the
+// corners' natural coordinates, all at once (a Walsh–Hadamard transform,
+// 24 additions where the eight sums one by one take 56):
+//   s[0] = Σ u_a,  s[1..3] = Σ ξ_a u_a, Σ η_a u_a, Σ ζ_a u_a,
+//   s[4..7] = Σ ξη u_a, Σ ηζ u_a, Σ ζξ u_a, Σ ξηζ u_a  (the hourglass base
+//   vectors h_α of the header, in its order).
+// LS-DYNA's corners pair along ξ as (0,1), (3,2), (4,5), (7,6).
+__attribute__((always_inline)) inline void corner_sums(const double (&u)[8][3][W], int i, int l, double s[8]) {
+  // ξ: each pair's sum and its ξ-weighted difference, at (η, ζ) = (−,−), (+,−), (−,+), (+,+).
+  const double p0 = u[1][i][l] + u[0][i][l], m0 = u[1][i][l] - u[0][i][l];
+  const double p1 = u[2][i][l] + u[3][i][l], m1 = u[2][i][l] - u[3][i][l];
+  const double p2 = u[5][i][l] + u[4][i][l], m2 = u[5][i][l] - u[4][i][l];
+  const double p3 = u[6][i][l] + u[7][i][l], m3 = u[6][i][l] - u[7][i][l];
+  // η, then ζ.
+  const double pp0 = p1 + p0, pm0 = p1 - p0, pp1 = p3 + p2, pm1 = p3 - p2;
+  const double mp0 = m1 + m0, mm0 = m1 - m0, mp1 = m3 + m2, mm1 = m3 - m2;
+  s[0] = pp1 + pp0;
+  s[1] = mp1 + mp0;
+  s[2] = pm1 + pm0;
+  s[3] = pp1 - pp0;
+  s[4] = mm1 + mm0;
+  s[5] = pm1 - pm0;
+  s[6] = mp1 - mp0;
+  s[7] = mm1 - mm0;
+}
+
+// The inverse: f_a = Σ_k c[k]·(the k-th product at corner a), for c[0] = 0
+// (nodal forces have no constant part), into f[a][i][l].
+__attribute__((always_inline)) inline void corner_values(const double c[8], int i, int l, double (&f)[8][3][W]) {
+  // ζ: the coefficients of 1, ξ, η, ξη on each face ζ = ∓1.
+  const double a0m = -c[3], a0p = c[3];
+  const double axm = c[1] - c[6], axp = c[1] + c[6];
+  const double aym = c[2] - c[5], ayp = c[2] + c[5];
+  const double axym = c[4] - c[7], axyp = c[4] + c[7];
+  // η: the coefficients of 1 and ξ on each edge (η, ζ).
+  const double b0mm = a0m - aym, b0pm = a0m + aym, b0mp = a0p - ayp, b0pp = a0p + ayp;
+  const double bxmm = axm - axym, bxpm = axm + axym, bxmp = axp - axyp, bxpp = axp + axyp;
+  // ξ: the corners.
+  f[0][i][l] = b0mm - bxmm, f[1][i][l] = b0mm + bxmm;
+  f[3][i][l] = b0pm - bxpm, f[2][i][l] = b0pm + bxpm;
+  f[4][i][l] = b0mp - bxmp, f[5][i][l] = b0mp + bxmp;
+  f[7][i][l] = b0pp - bxpp, f[6][i][l] = b0pp + bxpp;
+}
+
+// The kernel (see the header for the formulation), written in the basis of
+// the corner products above: with g_a = (ξ_a, η_a, ζ_a)/8 the shape
+// functions' gradients at the centre in natural coordinates,
+//   J_ij = Σ_a x_ai g_aj,  b_a = J⁻ᵀ g_a,  L_ij = Σ_a v_ai b_aj = Σ_k V̂_ik (J⁻¹)_kj
+// with V̂_ik = Σ_a v_ai g_ak, and every nodal force f_a = Σ_k g_ak C_k + Σ_α h_αa D_α
+// is one inverse transform: b_a is never formed. Cloned for AVX2 and a
+// baseline; the machine picks one at load time, the same for every thread
+// (no FMA: the clones give the same bits).
 __attribute__((target_clones("avx2", "default"))) void hex8_kernel(Hex8Batch& B, double dt, double q1, double q2) {
-  constexpr double g[8][3] = {{-0.125, -0.125, -0.125}, {0.125, -0.125, -0.125}, {0.125, 0.125, -0.125},
-                              {-0.125, 0.125, -0.125},  {-0.125, -0.125, 0.125}, {0.125, -0.125, 0.125},
-                              {0.125, 0.125, 0.125},    {-0.125, 0.125, 0.125}};
-  constexpr double h[4][8] = {{1, -1, 1, -1, 1, -1, 1, -1},
-                              {1, 1, -1, -1, -1, -1, 1, 1},
-                              {1, -1, -1, 1, -1, 1, 1, -1},
-                              {-1, 1, -1, 1, 1, -1, 1, -1}};
   constexpr int faces[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
-  // Jacobian J_ij = Σ_a x_ai g_aj, its determinant and inverse.
-  double J[3][3][W], inv[3][3][W], b[8][3][W];
+  // Corner sums of x and v: Sx[k][i] = Σ_a x_ai·(product k at a).
+  double Sx[8][3][W], Sv[8][3][W];
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int l = 0; l < W; ++l) {
-        double sum = 0.0;
-        for (int a = 0; a < 8; ++a) sum += B.x[a][i][l] * g[a][j];
-        J[i][j][l] = sum;
-      }
+    for (int l = 0; l < W; ++l) {
+      double sx[8], sv[8];
+      corner_sums(B.x, i, l, sx);
+      corner_sums(B.v, i, l, sv);
+      for (int k = 0; k < 8; ++k) Sx[k][i][l] = sx[k], Sv[k][i][l] = sv[k];
+    }
+  // Jacobian J_ij = Sx[1+j][i]/8, its determinant and inverse.
+  double inv[3][3][W];
   for (int l = 0; l < W; ++l) {
-    const double c00 = J[1][1][l] * J[2][2][l] - J[1][2][l] * J[2][1][l];
-    const double c01 = J[1][2][l] * J[2][0][l] - J[1][0][l] * J[2][2][l];
-    const double c02 = J[1][0][l] * J[2][1][l] - J[1][1][l] * J[2][0][l];
-    const double det = J[0][0][l] * c00 + J[0][1][l] * c01 + J[0][2][l] * c02;
+    double J[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) J[i][j] = 0.125 * Sx[1 + j][i][l];
+    const double c00 = J[1][1] * J[2][2] - J[1][2] * J[2][1];
+    const double c01 = J[1][2] * J[2][0] - J[1][0] * J[2][2];
+    const double c02 = J[1][0] * J[2][1] - J[1][1] * J[2][0];
+    const double det = J[0][0] * c00 + J[0][1] * c01 + J[0][2] * c02;
     B.volume[l] = 8.0 * det;
     const double r = det > 0.0 ? 1.0 / det : 0.0;  // an inverted lane is reported by its volume
     inv[0][0][l] = c00 * r;
     inv[1][0][l] = c01 * r;
     inv[2][0][l] = c02 * r;
-    inv[0][1][l] = (J[0][2][l] * J[2][1][l] - J[0][1][l] * J[2][2][l]) * r;
-    inv[1][1][l] = (J[0][0][l] * J[2][2][l] - J[0][2][l] * J[2][0][l]) * r;
-    inv[2][1][l] = (J[0][1][l] * J[2][0][l] - J[0][0][l] * J[2][1][l]) * r;
-    inv[0][2][l] = (J[0][1][l] * J[1][2][l] - J[0][2][l] * J[1][1][l]) * r;
-    inv[1][2][l] = (J[0][2][l] * J[1][0][l] - J[0][0][l] * J[1][2][l]) * r;
-    inv[2][2][l] = (J[0][0][l] * J[1][1][l] - J[0][1][l] * J[1][0][l]) * r;
+    inv[0][1][l] = (J[0][2] * J[2][1] - J[0][1] * J[2][2]) * r;
+    inv[1][1][l] = (J[0][0] * J[2][2] - J[0][2] * J[2][0]) * r;
+    inv[2][1][l] = (J[0][1] * J[2][0] - J[0][0] * J[2][1]) * r;
+    inv[0][2][l] = (J[0][1] * J[1][2] - J[0][2] * J[1][1]) * r;
+    inv[1][2][l] = (J[0][2] * J[1][0] - J[0][0] * J[1][2]) * r;
+    inv[2][2][l] = (J[0][0] * J[1][1] - J[0][1] * J[1][0]) * r;
   }
-  // Gradients b_ak = Σ_j g_aj (J⁻¹)_jk.
-  for (int a = 0; a < 8; ++a)
-    for (int k = 0; k < 3; ++k)
-      for (int l = 0; l < W; ++l) b[a][k][l] = g[a][0] * inv[0][k][l] + g[a][1] * inv[1][k][l] + g[a][2] * inv[2][k][l];
-  // Velocity gradient L_ij = Σ_a v_ai b_aj.
+  // Velocity gradient L_ij = Σ_k V̂_ik (J⁻¹)_kj, V̂_ik = Sv[1+k][i]/8.
   double L[3][3][W];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      for (int l = 0; l < W; ++l) {
-        double sum = 0.0;
-        for (int a = 0; a < 8; ++a) sum += B.v[a][i][l] * b[a][j][l];
-        L[i][j][l] = sum;
-      }
+      for (int l = 0; l < W; ++l)
+        L[i][j][l] = 0.125 * (Sv[1][i][l] * inv[0][j][l] + Sv[2][i][l] * inv[1][j][l] + Sv[3][i][l] * inv[2][j][l]);
   // Largest face area (the bulk viscosity's length V/A): one square root.
   double a2max[W];
   for (int l = 0; l < W; ++l) a2max[l] = 0.0;
@@ -232,7 +273,7 @@ __attribute__((target_clones("avx2", "default"))) void hex8_kernel(Hex8Batch& B,
     radial_return(*B.plastic[l], 0.5 * B.two_mu[l], t, a, B.ep[l]);
     for (int c = 0; c < 6; ++c) B.alpha[c][l] = a[c], nsig[c][l] = t[c];
   }
-  // Bulk viscosity, energies; s = σ − q·I into sig-like arrays.
+  // Bulk viscosity, energies; s = σ − q·I, the stress the forces carry.
   double s[6][W];
   for (int l = 0; l < W; ++l) {
     const double d0 = L[0][0][l], d1 = L[1][1][l], d2 = L[2][2][l];
@@ -251,51 +292,46 @@ __attribute__((target_clones("avx2", "default"))) void hex8_kernel(Hex8Batch& B,
     B.sig[0][l] = n0, B.sig[1][l] = n1, B.sig[2][l] = n2, B.sig[3][l] = n3, B.sig[4][l] = n4, B.sig[5][l] = n5;
     s[0][l] = n0 - q, s[1][l] = n1 - q, s[2][l] = n2 - q, s[3][l] = n3, s[4][l] = n4, s[5][l] = n5;
   }
-  // f_a = −V·σ·b_a.
-  for (int a = 0; a < 8; ++a)
-    for (int l = 0; l < W; ++l) {
-      const double V = B.volume[l], bx = b[a][0][l], by = b[a][1][l], bz = b[a][2][l];
-      B.f[a][0][l] = -V * (s[0][l] * bx + s[3][l] * by + s[5][l] * bz);
-      B.f[a][1][l] = -V * (s[3][l] * bx + s[1][l] * by + s[4][l] * bz);
-      B.f[a][2][l] = -V * (s[5][l] * bx + s[4][l] * by + s[2][l] * bz);
-    }
-  // Hourglass (viscous FB): γ_α = h_α − (h_α·x_j) b_j, q_αi = Σ_a v_ai γ_αa,
-  // f_ai −= c_h Σ_α γ_αa q_αi. With L_ij = Σ_a v_ai b_aj already at hand,
-  // q_αi = h_α·v_i − Σ_j (h_α·x_j) L_ij, and the force's γ splits into
-  // Σ_α h_αa q_αi − Σ_j b_aj P_ji with P_ji = Σ_α (h_α·x_j) q_αi: the
-  // h_α sums are additions of ±1 terms, and γ is never formed.
-  double hq[8][3][W], P[3][3][W], hg_energy[W];
+  // Hourglass (viscous FB): q_αi = Σ_a v_ai γ_αa with γ_α = h_α − (h_α·x_j) b_j,
+  // i.e. q_αi = (h_α·v_i) − Σ_j (h_α·x_j) L_ij; f_ai −= c_h Σ_α γ_αa q_αi, whose
+  // b part is Σ_k g_ak R_ki with R = J⁻¹·P, P_ji = Σ_α (h_α·x_j) q_αi.
+  double hg_energy[W], D[4][3][W], P[3][3][W];
   for (int l = 0; l < W; ++l) hg_energy[l] = 0.0;
-  for (int a = 0; a < 8; ++a)
-    for (int i = 0; i < 3; ++i)
-      for (int l = 0; l < W; ++l) hq[a][i][l] = 0.0;
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i)
       for (int l = 0; l < W; ++l) P[j][i][l] = 0.0;
-  for (int al = 0; al < 4; ++al) {
-    double hx[3][W], qa[3][W];
-    for (int i = 0; i < 3; ++i)
-      for (int l = 0; l < W; ++l) {
-        double sx = 0.0, sv = 0.0;
-        for (int a = 0; a < 8; ++a) sx += h[al][a] * B.x[a][i][l], sv += h[al][a] * B.v[a][i][l];
-        hx[i][l] = sx;
-        qa[i][l] = sv;
+  for (int al = 0; al < 4; ++al)
+    for (int l = 0; l < W; ++l) {
+      const double hx0 = Sx[4 + al][0][l], hx1 = Sx[4 + al][1][l], hx2 = Sx[4 + al][2][l];
+      double qa[3];
+      for (int i = 0; i < 3; ++i) qa[i] = Sv[4 + al][i][l] - (hx0 * L[i][0][l] + hx1 * L[i][1][l] + hx2 * L[i][2][l]);
+      for (int i = 0; i < 3; ++i) {
+        P[0][i][l] += hx0 * qa[i];
+        P[1][i][l] += hx1 * qa[i];
+        P[2][i][l] += hx2 * qa[i];
+        D[al][i][l] = -B.ch[l] * qa[i];
       }
-    for (int i = 0; i < 3; ++i)
-      for (int l = 0; l < W; ++l) qa[i][l] -= hx[0][l] * L[i][0][l] + hx[1][l] * L[i][1][l] + hx[2][l] * L[i][2][l];
-    for (int a = 0; a < 8; ++a)
-      for (int i = 0; i < 3; ++i)
-        for (int l = 0; l < W; ++l) hq[a][i][l] += h[al][a] * qa[i][l];
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i)
-        for (int l = 0; l < W; ++l) P[j][i][l] += hx[j][l] * qa[i][l];
-    for (int l = 0; l < W; ++l) hg_energy[l] += qa[0][l] * qa[0][l] + qa[1][l] * qa[1][l] + qa[2][l] * qa[2][l];
+      hg_energy[l] += qa[0] * qa[0] + qa[1] * qa[1] + qa[2] * qa[2];
+    }
+  // Nodal forces: f_a = −V·s·b_a (b_a = J⁻ᵀ g_a) plus the hourglass force,
+  // as coefficients of g_a (C_ik = (T_ik + c_h R_ki)/8, T = −V·s·J⁻ᵀ) and
+  // of h_α (D_αi = −c_h q_αi), then one inverse transform per direction.
+  for (int l = 0; l < W; ++l) {
+    const double V = B.volume[l], ch = B.ch[l];
+    const double S[3][3] = {{s[0][l], s[3][l], s[5][l]}, {s[3][l], s[1][l], s[4][l]}, {s[5][l], s[4][l], s[2][l]}};
+    for (int i = 0; i < 3; ++i) {
+      double c[8];
+      c[0] = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const double T = -V * (S[i][0] * inv[k][0][l] + S[i][1] * inv[k][1][l] + S[i][2] * inv[k][2][l]);
+        const double R = inv[k][0][l] * P[0][i][l] + inv[k][1][l] * P[1][i][l] + inv[k][2][l] * P[2][i][l];
+        c[1 + k] = 0.125 * (T + ch * R);
+      }
+      for (int al = 0; al < 4; ++al) c[4 + al] = D[al][i][l];
+      corner_values(c, i, l, B.f);
+    }
+    B.hourglass[l] = ch * hg_energy[l] * dt;
   }
-  for (int a = 0; a < 8; ++a)
-    for (int i = 0; i < 3; ++i)
-      for (int l = 0; l < W; ++l)
-        B.f[a][i][l] -= B.ch[l] * (hq[a][i][l] - (b[a][0][l] * P[0][i][l] + b[a][1][l] * P[1][i][l] + b[a][2][l] * P[2][i][l]));
-  for (int l = 0; l < W; ++l) B.hourglass[l] = B.ch[l] * hg_energy[l] * dt;
 }
 
 // Elements [first, last) of the deformable list: gather, kernel, scatter

@@ -44,19 +44,32 @@ void NodalGather::build(size_t nodes, size_t elements, int corners, int width,
   }
 }
 
+namespace {
+// One task's nodes, for a fixed width (the compiler unrolls the components).
+template <int Width>
+void add_slots(const std::vector<int>& node, const std::vector<int>& start, const std::vector<int>& slot,
+               const double* force, std::vector<Vec3>& f, size_t first, size_t last) {
+  for (size_t i = first; i < last; ++i) {
+    double sum[Width] = {};
+    for (int j = start[i]; j < start[i + 1]; ++j) {
+      const double* p = force + slot[static_cast<size_t>(j)];
+      for (int c = 0; c < Width; ++c) sum[c] += p[c];
+    }
+    Vec3& fi = f[static_cast<size_t>(node[i])];
+    for (int c = 0; c < Width; ++c) fi[c] += sum[c];
+  }
+}
+}  // namespace
+
 void NodalGather::add_to(const std::vector<double>& force, std::vector<Vec3>& f, ThreadPool* pool) const {
   constexpr size_t kNodes = 1024;  // per task
   const size_t n = node_.size();
   run_blocks((n + kNodes - 1) / kNodes, pool, [&](size_t b) {
-    for (size_t i = b * kNodes; i < std::min(n, (b + 1) * kNodes); ++i) {
-      double sum[3] = {0.0, 0.0, 0.0};
-      for (int j = start_[i]; j < start_[i + 1]; ++j) {
-        const double* p = &force[static_cast<size_t>(slot_[static_cast<size_t>(j)])];
-        for (int c = 0; c < width_; ++c) sum[c] += p[c];
-      }
-      Vec3& fi = f[static_cast<size_t>(node_[i])];
-      for (int c = 0; c < width_; ++c) fi[c] += sum[c];
-    }
+    const size_t first = b * kNodes, last = std::min(n, (b + 1) * kNodes);
+    if (width_ == 3)
+      add_slots<3>(node_, start_, slot_, force.data(), f, first, last);
+    else
+      add_slots<2>(node_, start_, slot_, force.data(), f, first, last);
   });
 }
 

@@ -17,6 +17,7 @@
 #include "output/history.hpp"
 #include "config/port_table.hpp"
 #include "elements/element_axi4.hpp"
+#include "elements/element_hex8.hpp"
 
 using axi_test::kE;
 using axi_test::kRho;
@@ -617,6 +618,57 @@ TEST(CrossSection, TheForceThroughACutIsTheStressTimesTheRingArea) {
   const double force = sb.bar_stress(4) * 1e-4;
   EXPECT_GT(force, 0.0);
   EXPECT_NEAR(sb.section_force(0).y(), -force, 1e-12 * force) << "bar 5 pulls node 6 down";
+}
+
+// The same cut through a square hex8 bar (ν = 0): the elements below the
+// cut pull its nodes with F_z = −σ·A exactly (one-point hexes: Σ V·b_z over
+// a layer's top corners is the face area for any stretch), round-off again
+// the tolerance. The bar has two element blocks (hex8_block_size), and the
+// cut's nodes lie inside the first: their corner forces must still reach
+// the section (nodes a section reads are slotted, element_blocks.hpp), or
+// the force reads zero.
+TEST(CrossSection, TheForceThroughACutOfHexesIsTheStressTimesTheArea) {
+  const double a = 0.02, L = 0.2, rate = 10.0;  // side, length [m], strain rate [1/s]
+  const int n = 2, nz = 80, cut = 30;  // the cut at 0.375·L
+  auto nid = [&](int i, int j, int k) { return 1 + k * (n + 1) * (n + 1) + j * (n + 1) + i; };
+  std::ostringstream d;
+  d.precision(17);
+  d << "*KEYWORD\n*NODE\n";
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) d << nid(i, j, k) << "," << a * i / n << "," << a * j / n << "," << L * k / nz << "\n";
+  d << "*ELEMENT_SOLID\n";
+  auto eid = [&](int i, int j, int k) { return 1 + k * n * n + j * n + i; };
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        d << eid(i, j, k) << ",1," << nid(i, j, k) << "," << nid(i + 1, j, k) << "," << nid(i + 1, j + 1, k) << ","
+          << nid(i, j + 1, k) << "," << nid(i, j, k + 1) << "," << nid(i + 1, j, k + 1) << "," << nid(i + 1, j + 1, k + 1)
+          << "," << nid(i, j + 1, k + 1) << "\n";
+  d << "*PART\nbar\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1,7850,2.1e11,0.0\n*INITIAL_VELOCITY_NODE\n";
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) d << nid(i, j, k) << ",0,0," << rate * L * k / nz << "\n";
+  d << "*SET_NODE_LIST\n7\n";
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) d << nid(i, j, cut) << "\n";
+  d << "*SET_SOLID_LIST\n8\n";
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) d << eid(i, j, cut - 1) << "\n";
+  d << "*DATABASE_CROSS_SECTION_SET\n7,8,0,0,0,0,42\n";
+  fe::Model m = fe::parse_deck(d.str(), "hexbar.k");
+  ASSERT_EQ(m.cross_sections.size(), 1u);
+  const size_t block = fe::hex8_block_size(m.solids.size());
+  ASSERT_GT(m.solids.size(), block) << "more than one block";
+  ASSERT_LT(static_cast<size_t>(eid(n - 1, n - 1, cut)), block) << "the cut's elements inside the first block";
+  fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
+  const double c = std::sqrt(2.1e11 / 7850);
+  while (s.time() < 0.3 * L / c) s.step();  // the end waves are 0.075·L from the cut
+  double sigma = 0.0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) sigma += s.stress(static_cast<size_t>(eid(i, j, cut - 1) - 1))(2) / (n * n);
+  EXPECT_GT(sigma, 1e6) << "the bar is loaded";
+  EXPECT_NEAR(s.section_force(0).z(), -sigma * a * a, 1e-9 * sigma * a * a);
 }
 
 TEST(CrossSection, ASectionOfRigidOrMissingElementsIsRefusedAtItsLine) {

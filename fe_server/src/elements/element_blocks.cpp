@@ -26,18 +26,39 @@ int part_slot(const Model& m, int part_id) {
   return static_cast<int>(std::distance(m.parts.begin(), m.parts.find(part_id)));
 }
 
-void NodalGather::build(size_t nodes, size_t elements, int corners, int width,
-                        const std::function<int(size_t, int)>& node_of) {
+std::vector<char> corner_force_nodes(const Model& m) {
+  std::vector<char> kept(m.x0.size(), 0);
+  for (const CrossSection& cs : m.cross_sections)
+    for (int i : cs.nodes) kept[static_cast<size_t>(i)] = 1;
+  return kept;
+}
+
+void NodalGather::build(size_t nodes, size_t elements, int corners, int width, size_t block,
+                        const std::function<int(size_t, int)>& node_of, const std::function<bool(int)>& keep) {
   width_ = width;
+  corners_ = corners;
   std::vector<std::vector<int>> slots(nodes);
+  constexpr size_t kNone = static_cast<size_t>(-1), kMany = static_cast<size_t>(-2);
+  std::vector<size_t> block_of(nodes, kNone);  // the one block a node's elements lie in, or kMany
   for (size_t k = 0; k < elements; ++k)
-    for (int a = 0; a < corners; ++a)
-      slots[static_cast<size_t>(node_of(k, a))].push_back(static_cast<int>((k * static_cast<size_t>(corners) + static_cast<size_t>(a)) * static_cast<size_t>(width)));
+    for (int a = 0; a < corners; ++a) {
+      const size_t i = static_cast<size_t>(node_of(k, a));
+      slots[i].push_back(static_cast<int>((k * static_cast<size_t>(corners) + static_cast<size_t>(a)) * static_cast<size_t>(width)));
+      const size_t b = block > 0 ? k / block : kMany;
+      block_of[i] = block_of[i] == kNone || block_of[i] == b ? b : kMany;
+    }
+  direct_.resize(elements * static_cast<size_t>(corners));
+  for (size_t k = 0; k < elements; ++k)
+    for (int a = 0; a < corners; ++a) {
+      const int i = node_of(k, a);
+      direct_[k * static_cast<size_t>(corners) + static_cast<size_t>(a)] =
+          block_of[static_cast<size_t>(i)] != kMany && !keep(i) ? i : -1;
+    }
   node_.clear();
   slot_.clear();
   start_.assign(1, 0);
   for (size_t i = 0; i < nodes; ++i) {
-    if (slots[i].empty()) continue;
+    if (slots[i].empty() || (block_of[i] != kMany && !keep(static_cast<int>(i)))) continue;
     node_.push_back(static_cast<int>(i));
     slot_.insert(slot_.end(), slots[i].begin(), slots[i].end());
     start_.push_back(static_cast<int>(slot_.size()));

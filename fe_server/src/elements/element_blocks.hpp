@@ -33,6 +33,10 @@ struct BlockResult {
 // The dense index of each part (Model::parts order).
 int part_slot(const Model& m, int part_id);
 
+// Per node, whether some output reads its elements' corner forces (the
+// nodes of the cross sections): NodalGather keeps them slotted.
+std::vector<char> corner_force_nodes(const Model& m);
+
 // Runs task(b) for b in [0, blocks), on the pool when there is one.
 inline void run_blocks(size_t blocks, ThreadPool* pool, const std::function<void(size_t)>& task) {
   if (pool)
@@ -46,18 +50,31 @@ inline void run_blocks(size_t blocks, ThreadPool* pool, const std::function<void
 // or -1.
 long sum_blocks(const std::vector<BlockResult>& blocks, ElementWork& w, double* measure);
 
-// Per node, the force slots of its elements: element k's corner a writes
-// `width` doubles (x, y[, z]) at slot (k·corners + a)·width.
+// How each element's corner forces reach the nodes, bit-identical for any
+// thread count. A node whose elements all lie in one block of the element
+// loop (one task, run by one thread in element order) is *direct*: the
+// block adds its corner forces to the node as it goes. Any other node
+// (shared between blocks, or a kept node whose corner forces something
+// reads later: a cross section) is *slotted*: element k's corner a writes
+// `width` doubles (x, y[, z]) at slot (k·corners + a)·width, and add_to sums
+// each such node's slots in element order after the loop. Direct nodes save
+// the slots' memory traffic (most nodes of a mesh are inside a block).
 class NodalGather {
  public:
-  // node_of(k, a): node index of corner a of element k.
-  void build(size_t nodes, size_t elements, int corners, int width, const std::function<int(size_t, int)>& node_of);
-  // f[node] += Σ its slots, in element order.
+  // node_of(k, a): node index of corner a of element k; block: elements per
+  // task of the element loop (0: no direct nodes); keep(node): the node
+  // must be slotted.
+  void build(size_t nodes, size_t elements, int corners, int width, size_t block,
+             const std::function<int(size_t, int)>& node_of, const std::function<bool(int)>& keep);
+  // Per corner of element k: the node index when direct, -1 when slotted.
+  const int* direct(size_t k) const { return &direct_[k * static_cast<size_t>(corners_)]; }
+  // f[node] += Σ its slots, in element order, for the slotted nodes.
   void add_to(const std::vector<double>& force, std::vector<Vec3>& f, ThreadPool* pool) const;
+  size_t slotted_nodes() const { return node_.size(); }
 
  private:
-  std::vector<int> node_, start_, slot_;
-  int width_ = 3;
+  std::vector<int> node_, start_, slot_, direct_;
+  int width_ = 3, corners_ = 8;
 };
 
 }  // namespace fe

@@ -91,6 +91,11 @@ Mat83 hex8_gather(const std::vector<Vec3>& a, const SolidElement& e) {
   return out;
 }
 
+size_t hex8_block_size(size_t elements) {
+  const size_t eighth = (elements / 8 + kHex8Lanes - 1) / kHex8Lanes * kHex8Lanes;
+  return std::clamp<size_t>(eighth, 256, 2048);
+}
+
 Hex8State::Hex8State(const Model& m, const std::vector<int>* owner, int rank)
     : sigma(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()),
       plastic_strain(m.solids.size(), 0.0),
@@ -112,10 +117,13 @@ Hex8State::Hex8State(const Model& m, const std::vector<int>* owner, int rank)
     part_slot.push_back(fe::part_slot(m, el.part));
   }
   force.assign(24 * elements.size(), 0.0);
-  blocks.resize((elements.size() + kHex8Block - 1) / kHex8Block);
+  block = hex8_block_size(elements.size());
+  blocks.resize((elements.size() + block - 1) / block);
   for (BlockResult& b : blocks) b.part_internal.assign(m.parts.size(), 0.0), b.part_hourglass.assign(m.parts.size(), 0.0);
-  gather.build(m.x0.size(), elements.size(), 8, 3,
-               [&](size_t k, int a) { return m.solids[static_cast<size_t>(elements[k])].n[a]; });
+  const std::vector<char> kept = corner_force_nodes(m);
+  gather.build(m.x0.size(), elements.size(), 8, 3, block,
+               [&](size_t k, int a) { return m.solids[static_cast<size_t>(elements[k])].n[a]; },
+               [&](int i) { return kept[static_cast<size_t>(i)] != 0; });
 }
 
 namespace {
@@ -338,7 +346,7 @@ __attribute__((target_clones("avx2", "default"))) void hex8_kernel(Hex8Batch& B,
 // into each element's force slot; energy partials and the first inverted
 // element into r.
 void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
-                size_t first, size_t last, BlockResult& r) {
+                size_t first, size_t last, std::vector<Vec3>& f, BlockResult& r) {
   r.reset();
   Hex8Batch B;
   for (size_t k0 = first; k0 < last; k0 += kHex8Lanes) {
@@ -382,9 +390,16 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
         st.plastic_strain[e] = B.ep[l];
         for (int c = 0; c < 6; ++c) st.back_stress[e](c) = B.alpha[c][l];
       }
-      double* out = &st.force[24 * k];
-      for (int a = 0; a < 8; ++a)
-        for (int i = 0; i < 3; ++i) out[3 * a + i] = B.f[a][i][l];
+      const int* direct = st.gather.direct(k);
+      for (int a = 0; a < 8; ++a) {
+        if (direct[a] >= 0) {  // this block's own node: added here, in element order
+          Vec3& fn = f[static_cast<size_t>(direct[a])];
+          for (int i = 0; i < 3; ++i) fn[i] += B.f[a][i][l];
+        } else {
+          double* out = &st.force[24 * k + 3 * static_cast<size_t>(a)];
+          for (int i = 0; i < 3; ++i) out[i] = B.f[a][i][l];
+        }
+      }
       r.internal += B.internal[l];
       r.hourglass += B.hourglass[l];
       r.part_internal[static_cast<size_t>(st.part_slot[k])] += B.internal[l];
@@ -402,7 +417,7 @@ void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x, cons
   if (n == 0) return;
   // Every block of elements, each into its own slots.
   run_blocks(st.blocks.size(), pool, [&](size_t b) {
-    hex8_block(m, st, x, v, dt, b * kHex8Block, std::min(n, (b + 1) * kHex8Block), st.blocks[b]);
+    hex8_block(m, st, x, v, dt, b * st.block, std::min(n, (b + 1) * st.block), f, st.blocks[b]);
   });
   double volume = 0.0;
   if (const long bad = sum_blocks(st.blocks, w, &volume); bad >= 0) {
@@ -410,7 +425,7 @@ void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x, cons
     throw InvertedElement("solid element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
                           "volume " + std::to_string(volume) + " m³");
   }
-  // Each node sums its elements' forces in element order.
+  // The nodes shared between blocks sum their elements' forces in element order.
   st.gather.add_to(st.force, f, pool);
 }
 

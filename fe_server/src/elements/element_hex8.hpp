@@ -67,14 +67,21 @@ struct Hex8State {
   std::vector<double> force;      // 24 per element: the nodal forces of the last step
   NodalGather gather;
   std::vector<BlockResult> blocks;
+  size_t block = 0;  // elements per block: hex8_block_size
   // owner: the elements' ranks (partition.hpp); only those of `rank` are
   // computed here. nullptr: every element.
   explicit Hex8State(const Model& m, const std::vector<int>* owner = nullptr, int rank = 0);
 };
 
-// Elements per task of the element loop; a block is processed as batches of
-// kHex8Lanes elements side by side (a vectorisable kernel).
-constexpr size_t kHex8Block = 256, kHex8Lanes = 8;
+// Elements per task of the element loop, processed as batches of
+// kHex8Lanes elements side by side (a vectorisable kernel). Large blocks
+// keep most nodes inside one block (added directly, element_blocks.hpp:
+// 2048 against 256 measured 1.15× faster per element-cycle at 2.6k–10.7k
+// hexes and 1.4× at 33.6k, bench_fe hex8); a model of more than 2048
+// elements gets at least 8 blocks for the threads. Depends on the element count only, never on the thread
+// count: the sums stay bit-identical for any count.
+constexpr size_t kHex8Lanes = 8;
+size_t hex8_block_size(size_t elements);
 
 // One step of every hex8: stress update over dt from the velocities v
 // (hypoelastic with the Jaumann rate, J2 plasticity where the material has

@@ -292,6 +292,7 @@ Solver::Solver(const Model& model, double dt, const Domain& domain, const Partit
   }
   group_force_.assign(group_free_.size(), Vec3::Zero());
   group_moment_.assign(bodies_.size(), Vec3::Zero());
+  group_touched_.assign(group_free_.size(), 0);
   // Contact sees the mass that moves with each node (a rigid body's whole mass).
   contact_mass_ = mass_;
   for (size_t i = 0; i < n; ++i)
@@ -1079,9 +1080,12 @@ void Solver::implicit_loads() {
     const size_t i = static_cast<size_t>(nf.node);
     f_ext_[i] += nf.f;
     const size_t g = static_cast<size_t>(group_[i]);
-    if (group_force_[g].isZero() && (g < n || group_moment_[g - n].isZero())) touched_groups_.push_back(static_cast<int>(g));
+    if (!group_touched_[g]) {
+      group_touched_[g] = 1;
+      touched_groups_.push_back(static_cast<int>(g));
+    }
     group_force_[g] += nf.f;
-    if (g >= n) group_moment_[g - n] += (x_[i] - bodies_[g - n].com).cross(nf.f);
+    if (g >= n && bodies_[g - n].rotates) group_moment_[g - n] += (x_[i] - bodies_[g - n].com).cross(nf.f);
   }
   // The mobility above is a body's translation: exact for loads without a
   // moment about its centre (a cavity on a body of revolution); a moment
@@ -1095,6 +1099,7 @@ void Solver::implicit_loads() {
       group_moment_[g - n].setZero();
     }
     group_force_[g].setZero();
+    group_touched_[g] = 0;
   }
   touched_groups_.clear();
 }

@@ -332,6 +332,7 @@ class Solver {
   std::vector<NodalForce> implicit_forces_;
   std::vector<Vec3> group_force_, group_moment_;   // scratch, zero outside implicit_loads()
   std::vector<int> touched_groups_;
+  std::vector<char> group_touched_;                // scratch: 1 for the groups in touched_groups_
   // Element state, one struct per element type (elements/).
   Hex8State hex8_;
   Axi4State axi4_;

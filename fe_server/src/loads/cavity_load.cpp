@@ -115,12 +115,25 @@ CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTab
                                                                        ps.nodes.begin())
                                                    : -1);
     ps.node_weight.assign(ps.nodes.size(), Vec3::Zero());
-    for (const auto& seg : ps.segments) {
+    ps.constant_weight.assign(ps.nodes.size(), Vec3::Zero());
+    for (size_t s = 0; s < ps.segments.size(); ++s) {
+      const Segment& seg = ps.segments[s];
       const int b = body[static_cast<size_t>(seg.n[0])];
       bool fixed = b >= 0 && translating[static_cast<size_t>(b)];
       for (int k = 1; k < seg.corners(); ++k) fixed = fixed && body[static_cast<size_t>(seg.n[k])] == b;
       ps.fixed_shape.push_back(fixed);
       ps.area0.push_back(segment_area_vector(seg, model.x0));
+      const LoadingSet& set = ps.sets[static_cast<size_t>(ps.segment_set[s])];
+      const bool bounded = set.z_min > -1e299 || set.z_max < 1e299;
+      if (!fixed || bounded) {
+        ps.varying.push_back(static_cast<int>(s));
+        continue;
+      }
+      ps.segment_area[s] = ps.area0[s];
+      ps.constant_area += ps.area0[s];
+      for (int k = 0; k < seg.corners(); ++k)
+        ps.constant_weight[static_cast<size_t>(ps.corner_node[4 * s + static_cast<size_t>(k)])] +=
+            ps.corner_weight[4 * s + static_cast<size_t>(k)] * ps.area0[s];
     }
     surfaces_.push_back(std::move(ps));
   }
@@ -153,9 +166,13 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
       const int ref = ps.sets[k].reference_node;
       ps.shift[k] = ref >= 0 ? x[static_cast<size_t>(ref)][axis] - model_.x0[static_cast<size_t>(ref)][axis] : 0.0;
     }
-    // Wetted area vectors first: the TLM pressure needs the flow they carry.
-    Vec3 total = Vec3::Zero();
-    for (size_t s = 0; s < ps.segments.size(); ++s) {
+    // Wetted area vectors first, and each node's weight w_n (the TLM
+    // pressure needs the flow they carry): the constant segments' share
+    // summed once, the varying segments' added here.
+    Vec3 total = ps.constant_area;
+    std::copy(ps.constant_weight.begin(), ps.constant_weight.end(), ps.node_weight.begin());
+    for (int si : ps.varying) {
+      const size_t s = static_cast<size_t>(si);
       const size_t k = static_cast<size_t>(ps.segment_set[s]);
       const LoadingSet& b = ps.sets[k];
       const bool bounded = b.z_min > -1e299 || b.z_max < 1e299;
@@ -170,15 +187,14 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
       if (bounded) a *= wetted_fraction(ps.segments[s], x, b.z_min + shift, b.z_max + shift, b.ramp, axis);
       ps.segment_area[s] = a;
       total += a;
+      for (int c = 0; c < ps.segments[s].corners(); ++c)
+        ps.node_weight[static_cast<size_t>(ps.corner_node[4 * s + static_cast<size_t>(c)])] +=
+            ps.corner_weight[4 * s + static_cast<size_t>(c)] * a;
     }
     area_vector_[i] = total;
     if (tlm_[i]) continue;  // solved with the velocity of t_n, in apply_implicit
-    for (size_t s = 0; s < ps.segments.size(); ++s) {
-      const Segment& seg = ps.segments[s];
-      const Vec3 f_seg = -pressure_[i] * ps.segment_area[s];  // pushes against the normal
-      for (int k = 0; k < seg.corners(); ++k)
-        f_ext[static_cast<size_t>(seg.n[k])] += ps.corner_weight[4 * s + static_cast<size_t>(k)] * f_seg;
-    }
+    // The pressure on each node: −p·w_n (pushes against the normal).
+    for (size_t n = 0; n < ps.nodes.size(); ++n) f_ext[static_cast<size_t>(ps.nodes[n])] -= pressure_[i] * ps.node_weight[n];
   }
 }
 
@@ -218,14 +234,7 @@ void CavityPressureLoad::apply_implicit(const Mobility& mob, const std::vector<V
   mobility_.setZero(n_ports, n_ports);
   const double a = mob.theta, b = 1.0 - mob.theta;  // v_n = b·v_{n-1/2} + a·v_{n+1/2}
   for (size_t j = 0; j < np; ++j) {
-    PortSurface& ps = surfaces_[tlm_slots_[j]];
-    std::fill(ps.node_weight.begin(), ps.node_weight.end(), Vec3::Zero());
-    for (size_t s = 0; s < ps.segments.size(); ++s) {
-      const int nc = corners(ps.segments[s]);
-      for (int k = 0; k < nc; ++k)
-        ps.node_weight[static_cast<size_t>(ps.corner_node[4 * s + static_cast<size_t>(k)])] +=
-            ps.corner_weight[4 * s + static_cast<size_t>(k)] * ps.segment_area[s];
-    }
+    PortSurface& ps = surfaces_[tlm_slots_[j]];  // its node weights are apply()'s
     std::fill(ps.group_weight.begin(), ps.group_weight.end(), Vec3::Zero());
     double q_pred = 0.0;
     for (size_t n = 0; n < ps.nodes.size(); ++n) {

@@ -128,7 +128,13 @@ class CavityPressureLoad : public UserLoad {
     // the summed weight; per node the index of its group in `groups`.
     std::vector<int> corner_node;  // 4 per segment
     std::vector<double> corner_weight;  // 4 per segment: segment_corner_weights of the last apply()
-    std::vector<Vec3> node_weight;
+    std::vector<Vec3> node_weight;  // w_n = Σ over its corners of weight·area vector, of the last apply()
+    // Segments whose area vector never changes (fixed shape and no cavity
+    // bounds: every step wets them whole) are summed once: their share of
+    // the area and of each node's weight. apply() visits only the others.
+    std::vector<int> varying;  // segment indices
+    Vec3 constant_area = Vec3::Zero();
+    std::vector<Vec3> constant_weight;
     std::vector<int> groups, node_group;
     std::vector<Vec3> group_weight;
   };

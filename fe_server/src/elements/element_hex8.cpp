@@ -108,13 +108,14 @@ Hex8State::Hex8State(const Model& m, const std::vector<int>* owner, int rank)
     Mat83 b;
     double volume = 0.0;
     hex8_gradients(hex8_gather(m.x0, el), b, volume);
-    lambda.push_back(mat.lambda());
-    two_mu.push_back(2.0 * mat.mu());
-    rho.push_back(mat.rho);
-    wave_speed.push_back(mat.wave_speed());
     hourglass.push_back(m.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0);
-    plastic.push_back(mat.plastic ? &mat : nullptr);
-    part_slot.push_back(fe::part_slot(m, el.part));
+    const int slot = fe::part_slot(m, el.part);
+    part_slot.push_back(slot);
+    std::array<int, 8> n;
+    std::copy(el.n, el.n + 8, n.begin());
+    nodes.push_back(n);
+    if (parts.size() <= static_cast<size_t>(slot)) parts.resize(static_cast<size_t>(slot) + 1);
+    parts[static_cast<size_t>(slot)] = {mat.lambda(), 2.0 * mat.mu(), mat.rho, mat.wave_speed(), mat.plastic ? &mat : nullptr};
   }
   force.assign(24 * elements.size(), 0.0);
   block = hex8_block_size(elements.size());
@@ -356,16 +357,17 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
       if (l < n) {
         const size_t k = k0 + static_cast<size_t>(l);
         const size_t e = static_cast<size_t>(st.elements[k]);
-        const SolidElement& el = m.solids[e];
+        const std::array<int, 8>& nodes = st.nodes[k];
         for (int a = 0; a < 8; ++a) {
-          const Vec3& xa = x[static_cast<size_t>(el.n[a])];
-          const Vec3& va = v[static_cast<size_t>(el.n[a])];
+          const Vec3& xa = x[static_cast<size_t>(nodes[static_cast<size_t>(a)])];
+          const Vec3& va = v[static_cast<size_t>(nodes[static_cast<size_t>(a)])];
           for (int i = 0; i < 3; ++i) B.x[a][i][l] = xa[i], B.v[a][i][l] = va[i];
         }
-        B.lambda[l] = st.lambda[k], B.two_mu[l] = st.two_mu[k], B.rho[l] = st.rho[k], B.c[l] = st.wave_speed[k];
+        const Hex8State::PartConstants& pc = st.parts[static_cast<size_t>(st.part_slot[k])];
+        B.lambda[l] = pc.lambda, B.two_mu[l] = pc.two_mu, B.rho[l] = pc.rho, B.c[l] = pc.wave_speed;
         B.ch[l] = st.hourglass[k];
         for (int c = 0; c < 6; ++c) B.sig[c][l] = st.sigma[e](c);
-        B.plastic[l] = st.plastic[k];
+        B.plastic[l] = pc.plastic;
         if (B.plastic[l]) {
           B.ep[l] = st.plastic_strain[e];
           for (int c = 0; c < 6; ++c) B.alpha[c][l] = st.back_stress[e](c);

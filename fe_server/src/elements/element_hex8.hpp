@@ -16,6 +16,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "elements/element_blocks.hpp"
@@ -59,10 +60,16 @@ struct Hex8State {
   std::vector<double> plastic_strain;                    // effective plastic strain, per solid
   std::vector<Eigen::Matrix<double, 6, 1>> back_stress;  // kinematic hardening's centre, per solid
   std::vector<int> elements;                       // the elements of deformable parts
-  // Per deformable element k (index into `elements`):
-  std::vector<double> lambda, two_mu, rho, wave_speed;
+  // What the kernel needs of a part: its material's constants.
+  struct PartConstants {
+    double lambda = 0.0, two_mu = 0.0, rho = 0.0, wave_speed = 0.0;
+    const Material* plastic = nullptr;  // the plastic material, nullptr if elastic
+  };
+  std::vector<PartConstants> parts;  // by part slot (element_blocks.hpp)
+  // Per deformable element k (index into `elements`), compact for the
+  // element loop (which streams them every step):
+  std::vector<std::array<int, 8>> nodes;  // its nodes
   std::vector<double> hourglass;  // Q_h·ρ·c·V0^(2/3)/4, fixed per element (V changes little)
-  std::vector<const Material*> plastic;  // the element's plastic material, nullptr if elastic
   std::vector<int> part_slot;             // its part's dense index (element_blocks.hpp)
   std::vector<double> force;      // 24 per element: the nodal forces of the last step
   NodalGather gather;

@@ -155,6 +155,8 @@ struct Reader {
       if (!done[i]) throw InputError(set_unions[i].where, "set " + std::to_string(set_unions[i].id) + " is part of a cycle of *SET_..._ADD");
   }
 
+  config::SourceLocation elout_where;  // the *DATABASE_ELOUT block, for its warning
+
   void warn(const config::SourceLocation& w, const std::string& msg) {
     if (warnings) warnings->messages.push_back(w.str() + ": warning: " + msg);
   }
@@ -663,6 +665,7 @@ struct Reader {
         double& ascii = m.ascii_dt[config::to_lower(kw.substr(10))];
         ascii = ascii > 0.0 ? std::min(ascii, dt) : dt;
       }
+      if (kw == "*DATABASE_ELOUT") elout_where = b.where;
       if (kw != "*DATABASE_MATSUM") {  // the HDF5 has no per-part stream
         double& to = kw == "*DATABASE_NODOUT"                                   ? m.history_dt_nodes
                      : kw == "*DATABASE_ELOUT" || kw == "*DATABASE_SECFORC" ? m.history_dt_elements
@@ -1115,6 +1118,14 @@ struct Reader {
     resolve(m.history_solids, solid_index, "*DATABASE_HISTORY_SOLID", "a solid element");
     resolve(m.history_axis, axi_index, "*DATABASE_HISTORY_SHELL", "an axisymmetric element");
     resolve(m.history_bars, bar_index, "*DATABASE_HISTORY_BEAM", "a 1D bar element");
+    // LS-DYNA's elout lists the history solids; with none it would be a
+    // header per DT and nothing else (the bars' and axisymmetric elements'
+    // histories are in the HDF5 at ELOUT's DT all the same).
+    if (m.ascii_dt.count("elout") && m.history_solids.empty()) {
+      m.ascii_dt.erase("elout");
+      warn(elout_where, "*DATABASE_ELOUT: the ASCII elout lists *DATABASE_HISTORY_SOLID elements and the deck has none: "
+                        "not written (its DT still sets the HDF5 element history's rate)");
+    }
     for (size_t k = 0; k < section_cards.size(); ++k) cross_section(section_cards[k], k, solid_index, axi_index, bar_index);
   }
 

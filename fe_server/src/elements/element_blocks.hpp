@@ -70,7 +70,6 @@ class NodalGather {
   const int* direct(size_t k) const { return &direct_[k * static_cast<size_t>(corners_)]; }
   // f[node] += Σ its slots, in element order, for the slotted nodes.
   void add_to(const std::vector<double>& force, std::vector<Vec3>& f, ThreadPool* pool) const;
-  size_t slotted_nodes() const { return node_.size(); }
 
  private:
   std::vector<int> node_, start_, slot_, direct_;

@@ -36,7 +36,6 @@ std::vector<char> corner_force_nodes(const Model& m) {
 void NodalGather::build(size_t nodes, size_t elements, int corners, int width, size_t block,
                         const std::function<int(size_t, int)>& node_of, const std::function<bool(int)>& keep) {
   width_ = width;
-  corners_ = corners;
   std::vector<std::vector<int>> slots(nodes);
   constexpr size_t kNone = static_cast<size_t>(-1), kMany = static_cast<size_t>(-2);
   std::vector<size_t> block_of(nodes, kNone);  // the one block a node's elements lie in, or kMany
@@ -47,12 +46,11 @@ void NodalGather::build(size_t nodes, size_t elements, int corners, int width, s
       const size_t b = block > 0 ? k / block : kMany;
       block_of[i] = block_of[i] == kNone || block_of[i] == b ? b : kMany;
     }
-  direct_.resize(elements * static_cast<size_t>(corners));
+  direct_.assign(elements, 0);
   for (size_t k = 0; k < elements; ++k)
     for (int a = 0; a < corners; ++a) {
       const int i = node_of(k, a);
-      direct_[k * static_cast<size_t>(corners) + static_cast<size_t>(a)] =
-          block_of[static_cast<size_t>(i)] != kMany && !keep(i) ? i : -1;
+      if (block_of[static_cast<size_t>(i)] != kMany && !keep(i)) direct_[k] |= static_cast<unsigned char>(1u << a);
     }
   node_.clear();
   slot_.clear();

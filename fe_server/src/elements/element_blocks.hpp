@@ -66,14 +66,15 @@ class NodalGather {
   // must be slotted.
   void build(size_t nodes, size_t elements, int corners, int width, size_t block,
              const std::function<int(size_t, int)>& node_of, const std::function<bool(int)>& keep);
-  // Per corner of element k: the node index when direct, -1 when slotted.
-  const int* direct(size_t k) const { return &direct_[k * static_cast<size_t>(corners_)]; }
+  // The corners of element k whose nodes are direct: bit a for corner a.
+  unsigned direct_corners(size_t k) const { return direct_[k]; }
   // f[node] += Σ its slots, in element order, for the slotted nodes.
   void add_to(const std::vector<double>& force, std::vector<Vec3>& f, ThreadPool* pool) const;
 
  private:
-  std::vector<int> node_, start_, slot_, direct_;
-  int width_ = 3, corners_ = 8;
+  std::vector<int> node_, start_, slot_;
+  std::vector<unsigned char> direct_;  // per element: its direct corners (at most 8)
+  int width_ = 3;
 };
 
 }  // namespace fe

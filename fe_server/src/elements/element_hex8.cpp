@@ -122,8 +122,7 @@ Hex8State::Hex8State(const Model& m, const std::vector<int>* owner, int rank)
   blocks.resize((elements.size() + block - 1) / block);
   for (BlockResult& b : blocks) b.part_internal.assign(m.parts.size(), 0.0), b.part_hourglass.assign(m.parts.size(), 0.0);
   const std::vector<char> kept = corner_force_nodes(m);
-  gather.build(m.x0.size(), elements.size(), 8, 3, block,
-               [&](size_t k, int a) { return m.solids[static_cast<size_t>(elements[k])].n[a]; },
+  gather.build(m.x0.size(), elements.size(), 8, 3, block, [&](size_t k, int a) { return nodes[k][static_cast<size_t>(a)]; },
                [&](int i) { return kept[static_cast<size_t>(i)] != 0; });
 }
 
@@ -344,9 +343,10 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void hex8_kernel(He
   }
 }
 
-// Elements [first, last) of the deformable list: gather, kernel, scatter
-// into each element's force slot; energy partials and the first inverted
-// element into r.
+// Elements [first, last) of the deformable list: gather, kernel, then each
+// corner force added to its node if the node is this block's own (direct),
+// else written to the element's slot for the gather; energy partials and
+// the first inverted element into r.
 void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
                 size_t first, size_t last, std::vector<Vec3>& f, BlockResult& r) {
   r.reset();
@@ -393,10 +393,10 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
         st.plastic_strain[e] = B.ep[l];
         for (int c = 0; c < 6; ++c) st.back_stress[e](c) = B.alpha[c][l];
       }
-      const int* direct = st.gather.direct(k);
+      const unsigned direct = st.gather.direct_corners(k);
       for (int a = 0; a < 8; ++a) {
-        if (direct[a] >= 0) {  // this block's own node: added here, in element order
-          Vec3& fn = f[static_cast<size_t>(direct[a])];
+        if (direct & (1u << a)) {  // this block's own node: added here, in element order
+          Vec3& fn = f[static_cast<size_t>(st.nodes[k][static_cast<size_t>(a)])];
           for (int i = 0; i < 3; ++i) fn[i] += B.f[a][i][l];
         } else {
           double* out = &st.force[24 * k + 3 * static_cast<size_t>(a)];
@@ -418,7 +418,7 @@ void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x, cons
                  std::vector<Vec3>& f, ElementWork& w, ThreadPool* pool) {
   const size_t n = st.elements.size();
   if (n == 0) return;
-  // Every block of elements, each into its own slots.
+  // Every block of elements: its own nodes directly, the shared ones' slots.
   run_blocks(st.blocks.size(), pool, [&](size_t b) {
     hex8_block(m, st, x, v, dt, b * st.block, std::min(n, (b + 1) * st.block), f, st.blocks[b]);
   });

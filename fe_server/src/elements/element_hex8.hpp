@@ -87,8 +87,9 @@ struct Hex8State {
 // hexes and 1.4× at 33.6k, bench_fe hex8); a model of more than 2048
 // elements gets at least 8 blocks for the threads. (4096 gained another
 // ~1.1× on one thread at 33.6k, but its 8 blocks left the second thread
-// idle behind any interruption: the same time on 2 threads.) Depends on the element count only, never on the thread
-// count: the sums stay bit-identical for any count.
+// idle behind any interruption: the same time on 2 threads.) Depends on
+// the element count only, never on the thread count: the sums stay
+// bit-identical for any count.
 constexpr size_t kHex8Lanes = 8;
 size_t hex8_block_size(size_t elements);
 

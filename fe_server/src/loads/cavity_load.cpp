@@ -45,6 +45,9 @@ void segment_corner_weights(const Segment& s, const std::vector<Vec3>& x, double
 
 static int corners(const Segment& s) { return s.corners(); }
 
+// A loading set with cavity bounds along the axis (ZMIN or ZMAX given).
+static bool bounded(const LoadingSet& set) { return set.z_min > -1e299 || set.z_max < 1e299; }
+
 double wetted_fraction(const Segment& s, const std::vector<Vec3>& x, double lo, double hi, double ramp, int axis) {
   double zmin = 1e300, zmax = -1e300, zc = 0.0;
   const int nc = corners(s);
@@ -123,9 +126,7 @@ CavityPressureLoad::CavityPressureLoad(const Model& model, const config::PortTab
       for (int k = 1; k < seg.corners(); ++k) fixed = fixed && body[static_cast<size_t>(seg.n[k])] == b;
       ps.fixed_shape.push_back(fixed);
       ps.area0.push_back(segment_area_vector(seg, model.x0));
-      const LoadingSet& set = ps.sets[static_cast<size_t>(ps.segment_set[s])];
-      const bool bounded = set.z_min > -1e299 || set.z_max < 1e299;
-      if (!fixed || bounded) {
+      if (!fixed || bounded(ps.sets[static_cast<size_t>(ps.segment_set[s])])) {
         ps.varying.push_back(static_cast<int>(s));
         continue;
       }
@@ -175,7 +176,6 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
       const size_t s = static_cast<size_t>(si);
       const size_t k = static_cast<size_t>(ps.segment_set[s]);
       const LoadingSet& b = ps.sets[k];
-      const bool bounded = b.z_min > -1e299 || b.z_max < 1e299;
       const double shift = ps.shift[k];
       Vec3 a;
       if (ps.fixed_shape[s]) {
@@ -184,7 +184,7 @@ void CavityPressureLoad::apply(double, const std::vector<Vec3>& x, const std::ve
         segment_corner_weights(ps.segments[s], x, &ps.corner_weight[4 * s]);
         a = segment_area_vector(ps.segments[s], x);
       }
-      if (bounded) a *= wetted_fraction(ps.segments[s], x, b.z_min + shift, b.z_max + shift, b.ramp, axis);
+      if (bounded(b)) a *= wetted_fraction(ps.segments[s], x, b.z_min + shift, b.z_max + shift, b.ramp, axis);
       ps.segment_area[s] = a;
       total += a;
       for (int c = 0; c < ps.segments[s].corners(); ++c)

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fuzz the input readers with libFuzzer (clang, ASan + UBSan):
 #   scripts/fuzz.sh [RUNS [TARGET...]]   (default 1000000 executions of every target)
+#   PCS_FUZZ_SECONDS=S scripts/fuzz.sh    at most S seconds per target instead (CI: a short pass)
 # Targets: frame (wire protocol), port_table, deck (FE keyword deck), model
 # (TLM host model), include (*INCLUDE in a deck), fmu_unpack (the importer's
 # unzip and checks), handshake (fe_server's handshake state machine), set
@@ -27,8 +28,10 @@ for t in "${targets[@]}"; do
   work=$(mktemp -d)
   cp -r "$root/tests/fuzz/corpus/$t/." "$work/"
   mkdir -p "$build/artifacts/$t"
-  echo "== fuzz_$t: $runs runs"
-  if ! (cd "$build/artifacts/$t" && "$build/tests/fuzz/fuzz_$t" -runs="$runs" -max_len=4096 -timeout=10 \
+  limit=(-runs="$runs") what="$runs runs"
+  if [ -n "${PCS_FUZZ_SECONDS:-}" ]; then limit=(-max_total_time="$PCS_FUZZ_SECONDS") what="at most $PCS_FUZZ_SECONDS s"; fi
+  echo "== fuzz_$t: $what"
+  if ! (cd "$build/artifacts/$t" && "$build/tests/fuzz/fuzz_$t" "${limit[@]}" -max_len=4096 -timeout=10 \
         -rss_limit_mb=2048 -print_final_stats=1 "$work" 2>&1 | grep -E "stat::number_of_executed_units|ERROR|SUMMARY|Done"); then
     :
   fi

@@ -33,13 +33,33 @@ std::string read_token_file(const std::string& path) {
   const size_t b = line.find_last_not_of(blanks);
   const std::string token = a == std::string::npos ? "" : line.substr(a, b - a + 1);
   if (token.empty()) throw std::runtime_error("token file '" + path + "': the first line holds no token");
-  if (token.size() > 255) throw std::runtime_error("token file '" + path + "': the token is longer than 255 bytes");
+  check_token(token, "token file '" + path + "'");
   return token;
+}
+
+void check_token(const std::string& token, const std::string& source) {
+  const std::string make =
+      "; make one with: head -c 24 /dev/urandom | base64 > token && chmod 600 token";
+  for (size_t i = 0; i < token.size(); ++i) {
+    const auto c = static_cast<unsigned char>(token[i]);
+    if (c < 0x21 || c > 0x7e) {
+      char code[8];
+      std::snprintf(code, sizeof code, "0x%02x", c);
+      throw std::runtime_error(source + ": the token holds byte " + code + " at position " + std::to_string(i + 1) +
+                               "; a token is printable ASCII without blanks (0x21..0x7e)" + make);
+    }
+  }
+  if (token.size() < kMinTokenLength)
+    throw std::runtime_error(source + ": the token has " + std::to_string(token.size()) + " characters, at least " +
+                             std::to_string(kMinTokenLength) + " are required" + make);
+  if (token.size() > kMaxTokenLength)
+    throw std::runtime_error(source + ": the token is longer than " + std::to_string(kMaxTokenLength) +
+                             " characters");
 }
 
 std::string token_from_environment(std::string* source) {
   if (const char* t = std::getenv(kTokenEnv); t && *t) {
-    if (std::strlen(t) > 255) throw std::runtime_error(std::string("$") + kTokenEnv + " is longer than 255 bytes");
+    check_token(t, std::string("$") + kTokenEnv);
     if (source) *source = std::string("$") + kTokenEnv;
     return t;
   }

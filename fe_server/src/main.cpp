@@ -46,8 +46,10 @@ int usage(std::ostream& os, int rc) {
         "                        one client per file and steps them together\n"
         "  --listen HOST:PORT    where to wait for tlm_host (default 127.0.0.1:0 = any free port)\n"
         "  --token-file FILE     session token, first line of FILE (mode 600, yours); else $PCS_TOKEN,\n"
-        "                        else the file named by $PCS_TOKEN_FILE. Off loopback a token of at\n"
-        "                        least 16 characters is required. Never on the command line\n"
+        "                        else the file named by $PCS_TOKEN_FILE: 16 to 255 printable characters,\n"
+        "                        required with --ports. Never on the command line\n"
+        "  --insecure-no-token   loopback only: serve without a token, so that any local user can\n"
+        "                        connect (a cluster node has many); warns at start\n"
         "  --port-file FILE      write the bound port number to FILE\n"
         "  --out FILE            HDF5 time histories (default fe_results.h5)\n"
         "  --accept-timeout S    give up if no host connects within S seconds (default 300); until then\n"
@@ -376,6 +378,7 @@ int run_main(int argc, char** argv) {
   std::vector<std::string> ports_paths;
   fe::ServerOptions opt;
   std::string token_file;
+  bool no_token = false;
   int threads = 0;  // 0: the default below
   int sessions = 1;
   CheckpointOptions ck;
@@ -387,6 +390,7 @@ int run_main(int argc, char** argv) {
       else if (args.is("--listen")) listen = args.value();
       else if (args.is("--token")) throw std::invalid_argument(config::token_on_command_line_refused("fe_server"));
       else if (args.is("--token-file")) token_file = args.value();
+      else if (args.is("--insecure-no-token")) no_token = true;
       else if (args.is("--port-file")) opt.port_file = args.value();
       else if (args.is("--out")) out = args.value();
       // Deadlines are kept in milliseconds: up to 10⁶ s (11 days) keeps them exact.
@@ -421,12 +425,19 @@ int run_main(int argc, char** argv) {
     // Across ranks, one thread each: the ranks take the cores.
     if (threads == 0) threads = dom.parallel() ? 1 : default_threads(ports_paths.empty() || !is_loopback(opt.listen_host));
     opt.token = token_file.empty() ? config::token_from_environment() : config::read_token_file(token_file);
-    if (!is_loopback(opt.listen_host) && opt.token.size() < PCS_MIN_TOKEN_OFF_LOOPBACK)
-      throw std::invalid_argument("--listen " + listen + " is off loopback: a token of at least " +
-                                  std::to_string(PCS_MIN_TOKEN_OFF_LOOPBACK) + " characters is required (" +
-                                  (opt.token.empty() ? "none given" : "got " + std::to_string(opt.token.size())) +
-                                  "); e.g. head -c 24 /dev/urandom | base64 > token && chmod 600 token, then "
-                                  "--token-file token");
+    if (no_token) {
+      if (!opt.token.empty() || !token_file.empty())
+        throw std::invalid_argument("--insecure-no-token and a token (--token-file, $PCS_TOKEN or $PCS_TOKEN_FILE) "
+                                    "contradict each other: give one");
+      if (!is_loopback(opt.listen_host))
+        throw std::invalid_argument("--insecure-no-token is for loopback only, and --listen " + listen +
+                                    " is not: give a token with --token-file");
+    } else if (!ports_paths.empty() && opt.token.empty()) {
+      throw std::invalid_argument("a session needs a token of at least " + std::to_string(config::kMinTokenLength) +
+                                  " characters, on loopback too (every local user can reach a loopback port): "
+                                  "head -c 24 /dev/urandom | base64 > token && chmod 600 token, then --token-file "
+                                  "token (or $PCS_TOKEN); --insecure-no-token serves without one on loopback");
+    }
   } catch (const std::exception& e) {
     std::cerr << "fe_server: " << e.what() << "\n";
     return usage(std::cerr, fe::kExitUsage);
@@ -456,6 +467,9 @@ int run_main(int argc, char** argv) {
     const fe::Model pristine = model;  // each session starts from the deck's state (mass scaling included)
     fe::CouplingServer server(opt, tables);
     if (dom.rank() == 0) server.bind();  // rank 0 owns the link; it tells the others what to do
+    if (dom.rank() == 0 && no_token)
+      std::cerr << "fe_server: WARNING: --insecure-no-token: any local user can connect to port " << server.port()
+                << " and drive this session" << std::endl;
     server.set_domain(&dom);
     fe::ExitCode worst = fe::kExitOk;
     for (int session = 1; sessions == 0 || session <= sessions; ++session) {

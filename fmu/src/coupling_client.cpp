@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "config/token.hpp"
+
 namespace pcs_fmu {
 
 std::string describe_link_error(int code, const sl_socket& s) {
@@ -57,7 +59,13 @@ void CouplingClient::connect(const std::string& host, int port, const std::strin
   int rc = sl_connect(host.c_str(), port, deadline, &sock_);
   if (rc != SL_OK) fail(rc, "cannot connect to " + where);
 
-  if (token.size() >= PCS_MAX_TOKEN) fail(SL_EINVAL, "token longer than " + std::to_string(PCS_MAX_TOKEN - 1) + " bytes");
+  if (!token.empty()) {  // empty: a server started with --insecure-no-token
+    try {
+      config::check_token(token, "the session token");
+    } catch (const std::exception& e) {
+      fail(SL_EINVAL, e.what());
+    }
+  }
   if (pcs_auth_init() != SL_OK) fail(SL_ESYSTEM, "cannot initialise libsodium");
   pcs_hello hello{};
   hello.protocol_version = PCS_PROTOCOL_VERSION;
@@ -70,22 +78,15 @@ void CouplingClient::connect(const std::string& host, int port, const std::strin
   rc = pcs_send_frame(&sock_, PCS_MSG_HELLO, 0, buf_.data(), static_cast<uint32_t>(n), deadline);
   if (rc != SL_OK) fail(rc, "cannot send HELLO to " + where);
 
-  // CHALLENGE: the server proves it knows the token before we prove we do.
+  // CHALLENGE: the server's nonce. We prove first; the server proves in
+  // HELLO_ACK, only to a host that knew the token (socketlib/auth.h says why).
   pcs_header h{};
   receive_handshake_frame(h, PCS_MSG_CHALLENGE, where, deadline);
   pcs_challenge ch{};
   if (pcs_decode_challenge(buf_.data(), h.payload_size, &ch) != SL_OK) fail(SL_EMALFORMED, "malformed CHALLENGE");
-  if (!pcs_auth_check(token.c_str(), PCS_ROLE_SERVER, hello.client_nonce, ch.server_nonce, table_.hash(),
-                      ch.server_proof)) {
-    const std::string reason =
-        "wrong or missing token: the server could not prove it knows our token (the tokens differ, or this is not "
-        "the real fe_server)";
-    pcs_send_abort(&sock_, 0, SL_EREFUSED_BY_PEER,
-                   "wrong or missing token (the server's proof does not match the host's token)", deadline);
-    fail(SL_EREFUSED_BY_PEER, where + ": " + reason);
-  }
   pcs_auth auth{};
-  pcs_auth_proof(token.c_str(), PCS_ROLE_HOST, hello.client_nonce, ch.server_nonce, table_.hash(), auth.client_proof);
+  pcs_auth_proof(token.data(), token.size(), PCS_ROLE_HOST, hello.client_nonce, ch.server_nonce, table_.hash(),
+                 auth.client_proof);
   n = pcs_encode_auth(&auth, buf_.data(), static_cast<uint32_t>(buf_.size()));
   rc = pcs_send_frame(&sock_, PCS_MSG_AUTH, 0, buf_.data(), static_cast<uint32_t>(n), deadline);
   if (rc != SL_OK) fail(rc, "cannot send AUTH to " + where);
@@ -94,6 +95,15 @@ void CouplingClient::connect(const std::string& host, int port, const std::strin
   pcs_hello_ack ack{};
   rc = pcs_decode_hello_ack(buf_.data(), h.payload_size, &ack);
   if (rc != SL_OK) fail(rc, "malformed HELLO_ACK");
+  if (!pcs_auth_check(token.data(), token.size(), PCS_ROLE_SERVER, hello.client_nonce, ch.server_nonce,
+                      table_.hash(), ack.server_proof)) {
+    const std::string reason =
+        "wrong or missing token: the server could not prove it knows our token (the tokens differ, or this is not "
+        "the real fe_server)";
+    pcs_send_abort(&sock_, 0, SL_EREFUSED_BY_PEER,
+                   "wrong or missing token (the server's proof does not match the host's token)", deadline);
+    fail(SL_EREFUSED_BY_PEER, where + ": " + reason);
+  }
   // The server checked the same things; checking again here means a faulty
   // or foreign server cannot make us exchange values that mean something else.
   if (ack.table_hash != table_.hash() || ack.dt != table_.dt ||

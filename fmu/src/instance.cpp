@@ -131,7 +131,9 @@ void Instance::set_integer(fmi2ValueReference vr, int value) {
 const char* Instance::get_string(fmi2ValueReference vr) const {
   const auto& v = variable(vr);
   if (v.type != config::FmuType::String) throw FmuError(fmi2Error, v.name + " is not a String");
-  return vr == config::kVrServerHost ? host_.c_str() : token_.c_str();
+  // The token is write-only: an importer that logs what it reads (fmusim's
+  // --log-fmi-calls, a GUI's parameter table) must never show it.
+  return vr == config::kVrServerHost ? host_.c_str() : "";
 }
 
 void Instance::set_string(fmi2ValueReference vr, const char* value) {

@@ -219,6 +219,7 @@ int pcs_encode_hello_ack(const pcs_hello_ack *m, uint8_t *buf, uint32_t cap) {
   pcs_put_u64(&w, m->table_hash);
   pcs_put_f64(&w, m->dt);
   pcs_put_u32(&w, m->subcycles);
+  pcs_put_bytes(&w, m->server_proof, PCS_PROOF_SIZE);
   return pcs__written(&w);
 }
 int pcs_decode_hello_ack(const uint8_t *buf, uint32_t len, pcs_hello_ack *m) {
@@ -226,19 +227,18 @@ int pcs_decode_hello_ack(const uint8_t *buf, uint32_t len, pcs_hello_ack *m) {
   m->table_hash = pcs_get_u64(&r);
   m->dt = pcs_get_f64(&r);
   m->subcycles = pcs_get_u32(&r);
+  pcs_get_bytes(&r, m->server_proof, PCS_PROOF_SIZE);
   return pcs__finish(&r);
 }
 
 int pcs_encode_challenge(const pcs_challenge *m, uint8_t *buf, uint32_t cap) {
   pcs_writer w = {buf, cap, 0, 0};
   pcs_put_bytes(&w, m->server_nonce, PCS_NONCE_SIZE);
-  pcs_put_bytes(&w, m->server_proof, PCS_PROOF_SIZE);
   return pcs__written(&w);
 }
 int pcs_decode_challenge(const uint8_t *buf, uint32_t len, pcs_challenge *m) {
   pcs_reader r = {buf, len, 0, 0};
   pcs_get_bytes(&r, m->server_nonce, PCS_NONCE_SIZE);
-  pcs_get_bytes(&r, m->server_proof, PCS_PROOF_SIZE);
   return pcs__finish(&r);
 }
 

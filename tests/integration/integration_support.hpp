@@ -2,12 +2,17 @@
 // scene on an ephemeral loopback port, under a hard time-out.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "config/port_table.hpp"
+#include "coupling_client.hpp"
 #include "fmu_importer.hpp"
+#include "h5io/timeseries.hpp"
+#include "test_peer.hpp"
 #include "process.hpp"
 
 namespace {
@@ -49,6 +54,20 @@ inline std::unique_ptr<tlm::FmuInstance> connected_fmu(const std::shared_ptr<tlm
   if (resume_step >= 0) fmu->resume(static_cast<unsigned long long>(resume_step));
   fmu->exit_initialization();
   return fmu;
+}
+
+// After strangers were refused the server still serves the real host: a
+// short session, a clean end, and each refusal logged with the peer's address.
+inline void expect_real_host_served(Server& server, const std::string& token = testing_support::session_token()) {
+  config::PortTable t = scene_table();
+  pcs_fmu::CouplingClient client(t);
+  client.connect("127.0.0.1", server.port, token, 10.0);
+  std::vector<double> in = {1.0e7}, out;
+  for (uint64_t k = 0; k < 3; ++k) client.step(k, static_cast<double>(k) * t.dt, t.dt, in, out);
+  client.bye();
+  EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output();
+  EXPECT_EQ(h5io::read_series(server.out, "time").size(), 3u);
+  EXPECT_NE(server.child->output().find("fe_server: refused 127.0.0.1:"), std::string::npos) << server.child->output();
 }
 
 }  // namespace

@@ -102,9 +102,9 @@ TEST(Codecs, RoundTripEveryMessage) {
   EXPECT_EQ(pcs_encode_abort(&a, buf, 6), SL_EOVERSIZE);
 
   pcs_challenge ch{};
-  for (uint32_t i = 0; i < PCS_NONCE_SIZE; ++i) ch.server_nonce[i] = static_cast<uint8_t>(i), ch.server_proof[i] = static_cast<uint8_t>(255 - i);
+  for (uint32_t i = 0; i < PCS_NONCE_SIZE; ++i) ch.server_nonce[i] = static_cast<uint8_t>(i);
   n = pcs_encode_challenge(&ch, buf, sizeof buf);
-  ASSERT_EQ(n, static_cast<int>(PCS_NONCE_SIZE + PCS_PROOF_SIZE));
+  ASSERT_EQ(n, static_cast<int>(PCS_NONCE_SIZE)) << "a CHALLENGE carries nothing derived from the token";
   pcs_challenge ch2{};
   ASSERT_EQ(pcs_decode_challenge(buf, static_cast<uint32_t>(n), &ch2), SL_OK);
   EXPECT_EQ(std::memcmp(&ch, &ch2, sizeof ch), 0);
@@ -120,7 +120,7 @@ TEST(Codecs, RoundTripEveryMessage) {
 // The proofs are HMAC-SHA-256 as auth.h defines them: checked against values
 // computed independently with Python's hmac module (RFC 2104), for
 // nonces 0..31 and 32..63 and the table hash 0x1234567890abcdef:
-//   hmac.new(b'correct-horse', b'pcs-v3 fe_server\0' + cn + sn + hash_le, sha256)
+//   hmac.new(b'correct-horse-battery', b'pcs-v5 fe_server\0' + cn + sn + hash_le, sha256)
 TEST(Auth, ProofsAreHmacSha256OfTheDocumentedMessage) {
   ASSERT_EQ(pcs_auth_init(), SL_OK);
   uint8_t cn[PCS_NONCE_SIZE], sn[PCS_NONCE_SIZE], proof[PCS_PROOF_SIZE];
@@ -131,19 +131,28 @@ TEST(Auth, ProofsAreHmacSha256OfTheDocumentedMessage) {
     return std::string(out);
   };
   const uint64_t hash = 0x1234567890abcdefull;
-  pcs_auth_proof("correct-horse", PCS_ROLE_SERVER, cn, sn, hash, proof);
-  EXPECT_EQ(hex(proof), "9421747a5940c80c46c433915869f3e999efe3f54f5362e670f085090b8ef1fd");
-  pcs_auth_proof("correct-horse", PCS_ROLE_HOST, cn, sn, hash, proof);
-  EXPECT_EQ(hex(proof), "78776ec58d4d6bebe4d43c18816041d3be698aebff4b00ec8ff0ec9d6214b6d4");
-  EXPECT_TRUE(pcs_auth_check("correct-horse", PCS_ROLE_HOST, cn, sn, hash, proof));
+  const std::string tok = "correct-horse-battery";
+  pcs_auth_proof(tok.data(), tok.size(), PCS_ROLE_SERVER, cn, sn, hash, proof);
+  EXPECT_EQ(hex(proof), "d40a22a03c258d654a524c89539992da45b54c7c63176a11b005c75644ed7bc5");
+  pcs_auth_proof(tok.data(), tok.size(), PCS_ROLE_HOST, cn, sn, hash, proof);
+  EXPECT_EQ(hex(proof), "1d2992c098879ae09e8541561dff9a4f0476dda3b6171a3aed6781be0b52da75");
+  EXPECT_TRUE(pcs_auth_check(tok.data(), tok.size(), PCS_ROLE_HOST, cn, sn, hash, proof));
   // Any difference refuses: another role (no reflection), token, nonce, table, or one bit of the proof.
-  EXPECT_FALSE(pcs_auth_check("correct-horse", PCS_ROLE_SERVER, cn, sn, hash, proof));
-  EXPECT_FALSE(pcs_auth_check("correct-horsf", PCS_ROLE_HOST, cn, sn, hash, proof));
-  EXPECT_FALSE(pcs_auth_check("", PCS_ROLE_HOST, cn, sn, hash, proof));
-  EXPECT_FALSE(pcs_auth_check("correct-horse", PCS_ROLE_HOST, sn, cn, hash, proof));
-  EXPECT_FALSE(pcs_auth_check("correct-horse", PCS_ROLE_HOST, cn, sn, hash + 1, proof));
+  const std::string other = "correct-horse-batterz";
+  EXPECT_FALSE(pcs_auth_check(tok.data(), tok.size(), PCS_ROLE_SERVER, cn, sn, hash, proof));
+  EXPECT_FALSE(pcs_auth_check(other.data(), other.size(), PCS_ROLE_HOST, cn, sn, hash, proof));
+  EXPECT_FALSE(pcs_auth_check("", 0, PCS_ROLE_HOST, cn, sn, hash, proof));
+  EXPECT_FALSE(pcs_auth_check(tok.data(), tok.size(), PCS_ROLE_HOST, sn, cn, hash, proof));
+  EXPECT_FALSE(pcs_auth_check(tok.data(), tok.size(), PCS_ROLE_HOST, cn, sn, hash + 1, proof));
+  // The key is the bytes given, not a C string: a NUL cannot cut it short
+  // (a token "\0" + 30 characters once keyed the HMAC with "").
+  const std::string nul_first = std::string(1, '\0') + "0123456789abcdef0123456789abcd";
+  uint8_t empty_key[PCS_PROOF_SIZE];
+  pcs_auth_proof("", 0, PCS_ROLE_HOST, cn, sn, hash, empty_key);
+  EXPECT_EQ(hex(empty_key), "f769d629c259d276a56543634ce167f23fd8ca559546c07657957b4ff3a1b6f1");
+  EXPECT_FALSE(pcs_auth_check(nul_first.data(), nul_first.size(), PCS_ROLE_HOST, cn, sn, hash, empty_key));
   proof[31] ^= 1;
-  EXPECT_FALSE(pcs_auth_check("correct-horse", PCS_ROLE_HOST, cn, sn, hash, proof));
+  EXPECT_FALSE(pcs_auth_check(tok.data(), tok.size(), PCS_ROLE_HOST, cn, sn, hash, proof));
   // Nonces come from the system's generator: two in a row differ.
   uint8_t a[PCS_NONCE_SIZE], b[PCS_NONCE_SIZE];
   pcs_random_nonce(a);

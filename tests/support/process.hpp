@@ -29,6 +29,20 @@ class ChildProcess {
   std::string log_path_;
 };
 
+// Sets (value) or unsets (nullptr) an environment variable for its scope:
+// children started meanwhile inherit it; the old value comes back after.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const char* value);
+  ~ScopedEnv();
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  std::string name_, old_;
+  bool had_ = false;
+};
+
 // Wait until `path` holds a port number (the server is listening); -1 on time-out.
 int read_port_file(const std::string& path, double timeout_s);
 

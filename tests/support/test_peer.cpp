@@ -1,5 +1,7 @@
 #include "test_peer.hpp"
 
+#include <cstdlib>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -7,6 +9,11 @@
 #include <vector>
 
 namespace testing_support {
+
+std::string session_token() {
+  const char* t = std::getenv("PCS_TOKEN");
+  return t ? t : "";
+}
 
 TestPeer::TestPeer(const config::PortTable& table, Behaviour b, std::string token)
     : table_(table), behaviour_(b), token_(std::move(token)) {
@@ -45,6 +52,12 @@ void TestPeer::serve() {
   }
   pcs_hello hello{};
   pcs_decode_hello(buf.data(), h.payload_size, &hello);
+  if (behaviour_ == Behaviour::SilentAfterHello) {  // until the client gives up or closes
+    pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline);
+    error_ = "silent after HELLO";
+    sl_close(&c);
+    return;
+  }
   if (hello.table_hash != table_.hash()) {
     pcs_send_abort(&c, 0, 1, "test peer refuses: port table", deadline);
     error_ = "refused";
@@ -54,21 +67,23 @@ void TestPeer::serve() {
   // The server's half of the challenge-response (socketlib/auth.h).
   pcs_challenge ch{};
   pcs_random_nonce(ch.server_nonce);
-  pcs_auth_proof(token_.c_str(), PCS_ROLE_SERVER, hello.client_nonce, ch.server_nonce, table_.hash(), ch.server_proof);
   int cn = pcs_encode_challenge(&ch, buf.data(), static_cast<uint32_t>(buf.size()));
   pcs_send_frame(&c, PCS_MSG_CHALLENGE, 0, buf.data(), static_cast<uint32_t>(cn), deadline);
   pcs_auth auth{};
   if (pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline) != SL_OK ||
       h.type != PCS_MSG_AUTH || pcs_decode_auth(buf.data(), h.payload_size, &auth) != SL_OK ||
-      !pcs_auth_check(token_.c_str(), PCS_ROLE_HOST, hello.client_nonce, ch.server_nonce, table_.hash(),
-                      auth.client_proof)) {
+      (behaviour_ != Behaviour::AcceptAnyProof &&
+       !pcs_auth_check(token_.data(), token_.size(), PCS_ROLE_HOST, hello.client_nonce, ch.server_nonce,
+                       table_.hash(), auth.client_proof))) {
     if (h.type != PCS_MSG_ABORT) pcs_send_abort(&c, 0, 1, "test peer refuses: token", deadline);
     error_ = h.type == PCS_MSG_ABORT ? "client aborted the handshake" : "refused";
     sl_close(&c);
     return;
   }
   pcs_hello_ack ack{table_.hash() + (behaviour_ == Behaviour::OtherTable ? 1 : 0), table_.dt,
-                    static_cast<uint32_t>(table_.subcycles)};
+                    static_cast<uint32_t>(table_.subcycles), {}};
+  pcs_auth_proof(token_.data(), token_.size(), PCS_ROLE_SERVER, hello.client_nonce, ch.server_nonce, table_.hash(),
+                 ack.server_proof);
   int n = pcs_encode_hello_ack(&ack, buf.data(), static_cast<uint32_t>(buf.size()));
   if (behaviour_ == Behaviour::OtherVersion) {
     // A HELLO_ACK in a header of protocol version 99, built by hand.
@@ -91,6 +106,12 @@ void TestPeer::serve() {
     double t = 0, dt = 0;
     uint32_t count = 0;
     pcs_decode_values(buf.data(), h.payload_size, &t, &dt, in.data(), static_cast<uint32_t>(in.size()), &count);
+    if (behaviour_ == Behaviour::EndlessHeartbeats) {  // "still computing", until the client leaves
+      while (sl_now_ms() < deadline &&
+             pcs_send_frame(&c, PCS_MSG_HEARTBEAT, h.step, nullptr, 0, deadline) == SL_OK)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      break;
+    }
     if (behaviour_ == Behaviour::StallOnStep) {
       pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline);  // wait for the client to give up
       break;
@@ -154,15 +175,20 @@ std::string raw_client_handshake(sl_socket& s, const config::PortTable& t, const
   if (!why.empty()) return why;
   pcs_challenge ch{};
   if (pcs_decode_challenge(buf, h.payload_size, &ch) != SL_OK) return "malformed CHALLENGE";
-  if (check_server &&
-      !pcs_auth_check(token.c_str(), PCS_ROLE_SERVER, hello.client_nonce, ch.server_nonce, t.hash(), ch.server_proof))
-    return "the server's proof does not match the token";
   pcs_auth auth{};
-  pcs_auth_proof(token.c_str(), PCS_ROLE_HOST, hello.client_nonce, ch.server_nonce, t.hash(), auth.client_proof);
+  pcs_auth_proof(token.data(), token.size(), PCS_ROLE_HOST, hello.client_nonce, ch.server_nonce, t.hash(),
+                 auth.client_proof);
   const int an = pcs_encode_auth(&auth, payload, sizeof payload);
   if (pcs_send_frame(&s, PCS_MSG_AUTH, 0, payload, static_cast<uint32_t>(an), deadline) != SL_OK)
     return "cannot send AUTH";
-  return answer(PCS_MSG_HELLO_ACK);
+  why = answer(PCS_MSG_HELLO_ACK);
+  if (!why.empty()) return why;
+  pcs_hello_ack ack{};
+  if (pcs_decode_hello_ack(buf, h.payload_size, &ack) != SL_OK) return "malformed HELLO_ACK";
+  if (check_server && !pcs_auth_check(token.data(), token.size(), PCS_ROLE_SERVER, hello.client_nonce,
+                                      ch.server_nonce, t.hash(), ack.server_proof))
+    return "the server's proof does not match the token";
+  return "";
 }
 
 }  // namespace testing_support

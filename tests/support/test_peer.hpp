@@ -13,6 +13,11 @@
 
 namespace testing_support {
 
+// The tests' session token: $PCS_TOKEN, which CTest sets for every test
+// (tests/CMakeLists.txt), so that fe_server children and in-process FMUs,
+// which read it too, agree with the peers and handshakes made here.
+std::string session_token();
+
 class TestPeer {
  public:
   enum class Behaviour {
@@ -26,8 +31,11 @@ class TestPeer {
     OtherVersion,   // answer HELLO with a HELLO_ACK of protocol version 99
     OtherTable,     // answer HELLO with a HELLO_ACK for another port table
     Heartbeats,     // send three HEARTBEATs, 0.2 s apart, before each RESULT
+    AcceptAnyProof, // an impostor: take any AUTH, answer with a HELLO_ACK proof of its own token
+    SilentAfterHello, // read HELLO, then send nothing (a handshake that never ends)
+    EndlessHeartbeats, // answer STEP with a HEARTBEAT every 0.1 s and never a RESULT
   };
-  TestPeer(const config::PortTable& table, Behaviour b = Behaviour::Echo, std::string token = "");
+  TestPeer(const config::PortTable& table, Behaviour b = Behaviour::Echo, std::string token = session_token());
   ~TestPeer();
   int port() const { return port_; }
   // Steps answered so far and the last error the peer saw (empty if none).
@@ -51,7 +59,7 @@ class TestPeer {
 // a chosen header version: "" when the server answered HELLO_ACK, else what
 // went wrong ("ABORT: <reason>" when the server refused). With check_server
 // false it sends its AUTH whatever the server's proof, as a stranger would.
-std::string raw_client_handshake(sl_socket& s, const config::PortTable& t, const std::string& token = "",
+std::string raw_client_handshake(sl_socket& s, const config::PortTable& t, const std::string& token = session_token(),
                                  uint16_t header_version = PCS_PROTOCOL_VERSION, bool check_server = true);
 
 }  // namespace testing_support

@@ -73,6 +73,7 @@ class FmuInstance {
   double get_real(unsigned vr);
   void set_integer(unsigned vr, int v);
   void set_string(unsigned vr, const std::string& v);
+  std::string get_string(unsigned vr);
   void setup_experiment(double start, double stop);
   void enter_initialization();
   void exit_initialization();

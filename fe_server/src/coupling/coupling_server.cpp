@@ -9,7 +9,6 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
-#include <thread>
 
 #include "config/stop_signal.hpp"
 #include "socketlib/protocol.h"
@@ -289,8 +288,7 @@ std::string CouplingServer::on_hello(Pending& p, const pcs_header& h) {
   std::memcpy(p.client_nonce, hello.client_nonce, PCS_NONCE_SIZE);
   pcs_random_nonce(p.server_nonce);
   pcs_challenge ch{};
-  std::memcpy(ch.server_nonce, p.server_nonce, PCS_NONCE_SIZE);
-  pcs_auth_proof(opt_.token.c_str(), PCS_ROLE_SERVER, p.client_nonce, p.server_nonce, table.hash(), ch.server_proof);
+  std::memcpy(ch.server_nonce, p.server_nonce, PCS_NONCE_SIZE);  // no proof yet: the host proves first (auth.h)
   const int n = pcs_encode_challenge(&ch, buf_.data(), static_cast<uint32_t>(buf_.size()));
   const int rc = pcs_send_frame(&p.conn, PCS_MSG_CHALLENGE, 0, buf_.data(), static_cast<uint32_t>(n), p.deadline);
   if (rc != SL_OK) return "cannot send CHALLENGE: " + link_error(rc, p.conn);
@@ -305,10 +303,12 @@ std::string CouplingServer::on_auth(Pending& p, const pcs_header& h) {
   const config::PortTable& table = *clients_[static_cast<size_t>(p.which)].table;
   if (clients_[static_cast<size_t>(p.which)].conn.fd >= 0)
     return refuse(p.conn, "a second FMU presented the port table of " + table.source + ", which is already connected");
-  if (!pcs_auth_check(opt_.token.c_str(), PCS_ROLE_HOST, p.client_nonce, p.server_nonce, table.hash(),
-                      auth.client_proof))
+  if (!pcs_auth_check(opt_.token.data(), opt_.token.size(), PCS_ROLE_HOST, p.client_nonce, p.server_nonce,
+                      table.hash(), auth.client_proof))
     return refuse(p.conn, "wrong or missing token (the host's proof does not match)");
-  pcs_hello_ack ack{table.hash(), table.dt, static_cast<uint32_t>(table.subcycles)};
+  pcs_hello_ack ack{table.hash(), table.dt, static_cast<uint32_t>(table.subcycles), {}};
+  pcs_auth_proof(opt_.token.data(), opt_.token.size(), PCS_ROLE_SERVER, p.client_nonce, p.server_nonce, table.hash(),
+                 ack.server_proof);
   const int n = pcs_encode_hello_ack(&ack, buf_.data(), static_cast<uint32_t>(buf_.size()));
   const int rc = pcs_send_frame(&p.conn, PCS_MSG_HELLO_ACK, 0, buf_.data(), static_cast<uint32_t>(n), p.deadline);
   if (rc != SL_OK) return "cannot send HELLO_ACK: " + link_error(rc, p.conn);
@@ -328,6 +328,8 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
   std::vector<int> ready;
   std::vector<size_t> polled;  // the pending connection behind each set entry after the listener
   std::vector<size_t> done;    // pending connections handled in this round
+  long evicted = 0;             // connections evicted to make room (make_room)
+  int64_t next_eviction_note = 0;
   while (bound < clients_.size()) {
     const int64_t now = sl_now_ms();
     for (auto it = pending.begin(); it != pending.end();) {
@@ -350,10 +352,9 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
       abort_all(0, SL_ETIMEDOUT, message);
       return kExitAcceptTimeout;
     }
-    const bool listening = pending.size() < kMaxPending;
     set.clear();
     polled.clear();
-    if (listening) set.push_back(&listener_);
+    set.push_back(&listener_);  // always: a full table evicts (make_room), it never stops accepting
     int64_t wake = accept_deadline;
     for (size_t k = 0; k < pending.size(); ++k) {
       Pending& p = pending[k];
@@ -366,12 +367,7 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
       polled.push_back(k);
     }
     ready.assign(set.size(), 0);
-    int rc = 0;
-    if (set.empty()) {  // every connection paused and not listening: just wait
-      std::this_thread::sleep_for(std::chrono::milliseconds(std::max<int64_t>(1, wake - sl_now_ms())));
-    } else {
-      rc = sl_wait_any(set.data(), set.size(), wake, ready.data());
-    }
+    const int rc = sl_wait_any(set.data(), set.size(), wake, ready.data());
     if (rc == SL_EINTERRUPTED) {
       for (auto& p : pending) refused(p, "the server is stopping");
       return stop(0, "while waiting for the host", message);
@@ -382,7 +378,7 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
       return kExitLinkLost;
     }
     // Connections first (their indices follow the listener's), then new ones.
-    const size_t offset = listening ? 1 : 0;
+    const size_t offset = 1;
     done.clear();
     for (size_t i = offset; i < set.size(); ++i) {
       if (!ready[i]) continue;
@@ -404,7 +400,7 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
     }
     std::sort(done.begin(), done.end());
     for (auto it = done.rbegin(); it != done.rend(); ++it) pending.erase(pending.begin() + static_cast<long>(*it));
-    if (listening && ready[0]) {
+    if (ready[0]) {
       sl_socket conn = SL_SOCKET_INIT;
       const int arc = sl_accept(&listener_, sl_now_ms(), &conn);
       if (arc == SL_OK) {
@@ -414,6 +410,16 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
         p.conn = conn;
         p.deadline = sl_now_ms() + handshake_ms;
         p.peer = peer;
+        const size_t colon = p.peer.rfind(':');
+        p.address = colon == std::string::npos ? p.peer : p.peer.substr(0, colon);
+        if (make_room(pending, p.address)) {
+          ++evicted;
+          if (sl_now_ms() >= next_eviction_note) {  // a flood must not flood the log too
+            std::cerr << "fe_server: " << evicted << " connection(s) evicted so far that had sent no valid HELLO, "
+                      << "to make room for new ones (a connection flood?)" << std::endl;
+            next_eviction_note = sl_now_ms() + 1000;
+          }
+        }
         pending.push_back(std::move(p));
       } else if (arc != SL_ETIMEDOUT) {  // the connection vanished before accept: SL_ETIMEDOUT, nothing to do
         message = "cannot accept a connection: " + link_error(arc, listener_);
@@ -425,6 +431,27 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
   }
   for (auto& p : pending) refused(p, "the session is complete");
   return kExitOk;
+}
+
+bool CouplingServer::make_room(std::vector<Pending>& pending, const std::string& address) const {
+  size_t same = 0;
+  for (const Pending& p : pending) same += p.address == address;
+  const bool over_share = same >= kMaxPendingPerPeer;
+  if (pending.size() < kMaxPending && !over_share) return false;
+  // The oldest (pending is in accept order) that has not sent a valid HELLO;
+  // failing that the oldest of all: a stranger who knows the public table
+  // hash can be challenged too, and must not hold its slot either.
+  auto oldest = [&](bool unchallenged_only) {
+    for (size_t k = 0; k < pending.size(); ++k)
+      if ((!unchallenged_only || !pending[k].challenged) && (!over_share || pending[k].address == address)) return k;
+    return pending.size();
+  };
+  size_t victim = oldest(true);
+  if (victim == pending.size()) victim = oldest(false);
+  if (victim == pending.size()) return false;
+  sl_close(&pending[victim].conn);
+  pending.erase(pending.begin() + static_cast<long>(victim));
+  return true;
 }
 
 ExitCode CouplingServer::stop(uint64_t step, const std::string& where, std::string& message) {
@@ -480,9 +507,9 @@ bool CouplingServer::ask_for_checkpoint(uint64_t step) {
     if (pcs_send_frame(&c.conn, PCS_MSG_STOPPING, step, nullptr, 0, deadline_after(1.0)) != SL_OK) return false;
   stopping_ = true;
   stop_deadline_ = sl_now_ms() + static_cast<int64_t>(1000.0 * opt_.stop_grace);
-  // From here the waits must not end at the signal: the host has the grace
-  // to checkpoint. A second signal ends the process (SA_RESETHAND).
-  sl_set_stop_flag(nullptr);
+  // From here the waits must not end at the first signal: the host has the
+  // grace to checkpoint. A second signal ends them (and the session).
+  sl_set_stop_flag(config::second_stop_flag());
   if (!opt_.quiet)
     std::cout << "fe_server: " << config::signal_name(config::stop_signal()) << ": asking the host for a checkpoint at step "
               << step << " (within " << opt_.stop_grace << " s)" << std::endl;

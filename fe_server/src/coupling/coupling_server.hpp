@@ -110,7 +110,8 @@ class CouplingServer {
   struct Pending {
     sl_socket conn = SL_SOCKET_INIT;
     int64_t deadline = 0;  // the whole handshake must be done by then
-    std::string peer;
+    std::string peer;      // address:port, for the log
+    std::string address;   // the peer's address alone: the per-peer share
     // Part of a frame stays readable until it is whole: such a connection is
     // polled again only after a short pause, so a slow drip costs no CPU.
     int64_t pause_until = 0;
@@ -140,14 +141,24 @@ class CouplingServer {
     size_t in_offset = 0, out_offset = 0;  // of its variables in the combined table
   };
   // Waits for every client until the accept deadline. Up to kMaxPending
-  // connections are examined at once (more wait in the kernel's backlog);
-  // a connection's frame is read only once it has arrived whole, so a silent
-  // or slow stranger blocks nothing. A stranger (port scan, silence past
-  // handshake_timeout, foreign bytes, oversize length, wrong token or table)
-  // is refused, logged with its address and reason, and the server keeps
-  // listening.
+  // connections are in their handshake at once; a connection's frame is read
+  // only once it has arrived whole, so a silent or slow stranger blocks
+  // nothing. A stranger (port scan, silence past handshake_timeout, foreign
+  // bytes, oversize length, wrong token or table) is refused, logged with its
+  // address and reason, and the server keeps listening.
+  // Under a connection flood the server never stops accepting: a new
+  // connection that finds no room evicts the oldest one that has not yet
+  // sent a valid HELLO (silent, or a partial frame), from its own address if
+  // that address holds more than kMaxPendingPerPeer, so connections that say
+  // nothing cannot crowd out a host that says HELLO at once. (Before, a full
+  // table stopped accepting until the strangers' 5 s deadlines ran out: 100
+  // connections/s kept the real host out for good.)
   ExitCode accept_clients(std::string& message);
-  static constexpr size_t kMaxPending = 32;
+  static constexpr size_t kMaxPending = 128;
+  static constexpr size_t kMaxPendingPerPeer = 64;
+  // Makes room for one more connection from `address` (see accept_clients):
+  // closes and removes the one evicted, if any; true if it evicted.
+  bool make_room(std::vector<Pending>& pending, const std::string& address) const;
   // Reads the whole frame waiting on p.conn (HELLO, or AUTH once
   // challenged) and answers it (handshake_step's second half). Returns "" while the handshake goes on or
   // is complete (p.which bound when `bound` is set), else the reason for

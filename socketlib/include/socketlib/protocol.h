@@ -15,9 +15,9 @@
  * version can still read an ABORT that says why it was refused.
  *
  * Handshake (auth.h): client sends HELLO with its nonce, server answers
- * CHALLENGE (its nonce and its proof of the token), client checks that proof
- * and sends AUTH (its own proof), server answers HELLO_ACK; either side
- * answers ABORT(reason) instead where a check fails. The token itself never
+ * CHALLENGE (its nonce), client sends AUTH (its proof of the token), server
+ * checks it and answers HELLO_ACK with its own proof, which the client checks;
+ * either side answers ABORT(reason) instead where a check fails. The token itself never
  * crosses the wire.
  * Each coupling step: client sends STEP k, server answers RESULT k; while a
  * step takes long the server sends HEARTBEAT k now and then, and the client
@@ -45,21 +45,21 @@ extern "C" {
 #endif
 
 #define PCS_MAGIC 0x43534350u /* bytes 'P','C','S','C' in little-endian order */
-#define PCS_PROTOCOL_VERSION 4u /* 2: HEARTBEAT; 3: challenge-response (CHALLENGE, AUTH); 4: CHECKPOINT, RESUME */
+#define PCS_PROTOCOL_VERSION 5u /* 2: HEARTBEAT; 3: challenge-response (CHALLENGE, AUTH); 4: CHECKPOINT, RESUME;
+                                   5: the client proves first, the server's proof moves to HELLO_ACK */
 #define PCS_HEADER_SIZE 24u
 #define PCS_MAX_PAYLOAD (16u * 1024u * 1024u)
-#define PCS_MAX_TOKEN 256u /* a token is at most 255 bytes (it is an HMAC key, never sent) */
 #define PCS_MAX_REASON 1024u
 
 typedef enum {
   PCS_MSG_HELLO = 1,     /* client → server: version, port-table hash, dt, subcycles, client nonce */
-  PCS_MSG_HELLO_ACK = 2, /* server → client: port-table hash, dt, subcycles */
+  PCS_MSG_HELLO_ACK = 2, /* server → client: port-table hash, dt, subcycles, server's proof of the token */
   PCS_MSG_STEP = 3,      /* client → server: time, dt, input values */
   PCS_MSG_RESULT = 4,    /* server → client: time, output values */
   PCS_MSG_ABORT = 5,     /* either way: error code and reason text */
   PCS_MSG_BYE = 6,       /* client → server: session ends cleanly */
   PCS_MSG_HEARTBEAT = 7, /* server → client during a long step: "still computing step k" */
-  PCS_MSG_CHALLENGE = 8, /* server → client: server nonce, server's proof of the token */
+  PCS_MSG_CHALLENGE = 8, /* server → client: server nonce */
   PCS_MSG_AUTH = 9,      /* client → server: client's proof of the token */
   PCS_MSG_CHECKPOINT = 10, /* client → server: save state after step k; server → client: saved (path) */
   PCS_MSG_RESUME = 11,     /* client → server: continue from step k; server → client: agreed */
@@ -132,7 +132,6 @@ typedef struct {
 
 typedef struct {
   uint8_t server_nonce[PCS_NONCE_SIZE];
-  uint8_t server_proof[PCS_PROOF_SIZE];
 } pcs_challenge;
 
 typedef struct {
@@ -143,6 +142,7 @@ typedef struct {
   uint64_t table_hash;
   double dt;
   uint32_t subcycles;
+  uint8_t server_proof[PCS_PROOF_SIZE]; /* sent only after the client's proof was checked */
 } pcs_hello_ack;
 
 typedef struct {

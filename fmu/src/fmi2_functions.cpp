@@ -3,11 +3,13 @@
 // sequence), runs the work, and turns every failure into an fmi2Status with a
 // message through the importer's logger. No exception crosses this boundary;
 // nothing here exits or prints.
+#include <csignal>
 #include <cstring>
 #include <new>
 
 #include "fmi2/fmi2.h"
 #include "instance.hpp"
+#include "socketlib/socketlib.h"
 
 using pcs_fmu::FmuError;
 using pcs_fmu::Instance;
@@ -312,6 +314,15 @@ __attribute__((visibility("default"))) fmi2Status pcs_fmu_stop_requested(fmi2Com
     if (!requested) throw FmuError(fmi2Error, "requested is a null pointer");
     *requested = i.stop_requested() ? 1 : 0;
   });
+}
+
+// Hand this FMU's socketlib the importer's stop flag (a sig_atomic_t its
+// signal handler sets; NULL: none). Every wait of the link then returns
+// within 200 ms of a stop signal, as the importer's own waits do. The FMU
+// shares no globals with the importer otherwise: its copy of socketlib is
+// linked in statically with hidden symbols. Called once, after loading.
+__attribute__((visibility("default"))) void pcs_fmu_set_stop_flag(const volatile sig_atomic_t* flag) {
+  sl_set_stop_flag(flag);
 }
 
 }  // extern "C"

@@ -266,6 +266,10 @@ int sl_connect(const char *host, int port, int64_t deadline_ms, sl_socket *out) 
       }
     }
     if (rc != SL_EREFUSED) break;
+    if (sl__stopping()) {
+      rc = SL_EINTERRUPTED;
+      break;
+    }
     int left = sl__remaining(deadline_ms);
     if (left <= 0) break;
     struct timespec pause = {0, (long)(left < SL__CONNECT_RETRY_MS ? left : SL__CONNECT_RETRY_MS) * 1000000L};

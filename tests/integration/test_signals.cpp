@@ -5,9 +5,11 @@
 // by the next host.
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <sys/wait.h>
 
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -230,4 +232,94 @@ TEST(Signals, AStopSignalEndsADynamicRelaxation) {
   EXPECT_EQ(server.wait(2.0), 128 + SIGTERM) << server.output();
   EXPECT_NE(server.output().find("stopped by SIGTERM during the dynamic relaxation, after "), std::string::npos)
       << server.output();
+}
+
+// A host whose FMU is blocked in a wait of the link stops on SIGINT or
+// SIGTERM: the FMU's own copy of socketlib watches the host's stop flag
+// (pcs_fmu_set_stop_flag), so each wait returns within its 200 ms slice;
+// the host then exits 128 + N and removes its FMU folder. Three waits: the
+// connection refused and retried (no server yet), a handshake the peer never
+// answers, and a step the peer only answers with heartbeats (each restarts
+// the receive deadline: without the flag that wait never ended). The bound:
+// the 200 ms slice, plus the host's teardown (closing the results, freeing
+// the FMU), which takes a few ms here and more under the sanitizers.
+TEST(Signals, EachStopSignalEndsAHostWhoseFmuIsWaiting) {
+#ifdef PCS_SANITIZED
+  constexpr double kBound = 1.5;
+#else
+  constexpr double kBound = 0.5;
+#endif
+  using Behaviour = testing_support::TestPeer::Behaviour;
+  struct Wait {
+    const char* name;
+    int signo;
+    bool with_peer;
+    Behaviour behaviour;
+  };
+  const std::vector<Wait> waits = {{"connection refused, retried", SIGTERM, false, Behaviour::Echo},
+                                   {"a handshake never answered", SIGINT, true, Behaviour::SilentAfterHello},
+                                   {"a step answered by heartbeats only", SIGTERM, true, Behaviour::EndlessHeartbeats},
+                                   {"a step answered by heartbeats only", SIGINT, true, Behaviour::EndlessHeartbeats}};
+  const config::PortTable table = scene_table();  // the peer holds it by reference
+  for (const Wait& w : waits) {
+    SCOPED_TRACE(w.name);
+    TempDir dir;
+    std::unique_ptr<testing_support::TestPeer> peer;
+    int port = 0;
+    if (w.with_peer) {
+      peer = std::make_unique<testing_support::TestPeer>(table, w.behaviour);
+      port = peer->port();
+    } else {  // a port nobody listens on: bound, then closed
+      sl_socket s = SL_SOCKET_INIT;
+      ASSERT_EQ(sl_listen("127.0.0.1", 0, &s), SL_OK);
+      port = sl_local_port(&s);
+      sl_close(&s);
+    }
+    auto host = start_host(dir, port, dir.path());
+    std::this_thread::sleep_for(std::chrono::milliseconds(800));  // well inside the wait
+    const auto sent = std::chrono::steady_clock::now();
+    kill(host->pid(), w.signo);
+    const int rc = host->wait(kHardTimeout);
+    const double latency = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+    EXPECT_EQ(rc, 128 + w.signo) << host->output();
+    EXPECT_LT(latency, kBound) << host->output();
+    std::printf("%s, signal %d: stopped %.0f ms after it\n", w.name, w.signo, 1000.0 * latency);
+    EXPECT_EQ(fmu_folders(dir.path()), 0u) << "the FMU folder is removed";
+    if (peer) peer->join();
+  }
+}
+
+// With --checkpoint the first SIGTERM asks for a checkpoint of both sides,
+// which needs the link: the step in flight is not cut (the waits run on).
+// A peer that never answers cannot give one, so the user sends a second
+// signal: that one ends the FMU's wait, and the host still cleans up (its
+// FMU folder removed, exit 128 + N) rather than dying where it stands.
+TEST(Signals, WithCheckpointsASecondSignalEndsAWaitTheFirstLetRun) {
+#ifdef PCS_SANITIZED
+  constexpr double kBound = 1.5;
+#else
+  constexpr double kBound = 0.5;
+#endif
+  const config::PortTable table = scene_table();
+  testing_support::TestPeer peer(table, testing_support::TestPeer::Behaviour::EndlessHeartbeats);
+  TempDir dir;
+  setenv("TMPDIR", dir.path().c_str(), 1);
+  ChildProcess host({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server",
+                     "127.0.0.1:" + std::to_string(peer.port()), "--out", dir.file("host.h5"), "--quiet",
+                     "--checkpoint", dir.file("host.ckpt"), "--set", "simulation.stoptime=100", "--set",
+                     "piston.verbose=0"});
+  unsetenv("TMPDIR");
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  kill(host.pid(), SIGTERM);
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  int status = 0;
+  ASSERT_EQ(::waitpid(host.pid(), &status, WNOHANG), 0) << "the first signal lets the step run on\n" << host.output();
+  const auto sent = std::chrono::steady_clock::now();
+  kill(host.pid(), SIGTERM);
+  EXPECT_EQ(host.wait(kHardTimeout), 128 + SIGTERM) << host.output();
+  const double latency = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  EXPECT_LT(latency, kBound) << host.output();
+  std::printf("the second signal stopped it %.0f ms after it\n", 1000.0 * latency);
+  EXPECT_EQ(fmu_folders(dir.path()), 0u) << "the FMU folder is removed";
+  peer.join();
 }

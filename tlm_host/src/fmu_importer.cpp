@@ -7,6 +7,7 @@
 #include <cerrno>
 
 #include "config/keyword_reader.hpp"
+#include "socketlib/socketlib.h"
 
 #include <dlfcn.h>
 #include <zip.h>
@@ -282,6 +283,13 @@ FmuArchive::FmuArchive(const std::string& fmu_path) : path_(fmu_path) {
     std::string so = dir_ + "/binaries/linux64/" + md_.model_identifier + ".so";
     lib_ = dlopen(so.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!lib_) throw FmuError(fmu_path + ": cannot load binaries/linux64/" + md_.model_identifier + ".so: " + dlerror());
+    // Our FMUs carry their own copy of socketlib, whose waits would not see
+    // this process's stop signals: hand them the host's flag, so a signal
+    // ends a wait inside the FMU (connect, handshake, RESULT, heartbeats)
+    // within socketlib's 200 ms slice. Other FMUs lack the function.
+    using SetStopFlagFn = void(const volatile sig_atomic_t*);
+    if (auto* set_stop = reinterpret_cast<SetStopFlagFn*>(dlsym(lib_, "pcs_fmu_set_stop_flag")))
+      set_stop(sl_get_stop_flag());
   } catch (...) {
     if (z) zip_close(z);
     std::error_code ec;
@@ -345,6 +353,12 @@ void FmuInstance::set_integer(unsigned vr, int v) { check(fmi2SetInteger(c_, &vr
 void FmuInstance::set_string(unsigned vr, const std::string& v) {
   fmi2String s = v.c_str();
   check(fmi2SetString(c_, &vr, 1, &s), "fmi2SetString");
+}
+
+std::string FmuInstance::get_string(unsigned vr) {
+  fmi2String s = nullptr;
+  check(fmi2GetString(c_, &vr, 1, &s), "fmi2GetString");
+  return s ? s : "";
 }
 void FmuInstance::setup_experiment(double start, double stop) {
   check(fmi2SetupExperiment(c_, fmi2False, 0.0, start, fmi2True, stop), "fmi2SetupExperiment");

@@ -10,6 +10,7 @@
 
 #include "config/cli.hpp"
 #include "config/stop_signal.hpp"
+#include "socketlib/socketlib.h"
 #include "config/token.hpp"
 #include "hopsan_loader.hpp"
 #include "model.hpp"
@@ -85,6 +86,11 @@ int main(int argc, char** argv) {
     return usage(std::cerr, 2);
   }
 
+  // With checkpoints a stop signal asks for one of both sides, which needs
+  // the link: the FMU's waits (they watch this process's flag, see
+  // FmuArchive) then end at a second signal, not at the first.
+  if (!ck.path.empty()) sl_set_stop_flag(config::second_stop_flag());
+
   std::unique_ptr<tlm::System> system;
   tlm::ReportSettings report;
   bool want_report = false;
@@ -132,6 +138,10 @@ int main(int argc, char** argv) {
     return config::stop_exit_code(e.signo());
   } catch (const std::exception& e) {
     std::cerr << "tlm_host: " << e.what() << "\n";
+    system.reset();  // frees the FMUs now: fe_server is told, their folders removed
+    // A wait ended by a stop signal (the FMU's connect or handshake, before
+    // the step loop) is a stop, whatever error it surfaced as.
+    if (const int signo = config::stop_signal()) return config::stop_exit_code(signo);
     return 4;
   }
   if (want_report) {

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "config/keyword_reader.hpp"
 #include "socketlib/auth.h"
 
 namespace config {
@@ -27,9 +28,12 @@ uint64_t get_u64(const uint8_t* p) {
 }  // namespace
 
 std::string file_sha256(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw CheckpointError("cannot read '" + path + "' for its digest");
-  const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+  std::vector<uint8_t> bytes;
+  try {
+    bytes = read_binary_file(path, "file to digest");
+  } catch (const std::runtime_error& e) {
+    throw CheckpointError(e.what());
+  }
   uint8_t sum[PCS_SHA256_SIZE];
   pcs_sha256(bytes.data(), bytes.size(), sum);
   static const char* hex = "0123456789abcdef";
@@ -115,9 +119,11 @@ void StateWriter::write(const std::string& path) const {
 }
 
 StateReader::StateReader(const std::string& path) : path_(path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw CheckpointError("cannot read checkpoint '" + path + "': " + std::strerror(errno));
-  buf_.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  try {
+    buf_ = read_binary_file(path, "checkpoint");  // a regular file, at most kMaxInputFileBytes
+  } catch (const std::runtime_error& e) {
+    throw CheckpointError(e.what());
+  }
   if (buf_.size() < 16 + PCS_SHA256_SIZE || std::memcmp(buf_.data(), kMagic, 8) != 0)
     throw CheckpointError("'" + path + "' is not a checkpoint file");
   if (get_u64(buf_.data() + 8) != kFormat)

@@ -2,6 +2,9 @@
 // bit for bit, and a file that does not fit (damaged, truncated, another
 // program's records or sizes, records left over) is refused naming why.
 #include <gtest/gtest.h>
+#include <chrono>
+#include <unistd.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <cstring>
@@ -145,7 +148,25 @@ TEST(Checkpoint, AFileThatDoesNotFitIsRefusedSayingWhy) {
     EXPECT_NE(error_of([&] { config::StateReader r(path); }).find("is not a checkpoint file"), std::string::npos);
   }
   std::filesystem::remove(path);
-  EXPECT_NE(error_of([&] { config::StateReader r(path); }).find("cannot read checkpoint"), std::string::npos);
+  EXPECT_NE(error_of([&] { config::StateReader r(path); }).find("cannot open checkpoint"), std::string::npos);
+}
+
+// A checkpoint is a regular file: a FIFO once blocked --restart forever and
+// /dev/zero read until bad_alloc. Both are refused at once, saying why, as
+// is a folder. (The FIFO has no writer: opening it for reading without
+// O_NONBLOCK would block this test for good.)
+TEST(Checkpoint, AFifoADeviceOrAFolderIsRefusedAtOnce) {
+  const std::string fifo = std::filesystem::temp_directory_path() / ("pcs_ckpt_fifo_" + std::to_string(::getpid()));
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& path : {fifo, std::string("/dev/zero"), std::string("/tmp")}) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::string why = error_of([&] { config::StateReader r(path); });
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0) << path;
+    EXPECT_NE(why.find("cannot open checkpoint '" + path + "'"), std::string::npos) << why;
+    EXPECT_TRUE(why.find("not a regular file") != std::string::npos || why.find("it is a folder") != std::string::npos)
+        << why;
+  }
+  std::filesystem::remove(fifo);
 }
 
 // A crash while a checkpoint is written leaves a partial FILE.tmp, never a

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <stdexcept>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -77,8 +78,20 @@ std::vector<std::string> split_fixed(const std::string& line, const std::vector<
 double parse_real(const std::string& text, const SourceLocation& where, const std::string& what);
 long parse_integer(const std::string& text, const SourceLocation& where, const std::string& what);
 
-// The whole file as a string; throws std::runtime_error "cannot open <what> '<path>'".
-std::string read_text_file(const std::string& path, const std::string& what = "file");
+// Input files are regular files of bounded size: a FIFO would block the
+// reader forever and /dev/zero would fill the memory (both were seen with
+// --restart). Larger than any deck or checkpoint this tool is sized for
+// (a 10-million-element deck is about 2 GB of text).
+inline constexpr uint64_t kMaxInputFileBytes = 4ull << 30;  // 4 GiB
+
+// The whole file as a string; throws std::runtime_error "cannot open <what>
+// '<path>': <why>" for a missing file, one that is not a regular file (it is
+// opened without blocking, then checked), or one larger than max_bytes.
+std::string read_text_file(const std::string& path, const std::string& what = "file",
+                           uint64_t max_bytes = kMaxInputFileBytes);
+// The same, as bytes.
+std::vector<uint8_t> read_binary_file(const std::string& path, const std::string& what = "file",
+                                      uint64_t max_bytes = kMaxInputFileBytes);
 
 std::string trim(const std::string& s);
 std::string to_upper(std::string s);

@@ -5,11 +5,14 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
 
+#include "h5io/timeseries.hpp"
 #include "process.hpp"
 
 using testing_support::ChildProcess;
@@ -149,4 +152,46 @@ TEST(BadValues, ThreadCountsAreCheckedAndTheDefaultLeavesACoreToTheHostOnLoopbac
   Outcome dflt = session_line({});
   const std::string want = ", " + std::to_string(expected) + (expected == 1 ? " thread)" : " threads)");
   EXPECT_NE(dflt.output.find(want), std::string::npos) << "want '" << want << "' in\n" << dflt.output;
+}
+
+// No abort, ever: GSL's default handler called abort() on a sweep point
+// (piston.c_rock = 1e9, 10^4 times the nominal rock spring, on the
+// monolithic hammer: SIGABRT, no step, no time, an empty results file). Its
+// handler is off; the failing call becomes a stop that names the step, the
+// time, the component and the cause, with the rows so far kept.
+TEST(LibraryErrors, AGslFailureStopsWithStepTimeAndComponentNotAnAbort) {
+  TempDir dir;
+  const Outcome o = run({PCS_TLM_HOST_EXE, PCS_SCENES_DIR "/hammer_monolithic/model.tlm", "--set",
+                         "piston.c_rock=1e9", "--out", dir.file("host.h5"), "--quiet"});
+  EXPECT_EQ(o.code, 4) << o.output;
+  for (const char* word : {"at step ", "(t = ", "in valve (SpoolValveQ)", "the root finder for p_A failed",
+                           "results up to the last completed step kept in"})
+    EXPECT_NE(o.output.find(word), std::string::npos) << word << "\n" << o.output;
+  EXPECT_GT(h5io::read_series(dir.file("host.h5"), "time").size(), 100u) << "the rows before the failure are kept";
+}
+
+// The same in a co-simulation (valve.Cd = 1e200 aborted tlm_host there and
+// left fe_server with exit 6 and the FMU's folder behind): the host stops
+// with its cause, fe_server is told and ends, no folder is left.
+TEST(LibraryErrors, AGslFailureInACoSimulationTellsTheServerAndLeavesNoFolder) {
+  TempDir dir;
+  ChildProcess server({PCS_FE_SERVER_EXE, "--model", PCS_BUILD_SCENES_DIR "/hammer/deck.k", "--ports",
+                       PCS_SCENES_DIR "/hammer/ports.cfg", "--listen", "127.0.0.1:0", "--port-file", dir.file("port"),
+                       "--out", dir.file("fe.h5"), "--accept-timeout", "30"});
+  const int port = testing_support::read_port_file(dir.file("port"), 30.0);
+  ASSERT_GT(port, 0) << server.output();
+  setenv("TMPDIR", dir.path().c_str(), 1);
+  const Outcome host = run({PCS_TLM_HOST_EXE, PCS_SCENES_DIR "/hammer/model.tlm", "--fmu",
+                            PCS_BUILD_SCENES_DIR "/hammer/hammer.fmu", "--server", "127.0.0.1:" + std::to_string(port),
+                            "--out", dir.file("host.h5"), "--set", "valve.Cd=1e200", "--quiet"});
+  unsetenv("TMPDIR");
+  EXPECT_EQ(host.code, 4) << host.output;
+  EXPECT_NE(host.output.find("in valve (SpoolValveQ): the root finder for p_A failed"), std::string::npos)
+      << host.output;
+  const int server_rc = server.wait(30.0);
+  EXPECT_NE(server_rc, 0) << "the server ends, and not as a completed session\n" << server.output();
+  EXPECT_GT(server_rc, 0) << server.output();
+  EXPECT_NE(server.output().find("host aborted"), std::string::npos) << server.output();
+  for (const auto& e : std::filesystem::directory_iterator(dir.path()))
+    EXPECT_NE(e.path().filename().string().rfind("tlm_host_fmu_", 0), 0u) << e.path() << " left behind";
 }

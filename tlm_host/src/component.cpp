@@ -1,8 +1,24 @@
 #include "component.hpp"
 
+#include <gsl/gsl_errno.h>
+
 #include <cmath>
 
 namespace tlm {
+
+// GSL's default error handler prints and calls abort(): one bad parameter in
+// a sweep (valve.Cd = 1e200) killed tlm_host with SIGABRT, no step, no time,
+// its results file empty and the FMU's folder left behind. Off for every
+// program that links the TLM library (this file always is: every component
+// derives from Component); each GSL call's status is checked where it is
+// made and becomes an exception that the step loop reports with the step,
+// the time and the component.
+namespace {
+[[maybe_unused]] const bool gsl_handler_off = [] {
+  gsl_set_error_handler_off();
+  return true;
+}();
+}  // namespace
 
 void ParameterSet::set(const std::string& key, const std::string& value, const config::SourceLocation& where) {
   values_[key] = Entry{value, where, false};

@@ -489,6 +489,7 @@ void System::run(const std::string& out_path, bool progress) {
   const auto start = std::chrono::steady_clock::now();
   auto last_report = start, last_checkpoint = start;
   long k = first;
+  const Component* stepping = nullptr;  // the component in simulate_one_step, named if it throws
   try {
     for (; k < steps; ++k) {
       if (const int signo = config::stop_signal()) {
@@ -520,14 +521,22 @@ void System::run(const std::string& out_path, bool progress) {
         last_checkpoint = std::chrono::steady_clock::now();
       }
       const double t = static_cast<double>(k) * dt;
-      for (Component* c : signal_) c->simulate_one_step(t);
-      for (Component* c : c_type_) c->simulate_one_step(t);
+      for (Component* c : signal_) {
+        stepping = c;
+        c->simulate_one_step(t);
+      }
+      for (Component* c : c_type_) {
+        stepping = c;
+        c->simulate_one_step(t);
+      }
       for (Component* c : q_type_) {
+        stepping = c;
         if (peers_ && c == peers_->members().front())
           peers_->step(t);
         else
           c->simulate_one_step(t);
       }
+      stepping = nullptr;
       time = static_cast<double>(k + 1) * dt;
       steps_done_ = k + 1;
       if ((k + 1) % spec_.log_every == 0) record();
@@ -551,7 +560,9 @@ void System::run(const std::string& out_path, bool progress) {
     out.flush();
     if (csv.is_open()) csv.flush();
     std::ostringstream s;
-    s << "at step " << k << " (t = " << static_cast<double>(k) * dt << " s): " << e.what()
+    s << "at step " << k << " (t = " << static_cast<double>(k) * dt << " s)";
+    if (stepping) s << " in " << stepping->name() << " (" << stepping->type_name() << ")";
+    s << ": " << e.what()
       << "; results up to the last completed step kept in " << out_path;
     // A signal may also show as the peer's ABORT (fe_server got it too): a stop either way.
     if (const int signo = config::stop_signal()) throw config::StopRequested(signo, s.str());

@@ -1,5 +1,6 @@
 #include "percussion_report.hpp"
 
+#include <gsl/gsl_errno.h>
 #include <gsl/gsl_filter.h>
 #include <gsl/gsl_statistics_double.h>
 
@@ -24,10 +25,12 @@ std::vector<double> lowpass_gaussian(const std::vector<double>& x, double dt, do
   const double alpha = static_cast<double>(K - 1) / (2.0 * sigma);  // GSL's width parameter
   std::vector<double> y(x.size());
   gsl_filter_gaussian_workspace* w = gsl_filter_gaussian_alloc(K);
+  if (!w) throw std::runtime_error("report: GSL cannot allocate a Gaussian filter of " + std::to_string(K) + " points");
   gsl_vector_const_view in = gsl_vector_const_view_array(x.data(), x.size());
   gsl_vector_view out = gsl_vector_view_array(y.data(), y.size());
-  gsl_filter_gaussian(GSL_FILTER_END_PADVALUE, alpha, 0, &in.vector, &out.vector, w);
+  const int status = gsl_filter_gaussian(GSL_FILTER_END_PADVALUE, alpha, 0, &in.vector, &out.vector, w);
   gsl_filter_gaussian_free(w);
+  if (status != GSL_SUCCESS) throw std::runtime_error(std::string("report: the Gaussian filter failed: ") + gsl_strerror(status));
   return y;
 }
 

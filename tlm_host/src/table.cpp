@@ -1,10 +1,14 @@
 #include "table.hpp"
 
+#include <gsl/gsl_errno.h>
+
+#include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace tlm {
 
-Table::Table(const std::string& text, const config::SourceLocation& where, const std::string& what) {
+Table::Table(const std::string& text, const config::SourceLocation& where, const std::string& what) : what_(what) {
   std::stringstream ss(text);
   std::string pair;
   while (std::getline(ss, pair, ';')) {
@@ -20,10 +24,12 @@ Table::Table(const std::string& text, const config::SourceLocation& where, const
   if (x_.size() < 2) throw config::InputError(where, what + ": a table needs at least two points x:y");
   interp_.reset(gsl_interp_alloc(gsl_interp_linear, x_.size()), gsl_interp_free);
   accel_.reset(gsl_interp_accel_alloc(), gsl_interp_accel_free);
-  gsl_interp_init(interp_.get(), x_.data(), y_.data(), x_.size());
+  if (!interp_ || !accel_ || gsl_interp_init(interp_.get(), x_.data(), y_.data(), x_.size()) != GSL_SUCCESS)
+    throw config::InputError(where, what + ": GSL cannot set up the table's interpolation");
 }
 
 double Table::operator()(double x) const {
+  if (std::isnan(x)) throw std::runtime_error(what_ + ": the table's input is NaN");
   if (x <= x_.front()) return y_.front();
   if (x >= x_.back()) return y_.back();
   return gsl_interp_eval(interp_.get(), x_.data(), y_.data(), x, accel_.get());

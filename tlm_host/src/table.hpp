@@ -18,6 +18,8 @@ class Table {
   Table() = default;
   // Throws config::InputError at `where` for a malformed or non-increasing table.
   Table(const std::string& text, const config::SourceLocation& where, const std::string& what);
+  // Throws std::runtime_error for a NaN x (GSL would return NaN with its
+  // error handler off, and abort with it on).
   double operator()(double x) const;
   bool empty() const { return x_.empty(); }
   double min_x() const { return x_.front(); }
@@ -25,6 +27,7 @@ class Table {
 
  private:
   std::vector<double> x_, y_;
+  std::string what_;
   std::shared_ptr<gsl_interp> interp_;
   std::shared_ptr<gsl_interp_accel> accel_;
 };

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
+#include <string>
 
 #include "HydraulicTurbulentOrificeQ.hpp"
 
@@ -49,13 +51,26 @@ void SpoolValveQ::simulate_one_step(double) {
       pA = hi;
     } else {
       // Brent: bracketing, superlinear, never leaves [lo, hi].
+      // GSL's error handler is off (component.cpp): every status is ours to
+      // check. A residual that is not finite at the bracket (an area or a
+      // coefficient so large that K·sqrt(Δp) overflows) is such a status.
       gsl_function f{&residual_callback, this};
       gsl_root_fsolver* s = solver_.get();
-      gsl_root_fsolver_set(s, &f, lo, hi);
+      auto fail = [&](int code, const char* during) {
+        char numbers[200];
+        std::snprintf(numbers, sizeof numbers, "bracket %.6g to %.6g Pa, K_PA %.6g, K_AT %.6g m^3/(s Pa^0.5)", lo, hi,
+                      K_PA_, K_AT_);
+        // The step loop names the component, the step and the time.
+        throw std::runtime_error(std::string("the root finder for p_A failed ") + during + ": " + gsl_strerror(code) +
+                                 " (" + numbers + "); check Cd, the area tables and the connected volumes");
+      };
+      int status = gsl_root_fsolver_set(s, &f, lo, hi);
+      if (status != GSL_SUCCESS) fail(status, "at its start");
       const double tol = 1e-9 * std::max(1.0, hi);  // Pa: far below any physical resolution
-      int status = GSL_CONTINUE;
+      status = GSL_CONTINUE;
       for (int it = 0; it < 100 && status == GSL_CONTINUE; ++it) {
-        gsl_root_fsolver_iterate(s);
+        const int step = gsl_root_fsolver_iterate(s);
+        if (step != GSL_SUCCESS) fail(step, "in an iteration");
         ++iterations_;
         status = gsl_root_test_interval(gsl_root_fsolver_x_lower(s), gsl_root_fsolver_x_upper(s), tol, 0.0);
       }

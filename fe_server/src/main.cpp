@@ -512,32 +512,37 @@ int run_main(int argc, char** argv) {
         continue;
       }
       const std::string path = session_path(out, session, sessions);
+      const fe::CheckpointIdentity id{ck.deck_digest, table.hash(), 0};
       if (resume) {
+        // Only the checkpoint is read here: the results files are continued
+        // (cut back to the checkpoint's rows) once the host's RESUME matched
+        // it (open_history), so a refused restart leaves them as they were.
         try {
-          fe::check_checkpoint(ck.restart, fe::CheckpointIdentity{ck.deck_digest, table.hash(), 0});
+          fe::check_checkpoint(ck.restart, id);
+          const std::string previous = ck.restart + ".prev";
+          server.set_resume(static_cast<uint64_t>(fe::checkpoint_step(ck.restart, id)), previous,
+                            fe::checkpoint_step(previous, id));
         } catch (const std::exception& e) {
           std::cerr << "fe_server: " << e.what() << "\n";
           return fe::kExitInput;
         }
       }
       // Without *DATABASE_ DT cards: a row per coupling step.
-      history = std::make_unique<fe::History>(path, model, &table, table.dt / table.subcycles, table.dt, resume);
-      if (ck.enabled()) {
-        const fe::CheckpointIdentity id{ck.deck_digest, table.hash(), 0};
+      auto open_history = [&]() -> fe::History& {
+        if (history) return *history;
+        history = std::make_unique<fe::History>(path, model, &table, table.dt / table.subcycles, table.dt, resume);
         if (resume) {
-          try {
-            const uint64_t step = fe::load_checkpoint(ck.restart, id, solver, &loads, *history);
-            const std::string previous = ck.restart + ".prev";
-            server.set_resume(step, previous, fe::checkpoint_step(previous, id));
-            if (!opt.quiet)
-              std::cout << "fe_server: restarted from " << ck.restart << " after coupling step " << step << " (t = "
-                        << solver.time() << " s); " << path << " continues after its row " << history->rows()
-                        << std::endl;
-          } catch (const std::exception& e) {
-            std::cerr << "fe_server: " << e.what() << "\n";
-            return fe::kExitInput;
-          }
+          const uint64_t step = fe::load_checkpoint(ck.restart, id, solver, &loads, *history);
+          if (!opt.quiet)
+            std::cout << "fe_server: restarted from " << ck.restart << " after coupling step " << step << " (t = "
+                      << solver.time() << " s); " << path << " continues after its row " << history->rows()
+                      << std::endl;
         }
+        return *history;
+      };
+      // A new results file exists (and opens, 0 rows) before the host comes.
+      if (!resume) open_history();
+      if (ck.enabled()) {
         const std::string ck_path = session_path(ck.path, session, sessions);
         server.set_checkpointer([&, id, ck_path](uint64_t k) {
           fe::CheckpointIdentity at = id;
@@ -558,10 +563,14 @@ int run_main(int argc, char** argv) {
                   << ")" << std::endl;
       server.set_keep_listening(!last);
       std::string message;
-      fe::ExitCode code = server.run(solver, ports, *history, message);
+      fe::ExitCode code = server.run(solver, ports, open_history, message);
       server.end_session();
-      history->flush();
       const std::string tag = sessions == 1 ? "fe_server: " : "fe_server: session " + std::to_string(session) + ": ";
+      if (!history) {  // a restart the host did not agree to, or no host: nothing was opened
+        std::cerr << tag << message << "; " << path << " left as it was" << std::endl;
+        return code;
+      }
+      history->flush();
       if (code == fe::kExitOk) {
         bool drift = false, failed = false;
         const std::string energy = history->energy_summary(solver, &drift, &failed);

@@ -26,6 +26,11 @@ CouplingClient::~CouplingClient() { sl_close(&sock_); }
 
 void CouplingClient::fail(int code, const std::string& what) {
   std::string msg = what + ": " + describe_link_error(code, sock_);
+  // The server is told why (a garbage frame, a time-out, a stop signal in a
+  // wait), not left with a reset connection, unless it is gone or ended the
+  // session itself. Best effort: one small frame, a short deadline.
+  if (sock_.fd >= 0 && code != SL_ECLOSED && code != SL_EREFUSED_BY_PEER)
+    pcs_send_abort(&sock_, 0, static_cast<uint32_t>(-code), ("the host stops: " + msg).c_str(), deadline_after(1.0));
   sl_close(&sock_);
   throw LinkError(code, msg);
 }
@@ -117,10 +122,7 @@ void CouplingClient::connect(const std::string& host, int port, const std::strin
 void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<double>& inputs,
                           std::vector<double>& outputs) {
   if (!connected()) throw LinkError(SL_EINVAL, "not connected to fe_server");
-  if (resume_pending_) {  // the server answers RESUME once every FMU of the session has connected
-    resume_pending_ = false;
-    await_answer(PCS_MSG_RESUME, resume_step_);
-  }
+  confirm_resume();  // the server answers RESUME once every FMU of the session has connected
   const int64_t deadline = deadline_after(timeout_s_);
   int n = pcs_encode_values(time, dt, inputs.data(), static_cast<uint32_t>(inputs.size()),
                             buf_.data(), static_cast<uint32_t>(buf_.size()));
@@ -198,10 +200,7 @@ pcs_header CouplingClient::await_answer(uint16_t type, uint64_t k) {
 }
 
 std::string CouplingClient::checkpoint(uint64_t k) {
-  if (resume_pending_) {  // a checkpoint right after resuming: the RESUME's answer comes first
-    resume_pending_ = false;
-    await_answer(PCS_MSG_RESUME, resume_step_);
-  }
+  confirm_resume();  // a checkpoint right after resuming: the RESUME's answer comes first
   send_request(PCS_MSG_CHECKPOINT, k);
   const pcs_header h = await_answer(PCS_MSG_CHECKPOINT, k);
   pcs_reader r{buf_.data(), h.payload_size, 0, 0};
@@ -215,6 +214,12 @@ void CouplingClient::resume(uint64_t k) {
   send_request(PCS_MSG_RESUME, k);
   resume_pending_ = true;
   resume_step_ = k;
+}
+
+void CouplingClient::confirm_resume() {
+  if (!resume_pending_) return;
+  resume_pending_ = false;
+  await_answer(PCS_MSG_RESUME, resume_step_);
 }
 
 void CouplingClient::bye() {

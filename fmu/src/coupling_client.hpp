@@ -45,6 +45,9 @@ class CouplingClient {
   // first step, since the server answers once every FMU of the session has
   // connected, and the importer may connect them one after another.
   void resume(uint64_t k);
+  // Waits for that answer now (no-op when none is pending): a restarted host
+  // confirms both sides agree before it touches its results.
+  void confirm_resume();
   // Clean end of the session (best effort).
   void bye();
   // Tell the peer why we stop (best effort), then close.

@@ -306,6 +306,16 @@ __attribute__((visibility("default"))) fmi2Status pcs_fmu_resume(fmi2Component c
                  [&](Instance& i) { i.set_resume_step(static_cast<uint64_t>(step)); });
 }
 
+// After fmi2ExitInitializationMode of a resumed instance: wait for
+// fe_server's answer to the RESUME (agreed, or refused saying why), which
+// otherwise comes with the first fmi2DoStep. A restarted importer calls it
+// (for all its instances at once: the server answers when every FMU of the
+// session has connected) before it touches its results, so that a refused
+// restart leaves them as they were.
+__attribute__((visibility("default"))) fmi2Status pcs_fmu_confirm_resume(fmi2Component c) {
+  return guarded(c, "pcs_fmu_confirm_resume", kDoStep, [&](Instance& i) { i.confirm_resume(); });
+}
+
 // Set *requested to 1 when fe_server got a stop signal and asks the host
 // for a checkpoint (then pcs_fmu_checkpoint, and the end of the session),
 // else 0. After any fmi2DoStep.

@@ -254,6 +254,14 @@ std::string Instance::checkpoint() {
   }
 }
 
+void Instance::confirm_resume() {
+  try {
+    if (client_) client_->confirm_resume();
+  } catch (const LinkError& e) {
+    throw FmuError(fmi2Error, e.what());
+  }
+}
+
 void Instance::set_resume_step(uint64_t step) {
   resume_ = true;
   resume_step_ = step;

@@ -62,6 +62,8 @@ class Instance {
   // at step 0).
   std::string checkpoint();
   void set_resume_step(uint64_t step);
+  // After initialization: wait for the server's answer to the RESUME.
+  void confirm_resume();
   uint64_t steps_done() const { return step_; }
   // The server got a stop signal and asks for a checkpoint (it keeps
   // serving for a grace period): pcs_fmu_stop_requested.

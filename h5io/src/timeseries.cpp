@@ -66,9 +66,14 @@ TimeSeriesWriter::TimeSeriesWriter(const std::string& path, size_t rows_per_chun
   last_flush_ns_ = now_ns();
 }
 
-void TimeSeriesWriter::start_live() {
+void TimeSeriesWriter::start_writing() {
+  if (live_) return;
+  for (Stream& st : streams_) st.buffer.assign(st.series.size() * chunk_, 0.0);
+  // SWMR from here on: no new datasets or attributes. Switching writes the
+  // metadata and flushes; the flush below makes it durable on every path.
   if (H5Fstart_swmr_write(file_) < 0) fail("cannot switch to SWMR writing", path_);
   live_ = true;
+  flush();
 }
 
 TimeSeriesWriter::~TimeSeriesWriter() {
@@ -153,10 +158,7 @@ void TimeSeriesWriter::set_attribute(const std::string& name, double value) {
 }
 
 void TimeSeriesWriter::append(const double* row, size_t stream) {
-  if (!live_) {  // the first row: everything is declared
-    for (Stream& st : streams_) st.buffer.assign(st.series.size() * chunk_, 0.0);
-    start_live();
-  }
+  if (!live_) start_writing();  // the first row: everything is declared
   Stream& st = streams_[stream];
   for (size_t c = 0; c < st.series.size(); ++c) st.buffer[c * chunk_ + st.buffered] = row[c];
   if (++st.buffered == chunk_) write_buffer(st);

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <thread>
 
@@ -78,6 +79,31 @@ void expect_identical_field_files(const std::string& a, const std::string& b) {
   EXPECT_EQ(differing, 0u);
   H5Fclose(fa);
   H5Fclose(fb);
+}
+
+// Every file in `dir`, byte for byte (its name to its contents).
+std::map<std::string, std::string> files_of(const std::string& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    std::ifstream f(e.path(), std::ios::binary);
+    std::stringstream s;
+    s << f.rdbuf();
+    out[e.path().filename().string()] = s.str();
+  }
+  return out;
+}
+
+// Every file in `before` is still there with the same bytes (a server's
+// port file, its rendezvous with the host and no result, may be rewritten).
+void expect_untouched(const std::map<std::string, std::string>& before, const std::string& dir) {
+  const auto now = files_of(dir);
+  for (const auto& [name, bytes] : before) {
+    if (name.size() > 5 && name.compare(name.size() - 5, 5, ".port") == 0) continue;
+    const auto it = now.find(name);
+    if (it == now.end()) ADD_FAILURE() << name << " is gone";
+    else EXPECT_TRUE(it->second == bytes) << name << " changed (" << bytes.size() << " -> " << it->second.size() << " bytes)";
+  }
 }
 
 // Rows of the running host's results file that are already on disk (it
@@ -263,6 +289,28 @@ TEST(Restart, ACoSimulationStoppedByTheHostsSigtermContinuesBitForBitOnBothSides
   EXPECT_EQ(c.server->wait(kRunTimeout), 10) << c.server->output();  // ended after a checkpoint
   ASSERT_TRUE(fs::exists(dir.file("run_fe.ckpt"))) << c.server->output();
 
+  {  // A restarted server killed -9 while it waits for its host (a batch job
+     // killed at its wall time before the host came) leaves its results as
+     // they were, readable: it continues them only once the host resumed.
+     // (It once left a file that opened neither as an SWMR reader nor plainly.)
+    const auto before = files_of(dir.path());
+    const size_t rows = rows_on_disk(dir.file("run_fe.h5"));
+    ChildProcess waiting({PCS_FE_SERVER_EXE, "--model", kHammerBuilt + "/deck.k", "--ports", kHammer + "/ports.cfg",
+                          "--listen", "127.0.0.1:0", "--port-file", dir.file("waiting.port"), "--out",
+                          dir.file("run_fe.h5"), "--restart", dir.file("run_fe.ckpt"), "--accept-timeout", "30"});
+    ASSERT_GT(testing_support::read_port_file(dir.file("waiting.port"), 30.0), 0) << waiting.output();
+    // Killed once it says it waits (everything before the host is done).
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (waiting.output().find("listening on") == std::string::npos && std::chrono::steady_clock::now() < end)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_NE(waiting.output().find("listening on"), std::string::npos) << waiting.output();
+    ::kill(waiting.pid(), SIGKILL);
+    EXPECT_EQ(waiting.wait(kRunTimeout), -1000 - SIGKILL);
+    expect_untouched(before, dir.path());
+    EXPECT_EQ(rows_on_disk(dir.file("run_fe.h5")), rows) << "it opens with its rows";
+    EXPECT_GT(rows, 100u);
+  }
+  // And the restart that follows still continues bit for bit.
   CoSim r = start(dir, "run", {"--restart", dir.file("run_fe.ckpt")}, {"--restart", dir.file("host.ckpt")});
   expect_completed(r);
   EXPECT_NE(r.server->output().find("restarted from"), std::string::npos) << r.server->output();
@@ -402,9 +450,15 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
   {  // the server at k1 + 100, the host at k1 (as a node lost between the two sides' writes leaves them):
      // both told, and told that fe_server's previous checkpoint is of the host's step
     fs::copy_file(dir.file("a_host.h5"), dir.file("b_host.h5"));
+    // A refused restart touches no file: both sides check everything (the
+    // other side's step included) before they continue any (they once cut
+    // both results files to their checkpoints' rows, then refused).
+    const auto before = files_of(dir.path());
     CoSim c = start(dir, "b", {"--restart", dir.file("b_fe.ckpt")}, {"--restart", dir.file("a_host.ckpt")});
     EXPECT_NE(c.host->wait(kRunTimeout), 0);
     EXPECT_EQ(c.server->wait(kRunTimeout), 3) << c.server->output();
+    expect_untouched(before, dir.path());
+    EXPECT_NE(c.server->output().find(dir.file("b_fe.h5") + " left as it was"), std::string::npos) << c.server->output();
     const std::string why = "the host resumes after step " + std::to_string(k1) +
                             ", this fe_server's checkpoint is after step " + std::to_string(k1 + 100) +
                             ": both sides must restart from checkpoints of the same step";

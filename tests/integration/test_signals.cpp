@@ -323,3 +323,18 @@ TEST(Signals, WithCheckpointsASecondSignalEndsAWaitTheFirstLetRun) {
   EXPECT_EQ(fmu_folders(dir.path()), 0u) << "the FMU folder is removed";
   peer.join();
 }
+
+// kill -9 before the host connects: the results file exists with every
+// series declared and 0 rows, and opens (as an SWMR reader: its writer never
+// closed it). It was 48 bytes that did not open.
+TEST(Signals, AServerKilledMinus9BeforeItsHostCameLeavesAFileThatOpens) {
+  TempDir dir;
+  Server server(dir);
+  ASSERT_GT(server.port, 0) << server.child->output();
+  kill(server.child->pid(), SIGKILL);
+  EXPECT_EQ(server.child->wait(kHardTimeout), -1000 - SIGKILL);
+  const auto series = h5io::list_series(server.out);
+  ASSERT_GT(series.size(), 5u) << "time, the ports and the energies are declared";
+  for (const auto& [name, rows] : series) EXPECT_EQ(rows, 0u) << name;
+  EXPECT_TRUE(h5io::read_series(server.out, "time").empty());
+}

@@ -317,6 +317,7 @@ FmuInstance::FmuInstance(std::shared_ptr<FmuArchive> archive, const std::string&
 #undef PCS_FMI2_LOAD
   pcs_checkpoint_ = reinterpret_cast<CheckpointFn*>(dlsym(lib, "pcs_fmu_checkpoint"));
   pcs_resume_ = reinterpret_cast<ResumeFn*>(dlsym(lib, "pcs_fmu_resume"));
+  pcs_confirm_resume_ = reinterpret_cast<ConfirmResumeFn*>(dlsym(lib, "pcs_fmu_confirm_resume"));
   pcs_stop_requested_ = reinterpret_cast<StopRequestedFn*>(dlsym(lib, "pcs_fmu_stop_requested"));
   const auto& md = archive_->description();
   c_ = fmi2Instantiate(instance_name.c_str(), fmi2CoSimulation, md.guid.c_str(), archive_->resource_uri().c_str(),
@@ -375,6 +376,9 @@ std::string FmuInstance::checkpoint() {
 void FmuInstance::resume(unsigned long long step) {
   if (!can_checkpoint()) throw FmuError(archive_->path() + ": this FMU cannot resume (made by another tool or an older fmugen)");
   check(pcs_resume_(c_, step), "pcs_fmu_resume");
+}
+void FmuInstance::confirm_resume() {
+  if (pcs_confirm_resume_) check(pcs_confirm_resume_(c_), "pcs_fmu_confirm_resume");  // else: at the first step
 }
 bool FmuInstance::stop_requested() {
   if (!pcs_stop_requested_) return false;

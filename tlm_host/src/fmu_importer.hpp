@@ -84,6 +84,7 @@ class FmuInstance {
   bool can_checkpoint() const { return pcs_checkpoint_ && pcs_resume_; }
   std::string checkpoint();            // the server's checkpoint file
   void resume(unsigned long long step);  // before exit_initialization()
+  void confirm_resume();                 // after it: the server's answer (throws if it refused)
   // fe_server got a stop signal and asks for a checkpoint (false for FMUs
   // without the function).
   bool stop_requested();
@@ -106,6 +107,8 @@ class FmuInstance {
   using ResumeFn = fmi2Status(fmi2Component, unsigned long long);
   CheckpointFn* pcs_checkpoint_ = nullptr;
   ResumeFn* pcs_resume_ = nullptr;
+  using ConfirmResumeFn = fmi2Status(fmi2Component);
+  ConfirmResumeFn* pcs_confirm_resume_ = nullptr;
   using StopRequestedFn = fmi2Status(fmi2Component, int*);
   StopRequestedFn* pcs_stop_requested_ = nullptr;
 #define PCS_FMI2_MEMBER(name) name##TYPE* name = nullptr;

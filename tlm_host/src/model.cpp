@@ -379,6 +379,14 @@ void System::run(const std::string& out_path, bool progress) {
                   q_type_.end());
   }
   for (const auto& w : stability_warnings(dt)) std::cerr << "tlm_host: warning: " << w << "\n";
+  // A restart touches its results only once every server has agreed to
+  // resume at this step (all FMUs at once: a server answers when all of its
+  // FMUs are in). A refused restart leaves every file as it was.
+  if (resume) {
+    std::vector<std::future<void>> answers;
+    for (FmuQ* f : fmus) answers.push_back(std::async(std::launch::async, [f] { f->confirm_resume(); }));
+    for (auto& a : answers) a.get();
+  }
 
   h5io::TimeSeriesWriter out(out_path, 4096, 1.0, resume);
   out.set_attribute("producer", "tlm_host");
@@ -424,6 +432,7 @@ void System::run(const std::string& out_path, bool progress) {
     }
     out.resume_at(static_cast<size_t>(resumed_rows));
   }
+  out.start_writing();  // from here the file opens whatever ends the process
   std::ofstream csv;
   if (!csv_path_.empty()) {
     if (resume) {  // continue after the checkpoint's last row
@@ -564,8 +573,10 @@ void System::run(const std::string& out_path, bool progress) {
     if (stepping) s << " in " << stepping->name() << " (" << stepping->type_name() << ")";
     s << ": " << e.what()
       << "; results up to the last completed step kept in " << out_path;
-    // A signal may also show as the peer's ABORT (fe_server got it too): a stop either way.
-    if (const int signo = config::stop_signal()) throw config::StopRequested(signo, s.str());
+    // A signal may also show as the peer's ABORT (fe_server got it too), or
+    // as a wait the signal ended in an FMU: a stop either way.
+    if (const int signo = config::stop_signal())
+      throw config::StopRequested(signo, "stopped by " + config::signal_name(signo) + " " + s.str());
     throw std::runtime_error(s.str());
   }
   for (auto& c : components_) c->finalize();

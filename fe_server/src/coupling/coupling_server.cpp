@@ -549,11 +549,11 @@ void CouplingServer::tell_ranks(double kind, double code, const std::vector<doub
   dom_->broadcast_waiting(command_.data(), command_.size() * sizeof(double));
 }
 
-ExitCode CouplingServer::run(Solver& solver, PortMap& ports, History& history, std::string& message) {
+ExitCode CouplingServer::run(Solver& solver, PortMap& ports, const OpenHistory& open_history, std::string& message) {
   // A failed FE step fails on every rank alike (solver.hpp); anything else
   // ends here with the session's code, which the other ranks are told.
   ranks_stopped_ = false;
-  const ExitCode code = run_steps(solver, ports, history, message);
+  const ExitCode code = run_steps(solver, ports, open_history, message);
   if (ranks_stopped_) return code;
   size_t n_in = 0;  // all clients' inputs, as follow_session expects them
   for (const auto& t : tables_) n_in += t.to_fe.size();
@@ -578,7 +578,8 @@ ExitCode follow_session(const Domain& domain, Solver& solver, PortMap& ports, Fo
   }
 }
 
-ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, History& history, std::string& message) {
+ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHistory& open_history,
+                                   std::string& message) {
   stopping_ = false;
   checkpointed_at_ = -1;
   if (listener_.fd < 0) bind();
@@ -593,6 +594,15 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, History& hist
   if (resume_)
     if (const ExitCode code = resume_clients(message); code != kExitOk) return code;
   uint64_t expected = resume_ ? resume_step_ : 0;
+  History* opened = nullptr;
+  try {
+    opened = &open_history();
+  } catch (const std::exception& e) {
+    message = e.what();
+    abort_all(expected, SL_EUNEXPECTED, "fe_server cannot continue: " + message);
+    return kExitInput;
+  }
+  History& history = *opened;
   const auto t0 = std::chrono::steady_clock::now();
   for (;;) {
     // Only on the way out: no string is built on the per-step path.

@@ -98,8 +98,14 @@ class CouplingServer {
     previous_ = previous;
     previous_step_ = previous_step;
   }
+  // Opens the session's results: called once the session is agreed (the
+  // hosts connected and, in a restart, their RESUME matched this server's
+  // checkpoint), so a refused restart leaves every file as it was. It may
+  // throw (a checkpoint that does not load): the session then ends with
+  // kExitInput, the hosts told why.
+  using OpenHistory = std::function<History&()>;
   // Serve one session. Returns an exit code; `message` says what happened.
-  ExitCode run(Solver& solver, PortMap& ports, History& history, std::string& message);
+  ExitCode run(Solver& solver, PortMap& ports, const OpenHistory& open_history, std::string& message);
   // fe_server across ranks: this server is rank 0's; every coupling step it
   // tells the other ranks (follow_session) to step with the host's inputs,
   // and at the session's end its exit code.
@@ -130,7 +136,7 @@ class CouplingServer {
   HandshakeProgress handshake_step(Pending& p, std::string& why);
 
  private:
-  ExitCode run_steps(Solver& solver, PortMap& ports, History& history, std::string& message);
+  ExitCode run_steps(Solver& solver, PortMap& ports, const OpenHistory& open_history, std::string& message);
   void tell_ranks(double kind, double code, const std::vector<double>& in);
   const Domain* dom_ = nullptr;
   bool ranks_stopped_ = false;  // an FE step failed: every rank stopped at once

@@ -105,6 +105,9 @@ History::History(const std::string& path, const Model& model, const config::Port
     fields_ = std::make_unique<FieldWriter>(base + "_fields.h5", model, resume);  // writes the snapshot at t = 0 unless resuming
     next_snapshot_ = model.snapshot_interval;
   }
+  // A new file opens from now on, whatever kills the process (a resumed
+  // one once state() has cut it back to the checkpoint's rows).
+  if (!resume) writer_.start_writing();
 }
 
 History::~History() = default;
@@ -148,6 +151,7 @@ void History::state(config::StateIO& io) {
     io.value("history rows", rows);
     if (!io.saving()) writer_.resume_at(static_cast<size_t>(rows), stream_[k]);
   }
+  if (!io.saving()) writer_.start_writing();
 }
 
 size_t History::snapshots() const { return fields_ ? fields_->snapshots() : 0; }

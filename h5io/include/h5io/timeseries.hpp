@@ -58,6 +58,11 @@ class TimeSeriesWriter {
   // After the stream's series are declared, before the first row. Throws if
   // a series has fewer rows.
   void resume_at(size_t rows, size_t stream = 0);
+  // Everything is declared: switch to SWMR writing and flush, so that the
+  // file opens (with its rows so far, or none) even after kill -9 before the
+  // first row (it was 48 bytes that did not open). The first append() does
+  // this if it has not been done; a resumed file after resume_at().
+  void start_writing();
   // Write buffered rows and flush the file to disk.
   void flush();
   size_t rows(size_t stream = 0) const { return streams_[stream].rows_written + streams_[stream].buffered; }
@@ -72,7 +77,6 @@ class TimeSeriesWriter {
     size_t rows_written = 0;
   };
   void write_buffer(Stream& s);
-  void start_live();  // SWMR from here on: no new datasets or attributes
   std::string path_;
   double flush_interval_;
   int64_t last_flush_ns_ = 0;

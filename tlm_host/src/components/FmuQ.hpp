@@ -29,6 +29,7 @@ class FmuQ : public Component {
   // steps. Before initialize().
   void set_resume_step(long step) { resume_step_ = step; }
   std::string checkpoint() { return fmu_->checkpoint(); }
+  void confirm_resume() { fmu_->confirm_resume(); }
   // Its fe_server got a stop signal and asks for a checkpoint.
   bool server_stopping() { return fmu_->stop_requested(); }
   void configure(ParameterSet& prm) override;

@@ -322,7 +322,7 @@ __attribute__((visibility("default"))) fmi2Status pcs_fmu_confirm_resume(fmi2Com
 __attribute__((visibility("default"))) fmi2Status pcs_fmu_stop_requested(fmi2Component c, int* requested) {
   return guarded(c, "pcs_fmu_stop_requested", kAnyButFatal, [&](Instance& i) {
     if (!requested) throw FmuError(fmi2Error, "requested is a null pointer");
-    *requested = i.stop_requested() ? 1 : 0;
+    *requested = i.importer_asks_stop_requested() ? 1 : 0;
   });
 }
 

@@ -244,6 +244,16 @@ void Instance::do_step(double t, double h) {
   }
   for (size_t i = 0; i < outputs_.size(); ++i) outputs_[i] = wire_out_[i] * table_.to_host[i].scale;
   time_ = t + h;
+  if (stop_requested() && !importer_asks_ && !stop_warned_) {
+    // An importer that knows nothing of it (FMPy, fmusim, Hopsan) would step
+    // on in silence until the server's grace ran out.
+    stop_warned_ = true;
+    log(fmi2Warning, "logCoupling",
+        "fe_server got a stop signal at step " + std::to_string(step_) +
+            " (SIGTERM: a batch system's wall-time limit, scancel) and asks for a checkpoint of both sides, which "
+            "this importer cannot take (pcs_fmu_checkpoint is tlm_host's): fe_server ends the session when its "
+            "grace runs out (fe_server --stop-grace, 20 s by default); end the run now to keep its results whole");
+  }
 }
 
 std::string Instance::checkpoint() {

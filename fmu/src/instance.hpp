@@ -68,6 +68,12 @@ class Instance {
   // The server got a stop signal and asks for a checkpoint (it keeps
   // serving for a grace period): pcs_fmu_stop_requested.
   bool stop_requested() const { return client_ && client_->stop_requested(); }
+  // The same, asked by the importer (pcs_fmu_stop_requested): an importer
+  // that asks can checkpoint; one that never asks is warned at the request.
+  bool importer_asks_stop_requested() {
+    importer_asks_ = true;
+    return stop_requested();
+  }
   void reset();
   // The link is told why (ABORT) before an instance goes to its error state.
   void abort_link(const std::string& reason);
@@ -100,6 +106,7 @@ class Instance {
   double timeout_ = 60.0;
   uint64_t step_ = 0;
   uint64_t resume_step_ = 0;
+  bool importer_asks_ = false, stop_warned_ = false;
   bool resume_ = false;
   double time_ = 0.0;
   std::unique_ptr<CouplingClient> client_;

@@ -505,39 +505,54 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
 
 // An importer that does not know STOPPING (it steps on, never asks for the
 // checkpoint): the server serves it through the grace, then stops as it
-// would have without one, telling it why.
+// would have without one, telling it why. One that never even asks whether
+// the server stops (FMPy, fmusim, Hopsan) is warned through its logger at
+// the step the request came, once, instead of stepping on in silence.
 TEST(Restart, AnImporterThatNeverCheckpointsGetsTheOldStopWhenTheGraceEnds) {
-  TempDir dir;
-  ChildProcess server({PCS_FE_SERVER_EXE, "--model", PCS_SCENES_DIR "/one_dof/piston.k", "--ports",
-                       PCS_SCENES_DIR "/one_dof/ports.cfg", "--listen", "127.0.0.1:0", "--port-file", dir.file("port"),
-                       "--out", dir.file("fe.h5"), "--accept-timeout", "20", "--stop-grace", "1"});
-  const int port = testing_support::read_port_file(dir.file("port"), 20.0);
-  ASSERT_GT(port, 0) << server.output();
-  auto archive = std::make_shared<tlm::FmuArchive>(PCS_ONE_DOF_FMU);
-  const config::PortTable t = config::read_port_table(archive->dir() + "/resources/ports.cfg");
-  auto instance = connected_fmu(archive, "piston", port);
-  tlm::FmuInstance& fmu = *instance;
-  const unsigned p = fmu.vr("cavity.p");
-  std::chrono::steady_clock::time_point signalled{}, failed{};
-  bool asked = false;
-  std::string error;
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  for (long k = 0; error.empty() && std::chrono::steady_clock::now() < give_up; ++k) {
-    if (k == 200) {
-      ::kill(server.pid(), SIGTERM);
-      signalled = std::chrono::steady_clock::now();
+  for (const bool asks : {true, false}) {
+    SCOPED_TRACE(asks ? "an importer that asks" : "an importer that never asks");
+    TempDir dir;
+    ChildProcess server({PCS_FE_SERVER_EXE, "--model", PCS_SCENES_DIR "/one_dof/piston.k", "--ports",
+                         PCS_SCENES_DIR "/one_dof/ports.cfg", "--listen", "127.0.0.1:0", "--port-file",
+                         dir.file("port"), "--out", dir.file("fe.h5"), "--accept-timeout", "20", "--stop-grace", "1"});
+    const int port = testing_support::read_port_file(dir.file("port"), 20.0);
+    ASSERT_GT(port, 0) << server.output();
+    auto archive = std::make_shared<tlm::FmuArchive>(PCS_ONE_DOF_FMU);
+    const config::PortTable t = config::read_port_table(archive->dir() + "/resources/ports.cfg");
+    auto instance = connected_fmu(archive, "piston", port);
+    tlm::FmuInstance& fmu = *instance;
+    const unsigned p = fmu.vr("cavity.p");
+    std::chrono::steady_clock::time_point signalled{}, failed{};
+    bool asked = false;
+    std::string error;
+    testing::internal::CaptureStderr();  // the importer's logger writes there
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    for (long k = 0; error.empty() && std::chrono::steady_clock::now() < give_up; ++k) {
+      if (k == 200) {
+        ::kill(server.pid(), SIGTERM);
+        signalled = std::chrono::steady_clock::now();
+      }
+      try {
+        fmu.set_real(p, 1.0e7);
+        fmu.do_step(static_cast<double>(k) * t.dt, t.dt);
+        if (asks) asked = asked || fmu.stop_requested();
+      } catch (const std::exception& e) {
+        error = e.what();
+        failed = std::chrono::steady_clock::now();
+      }
     }
-    try {
-      fmu.set_real(p, 1.0e7);
-      fmu.do_step(static_cast<double>(k) * t.dt, t.dt);
-      asked = asked || fmu.stop_requested();
-    } catch (const std::exception& e) {
-      error = e.what();
-      failed = std::chrono::steady_clock::now();
+    const std::string logged = testing::internal::GetCapturedStderr();
+    if (asks) EXPECT_TRUE(asked) << "the server asked for a checkpoint";
+    EXPECT_NE(error.find("did not checkpoint within"), std::string::npos) << error;
+    EXPECT_GE(std::chrono::duration<double>(failed - signalled).count(), 0.9) << "served through the 1 s grace";
+    EXPECT_EQ(server.wait(kRunTimeout), 128 + SIGTERM) << server.output();
+    const std::string warning = "asks for a checkpoint of both sides, which this importer cannot take";
+    const size_t first = logged.find(warning);
+    if (asks) {
+      EXPECT_EQ(first, std::string::npos) << "an importer that asks is not warned:\n" << logged;
+    } else {
+      EXPECT_NE(first, std::string::npos) << logged;
+      EXPECT_EQ(logged.find(warning, first + 1), std::string::npos) << "once:\n" << logged;
     }
   }
-  EXPECT_TRUE(asked) << "the server asked for a checkpoint";
-  EXPECT_NE(error.find("did not checkpoint within"), std::string::npos) << error;
-  EXPECT_GE(std::chrono::duration<double>(failed - signalled).count(), 0.9) << "served through the 1 s grace";
-  EXPECT_EQ(server.wait(kRunTimeout), 128 + SIGTERM) << server.output();
 }

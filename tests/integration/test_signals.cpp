@@ -331,6 +331,12 @@ TEST(Signals, AServerKilledMinus9BeforeItsHostCameLeavesAFileThatOpens) {
   TempDir dir;
   Server server(dir);
   ASSERT_GT(server.port, 0) << server.child->output();
+  // The port is bound first (a host may connect during a relaxation); the
+  // file is made, flushed, and then the server says it is listening.
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (server.child->output().find("listening on") == std::string::npos && std::chrono::steady_clock::now() < end)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_NE(server.child->output().find("listening on"), std::string::npos) << server.child->output();
   kill(server.child->pid(), SIGKILL);
   EXPECT_EQ(server.child->wait(kHardTimeout), -1000 - SIGKILL);
   const auto series = h5io::list_series(server.out);

@@ -234,21 +234,23 @@ TEST(Signals, AStopSignalEndsADynamicRelaxation) {
       << server.output();
 }
 
+// How soon a host whose FMU waits must be gone after the signal that ends
+// the wait: socketlib's 200 ms slice, plus the host's teardown (closing the
+// results, freeing the FMU), a few ms here and more under the sanitizers.
+#ifdef PCS_SANITIZED
+constexpr double kWaitStopBound = 1.5;
+#else
+constexpr double kWaitStopBound = 0.5;
+#endif
+
 // A host whose FMU is blocked in a wait of the link stops on SIGINT or
 // SIGTERM: the FMU's own copy of socketlib watches the host's stop flag
 // (pcs_fmu_set_stop_flag), so each wait returns within its 200 ms slice;
 // the host then exits 128 + N and removes its FMU folder. Three waits: the
 // connection refused and retried (no server yet), a handshake the peer never
 // answers, and a step the peer only answers with heartbeats (each restarts
-// the receive deadline: without the flag that wait never ended). The bound:
-// the 200 ms slice, plus the host's teardown (closing the results, freeing
-// the FMU), which takes a few ms here and more under the sanitizers.
+// the receive deadline: without the flag that wait never ended).
 TEST(Signals, EachStopSignalEndsAHostWhoseFmuIsWaiting) {
-#ifdef PCS_SANITIZED
-  constexpr double kBound = 1.5;
-#else
-  constexpr double kBound = 0.5;
-#endif
   using Behaviour = testing_support::TestPeer::Behaviour;
   struct Wait {
     const char* name;
@@ -282,7 +284,7 @@ TEST(Signals, EachStopSignalEndsAHostWhoseFmuIsWaiting) {
     const int rc = host->wait(kHardTimeout);
     const double latency = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
     EXPECT_EQ(rc, 128 + w.signo) << host->output();
-    EXPECT_LT(latency, kBound) << host->output();
+    EXPECT_LT(latency, kWaitStopBound) << host->output();
     std::printf("%s, signal %d: stopped %.0f ms after it\n", w.name, w.signo, 1000.0 * latency);
     EXPECT_EQ(fmu_folders(dir.path()), 0u) << "the FMU folder is removed";
     if (peer) peer->join();
@@ -295,11 +297,6 @@ TEST(Signals, EachStopSignalEndsAHostWhoseFmuIsWaiting) {
 // signal: that one ends the FMU's wait, and the host still cleans up (its
 // FMU folder removed, exit 128 + N) rather than dying where it stands.
 TEST(Signals, WithCheckpointsASecondSignalEndsAWaitTheFirstLetRun) {
-#ifdef PCS_SANITIZED
-  constexpr double kBound = 1.5;
-#else
-  constexpr double kBound = 0.5;
-#endif
   const config::PortTable table = scene_table();
   testing_support::TestPeer peer(table, testing_support::TestPeer::Behaviour::EndlessHeartbeats);
   TempDir dir;
@@ -318,7 +315,7 @@ TEST(Signals, WithCheckpointsASecondSignalEndsAWaitTheFirstLetRun) {
   kill(host.pid(), SIGTERM);
   EXPECT_EQ(host.wait(kHardTimeout), 128 + SIGTERM) << host.output();
   const double latency = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
-  EXPECT_LT(latency, kBound) << host.output();
+  EXPECT_LT(latency, kWaitStopBound) << host.output();
   std::printf("the second signal stopped it %.0f ms after it\n", 1000.0 * latency);
   EXPECT_EQ(fmu_folders(dir.path()), 0u) << "the FMU folder is removed";
   peer.join();

@@ -264,6 +264,10 @@ TEST_F(FmuTest, EveryFaultOfThePeerEndsTheStepWithItsCause) {
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.5) << "within the deadline";
     EXPECT_NE(log.all().find(c.cause), std::string::npos) << log.all();
     api->fmi2FreeInstance(fmu);
+    peer.join();
+    if (c.behaviour == TestPeer::Behaviour::BadMagic || c.behaviour == TestPeer::Behaviour::OversizeResult)
+      EXPECT_EQ(peer.error().rfind(std::string("client sent ABORT: the host stops: "), 0), 0u)
+          << "a garbage frame gets an ABORT with its cause, not a reset: " << peer.error();
   }
 }
 

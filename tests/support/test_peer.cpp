@@ -127,8 +127,17 @@ void TestPeer::serve() {
                      PCS_PROTOCOL_VERSION, PCS_MSG_RESULT, h.step, behaviour_ == Behaviour::BadMagic ? 0u : 0xffffffffu};
       pcs_encode_header(&bad, raw);
       sl_send_all(&c, raw, sizeof raw, deadline);
-      pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline);  // the client's ABORT or close
-      break;
+      // The client's ABORT (a garbage frame is told, not reset), or its close.
+      const int arc = pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline);
+      if (arc == SL_OK && h.type == PCS_MSG_ABORT) {
+        pcs_abort a{};
+        pcs_decode_abort(buf.data(), h.payload_size, &a);
+        error_ = std::string("client sent ABORT: ") + a.reason;
+      } else {
+        error_ = std::string("client closed without ABORT: ") + sl_err_name(arc);
+      }
+      sl_close(&c);
+      return;
     }
     if (behaviour_ == Behaviour::Heartbeats)
       for (int beat = 0; beat < 3; ++beat) {

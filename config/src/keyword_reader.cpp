@@ -237,6 +237,14 @@ static std::vector<Block> parse_impl(const std::string& text, const std::string&
       const size_t end = std::min(t.size(), t.find_first_of(" \t,"));
       b.keyword = to_upper(t.substr(0, end));
       b.options = trim(t.substr(end));
+      // *END ends the file it stands in, as in LS-DYNA: the rest of that file
+      // is not read. An included file's *END ends only that file (it once
+      // dropped every keyword after the *INCLUDE); the master deck's is kept
+      // for its reader.
+      if (b.keyword == "*END") {
+        if (depth == 0) blocks.push_back(std::move(b));
+        break;
+      }
       blocks.push_back(std::move(b));
       continue;
     }

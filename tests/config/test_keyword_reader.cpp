@@ -128,3 +128,19 @@ TEST(KeywordReader, AnIncludeThatIsNotARegularFileIsRefusedAtItsCard) {
     EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
   }
 }
+
+// *END ends the file it stands in: in an included file only that file (it
+// once ended the whole deck, every keyword after the *INCLUDE dropped with
+// exit 0); in the master deck the deck. Lines after it are not read at all.
+TEST(KeywordReader, EndInAnIncludedFileEndsOnlyThatFile) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("pcs_end_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "part.k") << "*KEYWORD\n*PART\nincluded\n*END\n*MAT_ELASTIC\nnot read\n";
+  std::ofstream(dir / "main.k") << "*KEYWORD\n*INCLUDE\npart.k\n*NODE\n1,0,0,0\n*END\nanything at all\n";
+  const auto blocks = config::read_keyword_file((dir / "main.k").string(), true);
+  std::vector<std::string> keywords;
+  for (const auto& b : blocks) keywords.push_back(b.keyword);
+  EXPECT_EQ(keywords, (std::vector<std::string>{"*KEYWORD", "*KEYWORD", "*PART", "*NODE", "*END"}));
+  fs::remove_all(dir);
+}

@@ -134,6 +134,13 @@ static void read_variables(const Block& b, PortTable& t, std::vector<Variable>& 
     v.quantity = parse_quantity(c, 1);
     v.scale = c.real_or(2, "scale", 1.0);
     if (!std::isfinite(v.scale) || v.scale == 0.0) c.fail("scale factor must be finite and non-zero");
+    // A scale maps a symmetric FE model's share to the whole (a half model:
+    // 2 for flows and forces, 0.5 for pressures in): always positive. A
+    // negative one turned a pressure into a pull (pressure x -1 put the
+    // piston 8.5 km away, exit 0); a sign convention belongs to the model.
+    if (v.scale < 0.0)
+      c.fail("scale factor " + c.field(2, "scale") + " is negative: scales map a symmetric model's share to the whole and "
+             "are positive; flip a direction in the model, not here");
     const Port* p = t.find_port(v.port_id);
     if (!p)
       c.fail("port id " + std::to_string(v.port_id) +

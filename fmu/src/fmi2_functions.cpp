@@ -124,10 +124,11 @@ void fmi2FreeInstance(fmi2Component c) {
 }
 
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean, fmi2Real, fmi2Real startTime,
-                               fmi2Boolean, fmi2Real) {
-  return guarded(c, "fmi2SetupExperiment", kSetupExperiment, [&](Instance&) {
+                               fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
+  return guarded(c, "fmi2SetupExperiment", kSetupExperiment, [&](Instance& i) {
     if (startTime != 0.0)
       throw FmuError(fmi2Error, "startTime must be 0: the FE model starts from its initial state");
+    i.set_stop_time(stopTimeDefined == fmi2True, stopTime);
   });
 }
 

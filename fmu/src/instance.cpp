@@ -278,6 +278,18 @@ void Instance::set_resume_step(uint64_t step) {
 }
 
 void Instance::terminate() {
+  // FMPy and fmusim step at their own interval and may end short of the stop
+  // time (0.99968 s of a 1 s run, in silence): the results then end early.
+  // Half a coupling step of slack: the time is a sum of steps.
+  if (stop_time_defined_ && time_ < stop_time_ - 0.5 * table_.dt) {
+    char msg[400];
+    std::snprintf(msg, sizeof msg,
+                  "fmi2Terminate at t = %.9g s, before the stop time %.9g s given in fmi2SetupExperiment: the importer "
+                  "ended the run %.0f coupling steps early (a communication step that does not divide the run?), and "
+                  "the results end there",
+                  time_, stop_time_, std::floor((stop_time_ - time_) / table_.dt + 0.5));
+    log(fmi2Warning, "logCoupling", msg);
+  }
   if (client_) client_->bye();
   state_ = State::Terminated;
 }

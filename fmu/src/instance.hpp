@@ -54,6 +54,12 @@ class Instance {
   void enter_initialization();
   void exit_initialization();  // connects and shakes hands
   void do_step(double t, double h);
+  // The stop time the importer announced (fmi2SetupExperiment): a run that
+  // terminates before it is warned about (the importer stopped early).
+  void set_stop_time(bool defined, double stop) {
+    stop_time_defined_ = defined;
+    stop_time_ = stop;
+  }
   void terminate();
   // Checkpoint and restart (pcs_fmu_checkpoint / pcs_fmu_resume, beyond
   // FMI): the server saves its state after the steps done so far and
@@ -107,6 +113,8 @@ class Instance {
   uint64_t step_ = 0;
   uint64_t resume_step_ = 0;
   bool importer_asks_ = false, stop_warned_ = false;
+  bool stop_time_defined_ = false;
+  double stop_time_ = 0.0;
   bool resume_ = false;
   double time_ = 0.0;
   std::unique_ptr<CouplingClient> client_;

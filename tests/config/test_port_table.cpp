@@ -97,3 +97,22 @@ TEST(PortTable, FmuVariablesDeriveFromTheTable) {
     for (size_t j = i + 1; j < vars.size(); ++j) EXPECT_NE(vars[i].value_reference, vars[j].value_reference);
   EXPECT_EQ(config::fmu_guid(t).size(), 4u + 16u);
 }
+
+// A negative scale is refused at its line (pressure x -1 put the one-DOF
+// piston 8.5 km away with exit 0): scales map a symmetric model's share to
+// the whole and are positive.
+TEST(PortTable, ANegativeScaleIsRefusedAtItsLine) {
+  const std::string t = config::read_text_file(PCS_SCENES_DIR "/one_dof/ports.cfg", "ports");
+  const std::string good = "1,         pressure, 1.0";
+  ASSERT_NE(t.find(good), std::string::npos) << t;
+  std::string bad = t;
+  bad.replace(bad.find(good), good.size(), "1,         pressure, -1.0");
+  EXPECT_NO_THROW(config::parse_port_table(t, "good.cfg"));
+  try {
+    config::parse_port_table(bad, "neg.cfg");
+    FAIL() << "a negative scale must be refused:\n" << bad;
+  } catch (const config::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("neg.cfg:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("is negative"), std::string::npos) << e.what();
+  }
+}

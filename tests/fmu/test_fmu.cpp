@@ -343,3 +343,34 @@ TEST(FmuHopsan, EveryNodeHydraulicVariableIsThereAndMeansWhatHopsanMeans) {
     EXPECT_NE(std::string(e.what()).find("host_convention hopsan needs mode tlm"), std::string::npos) << e.what();
   }
 }
+
+// An importer that ends the run before the stop time it announced (FMPy and
+// fmusim stepping at their own interval stopped at 0.99968 s of a 1 s run,
+// in silence) is told at fmi2Terminate, with both times, as a warning; one
+// that reaches it, or announced none, is not.
+TEST_F(FmuTest, TerminatingBeforeTheAnnouncedStopTimeIsWarned) {
+  struct Case {
+    bool defined;
+    int steps_announced, steps_run;
+    bool warned;
+  };
+  for (const Case& c : {Case{true, 10, 7, true}, Case{true, 10, 10, false}, Case{false, 10, 7, false}}) {
+    SCOPED_TRACE(std::to_string(c.steps_run) + " of " + std::to_string(c.steps_announced));
+    TestPeer peer(table);
+    Log log;
+    fmi2Component fmu = instantiate("early", log);
+    point_at(fmu, peer.port());
+    ASSERT_EQ(api->fmi2SetupExperiment(fmu, fmi2False, 0, 0, c.defined ? fmi2True : fmi2False,
+                                       c.steps_announced * table.dt),
+              fmi2OK);
+    ASSERT_EQ(api->fmi2EnterInitializationMode(fmu), fmi2OK);
+    ASSERT_EQ(api->fmi2ExitInitializationMode(fmu), fmi2OK) << log.all();
+    for (int k = 0; k < c.steps_run; ++k) ASSERT_EQ(api->fmi2DoStep(fmu, k * table.dt, table.dt, fmi2True), fmi2OK);
+    EXPECT_EQ(api->fmi2Terminate(fmu), fmi2OK);
+    api->fmi2FreeInstance(fmu);
+    peer.join();
+    const bool warned = log.all().find("before the stop time") != std::string::npos;
+    EXPECT_EQ(warned, c.warned) << log.all();
+    if (c.warned) EXPECT_NE(log.all().find("3 coupling steps early"), std::string::npos) << log.all();
+  }
+}

@@ -7,7 +7,7 @@ packages=(
   libeigen3-dev libhdf5-dev libgsl-dev libzip-dev libgtest-dev libsodium-dev libxml2-dev
   libmuparser-dev
   libopenmpi-dev openmpi-bin libmetis-dev
-  libxml2-utils unzip
+  libxml2-utils unzip hdf5-tools
   python3 python3-h5py python3-matplotlib python3-numpy python3-scipy
 )
 missing=()

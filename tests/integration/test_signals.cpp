@@ -43,6 +43,26 @@ void expect_consistent_rows(const std::string& path, size_t at_least) {
     }
 }
 
+// A killed writer's file opens as a user opens it: with h5py's SWMR reader
+// (Debian's python3-h5py) with at least `rows` rows, and plainly once
+// `h5clear -s` (hdf5-tools) cleared its being-written mark (on a copy).
+void expect_opens_as_users_do(const std::string& path, size_t rows) {
+  ChildProcess h5py({"/usr/bin/python3", "-c",
+                     "import sys, h5py\n"
+                     "with h5py.File(sys.argv[1], 'r', swmr=True) as f: print('rows', f['time'].shape[0])\n",
+                     path});
+  EXPECT_EQ(h5py.wait(kHardTimeout), 0) << h5py.output();
+  const size_t at = h5py.output().find("rows ");
+  ASSERT_NE(at, std::string::npos) << h5py.output();
+  EXPECT_GE(std::stoul(h5py.output().substr(at + 5)), rows) << h5py.output();
+  const std::string copy = path + ".cleared";
+  std::filesystem::copy_file(path, copy, std::filesystem::copy_options::overwrite_existing);
+  ChildProcess clear({"/usr/bin/h5clear", "-s", copy});
+  EXPECT_EQ(clear.wait(kHardTimeout), 0) << clear.output();
+  EXPECT_TRUE(closed_cleanly(copy)) << "opens plainly after h5clear -s";
+  std::filesystem::remove(copy);
+}
+
 size_t fmu_folders(const std::string& dir) {
   size_t n = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir))
@@ -154,6 +174,8 @@ TEST(Signals, AfterKillMinus9BothFilesOpenWithTheirFlushedRows) {
   EXPECT_FALSE(closed_cleanly(server.out)) << "a killed writer cannot close its file";
   expect_consistent_rows(server.out, 1000);
   expect_consistent_rows(dir.file("host.h5"), 1000);
+  expect_opens_as_users_do(server.out, 1000);
+  expect_opens_as_users_do(dir.file("host.h5"), 1000);
   // The killed host left its FMU folder; the next host removes it.
   EXPECT_EQ(fmu_folders(dir.path()), 1u);
   TempDir next_dir;
@@ -340,4 +362,5 @@ TEST(Signals, AServerKilledMinus9BeforeItsHostCameLeavesAFileThatOpens) {
   ASSERT_GT(series.size(), 5u) << "time, the ports and the energies are declared";
   for (const auto& [name, rows] : series) EXPECT_EQ(rows, 0u) << name;
   EXPECT_TRUE(h5io::read_series(server.out, "time").empty());
+  expect_opens_as_users_do(server.out, 0);
 }

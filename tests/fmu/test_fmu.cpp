@@ -87,7 +87,8 @@ TEST_F(FmuTest, ExportsTheStandardFunctionsAndItsCheckpointFunctionsOnly) {
 #define CHECK_EXPORTED(name) EXPECT_NE(dlsym(lib, #name), nullptr) << #name;
   PCS_FMI2_FUNCTIONS(CHECK_EXPORTED)
 #undef CHECK_EXPORTED
-  for (const char* ours : {"pcs_fmu_checkpoint", "pcs_fmu_resume", "pcs_fmu_stop_requested"})
+  for (const char* ours : {"pcs_fmu_checkpoint", "pcs_fmu_resume", "pcs_fmu_confirm_resume", "pcs_fmu_stop_requested",
+                           "pcs_fmu_set_stop_flag"})
     EXPECT_NE(dlsym(lib, ours), nullptr) << ours;
   // Our own code and the static libraries inside stay hidden.
   EXPECT_EQ(dlsym(lib, "sl_connect"), nullptr);

@@ -5,8 +5,6 @@
 
 #include <cerrno>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 
 #include "config/keyword_reader.hpp"
 #include "socketlib/auth.h"

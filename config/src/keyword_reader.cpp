@@ -11,7 +11,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace config {
@@ -203,14 +202,19 @@ static std::vector<Block> read_impl(const std::string& path, ParseState& st, int
       throw std::runtime_error("*INCLUDE: more than " + std::to_string(kMaxIncludeFiles) +
                                " files read in one include tree (a file included many times over?)");
     const uint64_t left = kMaxIncludeTreeBytes - std::min(kMaxIncludeTreeBytes, st.include_bytes);
+    std::error_code ec;
+    if (from) {
+      const uint64_t size = std::filesystem::file_size(path, ec);  // ec: not there or not a file, said below
+      if (!ec && size > left)
+        throw std::runtime_error("*INCLUDE '" + path + "' (" + std::to_string(size) + " bytes) would take the include " +
+                                 "tree past the " + std::to_string(kMaxIncludeTreeBytes) + " bytes it may read (" +
+                                 std::to_string(st.include_bytes) + " read so far)");
+    }
+    // The bound again as the file is read: it may have grown since.
     text = read_text_file(path, "include file", from ? left : kMaxInputFileBytes);
     if (from) st.include_bytes += text.size();
   } catch (const std::runtime_error& e) {
-    std::string why = e.what();
-    if (from && st.include_bytes > 0 && why.find("more than the") != std::string::npos)
-      why += " (the include tree may read " + std::to_string(kMaxIncludeTreeBytes) + " bytes in all, " +
-             std::to_string(st.include_bytes) + " read so far)";
-    if (from) throw InputError(*from, why);
+    if (from) throw InputError(*from, e.what());
     throw;
   }
   return parse_impl(text, path, st, depth);

@@ -44,14 +44,9 @@ void CouplingClient::receive_handshake_frame(pcs_header& h, uint16_t want, const
     sl_close(&sock_);
     throw LinkError(SL_EREFUSED_BY_PEER, where + " refused the session: " + a.reason);
   }
-  if (rc == SL_EVERSION) {
-    pcs_send_abort(&sock_, 0, SL_EVERSION,
-                   ("protocol version mismatch: client speaks " + std::to_string(PCS_PROTOCOL_VERSION) +
-                    ", server " + std::to_string(h.version)).c_str(),
-                   deadline);
-    fail(rc, "protocol version mismatch (client " + std::to_string(PCS_PROTOCOL_VERSION) + ", server " +
-                 std::to_string(h.version) + ")");
-  }
+  if (rc == SL_EVERSION)  // fail() tells the server, in an ABORT it can read whatever its version
+    fail(rc, "protocol version mismatch: client speaks " + std::to_string(PCS_PROTOCOL_VERSION) + ", server " +
+                 std::to_string(h.version));
   if (rc != SL_OK) fail(rc, "no handshake answer from " + where);
   if (h.type != want) fail(SL_EUNEXPECTED, std::string("expected ") + pcs_msg_name(want) + ", got " + pcs_msg_name(h.type));
 }
@@ -61,16 +56,17 @@ void CouplingClient::connect(const std::string& host, int port, const std::strin
   timeout_s_ = timeout_s;
   const int64_t deadline = deadline_after(timeout_s);
   std::string where = "fe_server at " + host + ":" + std::to_string(port);
-  int rc = sl_connect(host.c_str(), port, deadline, &sock_);
-  if (rc != SL_OK) fail(rc, "cannot connect to " + where);
-
+  // A token we cannot use is refused before anything goes out (an ABORT
+  // saying why would tell a peer, maybe not the real server, its length).
   if (!token.empty()) {  // empty: a server started with --insecure-no-token
     try {
       config::check_token(token, "the session token");
     } catch (const std::exception& e) {
-      fail(SL_EINVAL, e.what());
+      throw LinkError(SL_EINVAL, e.what());
     }
   }
+  int rc = sl_connect(host.c_str(), port, deadline, &sock_);
+  if (rc != SL_OK) fail(rc, "cannot connect to " + where);
   if (pcs_auth_init() != SL_OK) fail(SL_ESYSTEM, "cannot initialise libsodium");
   pcs_hello hello{};
   hello.protocol_version = PCS_PROTOCOL_VERSION;

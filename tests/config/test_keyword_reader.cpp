@@ -109,6 +109,32 @@ TEST(KeywordReader, AnIncludeTreeThatFansOutIsRefusedAtItsBound) {
   EXPECT_NE(why.find("more than 10000 files read in one include tree"), std::string::npos) << why;
   EXPECT_NE(why.find(".k:"), std::string::npos) << "at the card's file and line: " << why;
   EXPECT_LT(took, 5.0) << "the bound stops it early";
+  // One file larger than what the tree may read (sparse: no disk used) is
+  // refused before it is read; a master deck past the 4 GiB of any input too.
+  {
+    std::ofstream(dir / "big.k");
+    fs::resize_file(dir / "big.k", 3ull << 30);
+    std::ofstream(dir / "takes_big.k") << "*KEYWORD\n*INCLUDE\nbig.k\n";
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string big_why;
+    try {
+      config::read_keyword_file((dir / "takes_big.k").string(), true);
+    } catch (const InputError& e) {
+      big_why = e.what();
+    }
+    EXPECT_NE(big_why.find("takes_big.k:3"), std::string::npos) << big_why;
+    EXPECT_NE(big_why.find("would take the include tree past the 2147483648 bytes"), std::string::npos) << big_why;
+    fs::resize_file(dir / "big.k", 5ull << 30);
+    std::string master_why;
+    try {
+      config::read_keyword_file((dir / "big.k").string(), true);
+    } catch (const std::runtime_error& e) {
+      master_why = e.what();
+    }
+    EXPECT_NE(master_why.find("more than the 4294967296 this reader accepts"), std::string::npos) << master_why;
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0) << "nothing read";
+    fs::remove(dir / "big.k");
+  }
   // A tree that only fans out a little reads as before.
   std::ofstream(dir / "small.k") << "*KEYWORD\n*INCLUDE\nlevel7.k\nlevel7.k\n";
   EXPECT_EQ(config::read_keyword_file((dir / "small.k").string(), true).size(), 1u + 2u * (1u + 10u * 2u))

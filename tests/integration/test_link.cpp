@@ -345,8 +345,10 @@ TEST(Strangers, NoStrangerEndsAWaitingSessionAndTheRealHostIsServed) {
 }
 
 // A connection flood from loopback: more than 1000 connections a second for
-// 10 s, each left silent or holding a partial HELLO (the first 12 bytes of a
-// header), 500 of them open at any time. The real host, arriving 3 s into the
+// 10 s, each left silent, holding a partial HELLO (the first 12 bytes of a
+// header), or sending a whole valid HELLO (the table hash is public) and
+// then nothing (it is challenged and holds a slot), 500 of them open at any
+// time. The real host, arriving 3 s into the
 // flood, must be served (connected, authenticated, stepped) within 2 s: the
 // server never stops accepting, and new connections evict the oldest ones
 // that have sent no valid HELLO. A second host after the flood ends the
@@ -363,6 +365,10 @@ TEST(Strangers, TheRealHostIsServedWithinTwoSecondsUnderAConnectionFlood) {
     pcs_header hh{PCS_MAGIC, PCS_PROTOCOL_VERSION, PCS_MSG_HELLO, 0, 64};
     uint8_t head[PCS_HEADER_SIZE];
     pcs_encode_header(&hh, head);
+    const config::PortTable t = scene_table();
+    pcs_hello valid{PCS_PROTOCOL_VERSION, t.hash(), t.dt, static_cast<uint32_t>(t.subcycles), {}};
+    uint8_t hello[256];
+    const int hello_size = pcs_encode_hello(&valid, hello, sizeof hello);
     const auto t0 = std::chrono::steady_clock::now();
     for (long i = 0; !stop; ++i) {
       // Connection i at t0 + i × 0.9 ms: a little over 1100 a second.
@@ -375,6 +381,7 @@ TEST(Strangers, TheRealHostIsServedWithinTwoSecondsUnderAConnectionFlood) {
       if (sl_connect("127.0.0.1", server.port, sl_now_ms() + 200, &s) != SL_OK) continue;
       ++connects;
       if (i % 3 == 0) sl_send_all(&s, head, 12, sl_now_ms() + 100);
+      if (i % 3 == 1) pcs_send_frame(&s, PCS_MSG_HELLO, 0, hello, static_cast<uint32_t>(hello_size), sl_now_ms() + 100);
       open_ones.push_back(s);
       if (open_ones.size() > 500) {
         sl_close(&open_ones.front());

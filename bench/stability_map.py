@@ -60,6 +60,16 @@ def cavitates(m, V):
     return BETA * AREA * KICK / (V * omega(m, V)) > P0
 
 
+# fe_server's guard (coupling_advice.hpp): a TLM port whose ω·T, from the
+# host's Zc = β·T/V on the port's mass and area, exceeds this is refused.
+GUARD_OMEGA_T = math.sqrt(0.10 / 0.2)
+
+
+def fe_omega_t(m, V, T):
+    """ω·T as fe_server's guard sees it: A·T·sqrt(β/(V·m)) (the spring aside)."""
+    return AREA * T * math.sqrt(BETA / (V * m))
+
+
 def fe_stable_step(m):
     """The FE side's own limit (the spring on the piston), × TSSFAC 0.9."""
     return 0.9 * 2.0 / math.sqrt(SPRING / m)
@@ -91,7 +101,8 @@ class Runner:
             with open(d / "fe.log", "w") as fe_log:
                 server = subprocess.Popen([self.fe_server, "--model", "piston.k", "--ports", "ports.cfg",
                                            "--listen", "127.0.0.1:0", "--port-file", "port",
-                                           "--out", "fe.h5", "--accept-timeout", "30"], cwd=d, stdout=fe_log, env=env,
+                                           "--out", "fe.h5", "--accept-timeout", "30", "--allow-coarse-coupling",
+                                          "--accept-energy-error"], cwd=d, stdout=fe_log, env=env,
                                           stderr=subprocess.STDOUT)
             try:
                 for _ in range(600):
@@ -110,18 +121,25 @@ class Runner:
                     server.kill()
             log_text = (d / "fe.log").read_text()
             est = re.search(r"coupling estimate.*", log_text)
-            # Exit 8 with the host done: fe_server finished but judged its energy
-            # account far off (at ω·T ≫ 1 the step is far too coarse for it);
-            # the swing still tells whether the loop is stable.
-            energy_flag = code == 8
-            if host.returncode != 0 or code not in (0, 8):
+            # The map looks beyond fe_server's guards (--allow-coarse-coupling,
+            # --accept-energy-error): it measures where they must stand. The
+            # energy verdict is read from the warning the waived check prints.
+            energy_flag = "accepted by --accept-energy-error" in log_text
+            if host.returncode != 0 or code != 0:
                 return False, float("nan"), est.group(0) if est else "", energy_flag
             with h5py.File(d / "fe.h5") as f:
                 t, uz = f["time"][:], f["ports/cavity.x"][:]
             n = len(uz)
             if n < 8 or not np.all(np.isfinite(uz)):
                 return False, float("nan"), est.group(0) if est else "", energy_flag
-            stable = np.ptp(uz[-n // 4:]) <= growth * np.ptp(uz[: n // 4])
+            first, last = uz[: n // 4], uz[-n // 4:]
+            bounded = np.ptp(last) <= growth * np.ptp(first)
+            # A bounded swing is not yet a right answer: the ω·T = 529 run
+            # swung boundedly about a centre that drifted to −66 mm against a
+            # 1 µm amplitude. Stable means right: the centre moves by less
+            # than the first quarter's swing, and the energy account holds.
+            drift_ok = abs(np.mean(last) - np.mean(first)) <= np.ptp(first)
+            stable = bounded and drift_ok and not energy_flag
             return bool(stable), frequency(t, uz), est.group(0) if est else "", energy_flag
         finally:
             shutil.rmtree(d, ignore_errors=True)

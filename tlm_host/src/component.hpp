@@ -101,6 +101,9 @@ class Component {
   // True if a step waits on another process (an FMU's fmi2DoStep): several
   // such Q components are stepped concurrently (PeerGroup).
   virtual bool waits_on_peer() const { return false; }
+  // Why the host's time step `dt` cannot drive this component ("" if it can):
+  // checked before step 1, so a mismatch is refused rather than simulated.
+  virtual std::string step_mismatch(double /*dt*/) const { return ""; }
 
  protected:
   Port& add_port(const std::string& port_name, Kind side, bool mechanical = false);

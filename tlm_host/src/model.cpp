@@ -135,6 +135,7 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
     auto comp = component_types().at(cs.type)(cs.name);
     comp->configure(cs.params);
     cs.params.check_all_used(cs.name);
+    if (const std::string why = comp->step_mismatch(spec_.dt); !why.empty()) throw InputError(cs.params.where(), why);
     switch (comp->kind()) {
       case Kind::Signal: signal_.push_back(comp.get()); break;
       case Kind::C: c_type_.push_back(comp.get()); break;

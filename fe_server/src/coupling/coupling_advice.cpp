@@ -17,6 +17,7 @@ std::vector<PortStability> coupling_stability(const Model& model, const config::
     if (!port) continue;
     PortStability s;
     s.label = port->label;
+    s.port_id = ls.port_id;
     std::set<int> nodes;
     Vec3 area = Vec3::Zero();
     for (const auto& seg : model.segment_sets.at(ls.segment_set)) {

@@ -17,6 +17,7 @@
 // smallest chamber volume per port (at a stated β).
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@ namespace fe {
 
 struct PortStability {
   std::string label;
+  int port_id = 0;
   double mass = 0.0;            // kg moving with the port's surface (its rigid body, else its nodes)
   double area = 0.0;            // m², the surface's area (bounds ignored)
   double v_min_pressure = 0.0;  // m³, smallest chamber for ω·T ≤ 1 in pressure coupling
@@ -36,6 +38,12 @@ struct PortStability {
 // Frequency error of TLM coupling per (ω·T)², measured on the stability map
 // (bench/RESULTS.md): |Δf/f| ≈ kTlmErrorPerOmegaT2·(ω·T)².
 constexpr double kTlmErrorPerOmegaT2 = 0.2;
+// The largest ω·T a TLM port may run at without --allow-coarse-coupling:
+// where the estimate above reaches a 10 % frequency error (ω·T ≈ 0.71).
+// Beyond it the step is no longer a model of the chamber (ω·T = 529 drifted
+// to −66 mm against a 1 µm amplitude, exit 0, before this guard).
+constexpr double kMaxTlmFrequencyError = 0.10;
+inline double max_tlm_omega_t() { return std::sqrt(kMaxTlmFrequencyError / kTlmErrorPerOmegaT2); }
 
 // Per hydraulic port of the table, at bulk modulus beta.
 std::vector<PortStability> coupling_stability(const Model& model, const config::PortTable& table, double beta);

@@ -94,6 +94,42 @@ void PortMap::apply_inputs(const std::vector<double>& in) {
   substeps_ = 0;
 }
 
+void PortMap::set_coupling_guard(const std::vector<PortStability>& ports, double T, bool allow) {
+  guard_.assign(load_.slot_count(), Guard{});
+  guard_T_ = T;
+  if (allow) return;
+  for (const auto& p : ports) {
+    const int slot = load_.slot_of_port(p.port_id);
+    if (slot < 0 || !(p.mass > 0.0) || !(p.area > 0.0)) continue;
+    guard_[static_cast<size_t>(slot)] = Guard{p.label, p.mass, p.area, -1.0};
+  }
+}
+
+std::string PortMap::check_coupling() {
+  for (size_t slot = 0; slot < guard_.size(); ++slot) {
+    Guard& g = guard_[slot];
+    if (!tlm_[slot] || g.mass == 0.0 || impedance_[slot] == g.checked_zc) continue;
+    g.checked_zc = impedance_[slot];
+    const double zc = impedance_[slot], T = guard_T_;
+    const double omega_t = g.area * std::sqrt(std::max(zc, 0.0) * T / g.mass);
+    if (omega_t <= max_tlm_omega_t()) continue;
+    // A chamber's Zc = β·T/V grows with T, so ω·T is proportional to T: the
+    // largest step that passes, and the chamber that would at this step.
+    const double t_max = T * max_tlm_omega_t() / omega_t;
+    char msg[900];
+    std::snprintf(msg, sizeof msg,
+                  "TLM port %s is coupled far too coarsely for its chamber: Zc = %.4g Pa·s/m³ from the host on %.4g kg "
+                  "behind %.4g cm² gives ω·T = %.3g at the coupling step %g s, beyond %.2f, where the frequency error "
+                  "estimate k·(ω·T)² (k = %g) reaches %.0f %%. Lower the coupling step (timestep in the port table and "
+                  "the host's) to at most %.3g s, or enlarge the chamber %.3g times (Zc = β·T/V); "
+                  "fe_server --allow-coarse-coupling runs it anyway",
+                  g.label.c_str(), zc, g.mass, g.area * 1e4, omega_t, T, max_tlm_omega_t(), kTlmErrorPerOmegaT2,
+                  100.0 * kMaxTlmFrequencyError, t_max, (omega_t / max_tlm_omega_t()) * (omega_t / max_tlm_omega_t()));
+    return msg;
+  }
+  return "";
+}
+
 void PortMap::accumulate(const Solver& s) {
   for (size_t slot = 0; slot < flow_sum_.size(); ++slot) {
     flow_sum_[slot] += load_.step_flow(static_cast<int>(slot), s.v_live());
@@ -705,8 +741,13 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHis
       return kExitLinkLost;
     }
 
-    tell_ranks(kCommandStep, 0.0, in);
     ports.apply_inputs(in);
+    if (const std::string why = ports.check_coupling(); !why.empty()) {  // before the other ranks step
+      message = "at coupling step " + std::to_string(expected) + ": " + why;
+      abort_all(expected, SL_EUNEXPECTED, message);
+      return kExitInput;
+    }
+    tell_ranks(kCommandStep, 0.0, in);
     // Heartbeats keep the host's deadline from expiring during a long step.
     const double beat = std::min(1.0, 0.25 * timeout_);
     auto last_beat = std::chrono::steady_clock::now();

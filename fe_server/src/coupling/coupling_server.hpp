@@ -15,6 +15,7 @@
 
 #include "loads/cavity_load.hpp"
 #include "config/port_table.hpp"
+#include "coupling/coupling_advice.hpp"
 #include "coupling/exit_codes.hpp"
 #include "output/history.hpp"
 #include "loads/mechanical_load.hpp"
@@ -56,6 +57,13 @@ class PortMap {
   void apply_inputs(const std::vector<double>& in);
   void accumulate(const Solver& s);
   void measure_outputs(const Solver& s, std::vector<double>& out);
+  // The TLM ports' accuracy guard: at coupling step T the FE side sees the
+  // host's chamber as the stiffness A²·Zc/T on the port's mass m, so
+  // ω·T = A·sqrt(Zc·T/m) (coupling_advice.hpp). check_coupling() returns why
+  // the impedances just applied put a port beyond kMaxTlmOmegaT ("" if none
+  // does, or if `allow`), looking again only when a port's Zc changed.
+  void set_coupling_guard(const std::vector<PortStability>& ports, double T, bool allow);
+  std::string check_coupling();
 
  private:
   const config::PortTable& table_;
@@ -67,6 +75,12 @@ class PortMap {
   std::vector<char> tlm_;                        // per slot: wave/impedance given this step
   std::vector<double> flow_sum_, pressure_sum_;  // per slot, over the sub-steps
   int substeps_ = 0;
+  struct Guard {
+    std::string label;
+    double mass = 0.0, area = 0.0, checked_zc = -1.0;
+  };
+  std::vector<Guard> guard_;  // per slot (mass 0: not guarded)
+  double guard_T_ = 0.0;
 };
 
 class CouplingServer {

@@ -19,6 +19,8 @@ enum ExitCode : int {
   kExitInternal = 9,       // anything else (a bug: please report)
   kExitCheckpointed = 10,  // the host stopped the session right after both sides checkpointed
                            // (--restart continues it)
+  kExitEnergy = 11,        // finished, but the energy account is beyond its bound: the results
+                           // are kept and not to be trusted (--accept-energy-error waives it)
   kExitStopped = 128,      // + the signal's number: stopped by SIGINT (130), SIGTERM (143) or
                            // SIGHUP (129), results flushed and the host told
 };

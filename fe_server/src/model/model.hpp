@@ -279,6 +279,10 @@ struct DynamicRelaxation {
 struct Model {
   std::string title;
   std::string source;
+  // Written on the results' root group: every check the user waived
+  // (--accept-energy-error, --allow-coarse-coupling) and every substitution
+  // --approximate allowed, so a result says how far it can be trusted.
+  std::map<std::string, std::string> run_attributes;
   // The axis of the bodies of revolution: z (2) in 3D decks, y (1) in a 2D
   // axisymmetric deck (LS-DYNA's convention). Cavity bounds, mechanical port
   // forces and their displacements are along it.

@@ -28,6 +28,7 @@ History::History(const std::string& path, const Model& model, const config::Port
   writer_.set_attribute("producer", "fe_server");
   writer_.set_attribute("deck", model.source);
   writer_.set_attribute("title", model.title);
+  for (const auto& [name, value] : model.run_attributes) writer_.set_attribute(name, value);
   const double global = model.history_dt_global > 0.0 ? model.history_dt_global : default_interval;
   every_[0] = steps_per_row(global, fe_dt);
   every_[1] = steps_per_row(model.history_dt_nodes > 0.0 ? model.history_dt_nodes : global, fe_dt);

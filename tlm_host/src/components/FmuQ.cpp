@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdio>
 #include <set>
 
 namespace tlm {
@@ -158,6 +160,22 @@ void FmuQ::initialize(double dt) {
   send_inputs();
   if (resume_step_ >= 0) fmu_->resume(static_cast<unsigned long long>(resume_step_));
   fmu_->exit_initialization();  // connects to fe_server (RESUME on a restart)
+}
+
+std::string FmuQ::step_mismatch(double dt) const {
+  const auto& md = archive_->description();
+  const double coupling = md.default_step;
+  // Only ours: another FMU's stepSize is a suggestion, not its clock.
+  if (!md.find("server.port") || !(coupling > 0.0)) return "";
+  if (std::fabs(dt - coupling) <= 1e-9 * coupling) return "";
+  char msg[700];
+  std::snprintf(msg, sizeof msg,
+                "%s: the host's time step %g s is not the FMU's coupling step %g s (its stepSize, the port table's "
+                "'timestep'): the host would hold fe_server's inputs over %.6g coupling steps while its TLM lines "
+                "assume a delay of one host step. Set *SIMULATION 'timestep, %g' (or --set simulation.timestep=%g), or "
+                "generate the FMU from a port table with 'timestep, %g'",
+                name_.c_str(), dt, coupling, dt / coupling, coupling, coupling, dt);
+  return msg;
 }
 
 void FmuQ::send_inputs() {

@@ -38,6 +38,12 @@ class FmuQ : public Component {
   void finalize() override;
   void log_variables(std::vector<LogVariable>& out) override;
   bool waits_on_peer() const override { return true; }
+  // Our FMUs exchange once per coupling step (their DefaultExperiment
+  // stepSize, the port table's timestep): a host stepping at another step
+  // would hold the FE side's inputs over many coupling steps while its TLM
+  // lines assume the host's delay (the one-DOF scene at a host step of 1 ms
+  // and a coupling step of 10 µs ended 1.5e19 m away, exit 0).
+  std::string step_mismatch(double dt) const override;
 
  private:
   struct HydraulicPort {

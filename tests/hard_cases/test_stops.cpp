@@ -1,0 +1,135 @@
+// Hard cases that once ended with exit 0 and a wrong answer (issue 32), run
+// as a user runs them: whole processes on loopback. Each must now end with
+// its named stop, exit code and a message that says what to change; where a
+// flag waives the check, the results say so.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "h5io/timeseries.hpp"
+#include "process.hpp"
+
+using testing_support::ChildProcess;
+using testing_support::TempDir;
+
+namespace {
+
+const std::string kOneDof = PCS_SCENES_DIR "/one_dof";
+const std::string kOneDofTlm = PCS_SCENES_DIR "/one_dof_tlm";
+constexpr double kTimeout = 60.0;
+
+std::string read(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+std::string num(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+
+void expect_words(const std::string& text, const std::vector<std::string>& words) {
+  for (const auto& w : words) EXPECT_NE(text.find(w), std::string::npos) << "missing '" << w << "' in\n" << text;
+}
+
+struct Outcome {
+  int server = 0, host = 0;
+  std::string server_log, host_log;
+};
+
+// The one-DOF scene with the piston's mass m, coupled by the port table
+// `ports` (its timestep and subcycles replaced), the host's chamber V and
+// step T, for `stop` seconds.
+Outcome one_dof(const TempDir& dir, const std::string& ports, double m, double T, int subcycles, double V, double stop,
+            const std::vector<std::string>& server_extra = {}) {
+  std::string deck = read(kOneDof + "/piston.k");
+  const std::string with_mass = std::regex_replace(deck, std::regex("\n1, 5, 5\\.0\n"), "\n1, 5, " + num(m) + "\n");
+  EXPECT_NE(with_mass, deck) << "the one-DOF deck's rigid body line changed";
+  std::ofstream(dir.file("piston.k")) << with_mass;
+  std::string table = read(ports);
+  table = std::regex_replace(table, std::regex("\ntimestep,[^\n]*"), "\ntimestep, " + num(T));
+  table = std::regex_replace(table, std::regex("\nsubcycles,[^\n]*"), "\nsubcycles, " + std::to_string(subcycles));
+  std::ofstream(dir.file("ports.cfg")) << table;
+  ChildProcess gen({PCS_FMUGEN_EXE, dir.file("ports.cfg"), "-o", dir.file("m.fmu")});
+  EXPECT_EQ(gen.wait(kTimeout), 0) << gen.output();
+  std::vector<std::string> s{PCS_FE_SERVER_EXE, "--model", dir.file("piston.k"), "--ports", dir.file("ports.cfg"),
+                             "--listen", "127.0.0.1:0", "--port-file", dir.file("port"), "--out", dir.file("fe.h5"),
+                             "--accept-timeout", "30"};
+  s.insert(s.end(), server_extra.begin(), server_extra.end());
+  std::remove(dir.file("port").c_str());  // the last run's
+  ChildProcess server(s);
+  const int port = testing_support::read_port_file(dir.file("port"), 30.0);
+  EXPECT_GT(port, 0) << server.output();
+  ChildProcess host({PCS_TLM_HOST_EXE, kOneDof + "/model.tlm", "--fmu", dir.file("m.fmu"), "--server",
+                     "127.0.0.1:" + std::to_string(port), "--set", "orifice.A=1e-12", "--set",
+                     "chamber.V=" + num(V), "--set", "simulation.timestep=" + num(T), "--set",
+                     "simulation.stoptime=" + num(stop), "--out", dir.file("h.h5"), "--quiet"});
+  Outcome r;
+  r.host = host.wait(kTimeout);
+  r.server = server.wait(kTimeout);
+  r.host_log = host.output();
+  r.server_log = server.output();
+  return r;
+}
+
+}  // namespace
+
+// The issue's first case: host step 1 ms, the FMU's coupling step 10 µs. The
+// host exchanged once per host step, holding fe_server's inputs over 100
+// coupling steps: the piston ended 1.5e19 m away, exit 0 on both sides.
+// Refused before step 1, no server needed (a mutant without the check
+// fails here with exit 4: no server to connect to).
+TEST(Stops, AHostStepThatIsNotTheFmusCouplingStepIsRefusedBeforeStepOne) {
+  TempDir dir;
+  ChildProcess host({PCS_TLM_HOST_EXE, kOneDof + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--set",
+                     "simulation.timestep=1e-3", "--out", dir.file("h.h5"), "--quiet"});
+  EXPECT_EQ(host.wait(kTimeout), 3) << host.output();
+  expect_words(host.output(), {"model.tlm:", "piston: the host's time step 0.001 s is not the FMU's coupling step 1e-05 s",
+                               "over 100 coupling steps", "'timestep, 1e-05'"});
+}
+
+// 0.05 kg on a 0.1 cm³ chamber through 10 cm², TLM coupling at T = 1 ms:
+// ω·T = A·T·sqrt(β/(V·m)) = 529. It drifted to −66 mm against a physical
+// amplitude of about 1 µm, with a 92.6 % energy error and exit 0. Now fe_server
+// refuses it at step 0 from the host's Zc, naming the largest step that
+// passes: T·0.707/529 = 1.34 µs.
+TEST(Stops, ATlmStepFarTooCoarseForItsChamberIsRefusedAtStepZero) {
+  TempDir dir;
+  const Outcome r = one_dof(dir, kOneDofTlm + "/ports.cfg", 0.05, 1e-3, 1000, 1e-7, 0.5);
+  EXPECT_EQ(r.server, 3) << r.server_log;
+  EXPECT_EQ(r.host, 4) << r.host_log;
+  expect_words(r.server_log, {"at coupling step 0: TLM port cavity is coupled far too coarsely", "ω·T = 529",
+                              "at most 1.34e-06 s", "--allow-coarse-coupling"});
+  expect_words(r.host_log, {"ω·T = 529"});  // the host is told why
+}
+
+// The same run with the guard waived still cannot pass as right: its energy
+// account is beyond the bound (9.8 % of the largest energy, bound 1 %), which
+// ends fe_server with its own code, 11. Waived too, it ends with 0, and
+// the results carry both flags.
+TEST(Stops, AnEnergyAccountBeyondItsBoundEndsWithElevenUnlessWaivedAndTheResultsSaySo) {
+  TempDir dir;
+  Outcome r = one_dof(dir, kOneDofTlm + "/ports.cfg", 0.05, 1e-3, 1000, 1e-7, 0.5, {"--allow-coarse-coupling"});
+  EXPECT_EQ(r.host, 0) << r.host_log;
+  EXPECT_EQ(r.server, 11) << r.server_log;
+  expect_words(r.server_log, {"error: the energy balance error", "is beyond its bound", "--accept-energy-error"});
+  r = one_dof(dir, kOneDofTlm + "/ports.cfg", 0.05, 1e-3, 1000, 1e-7, 0.5,
+              {"--allow-coarse-coupling", "--accept-energy-error"});
+  EXPECT_EQ(r.server, 0) << r.server_log;
+  expect_words(r.server_log, {"warning: the energy balance error", "accepted by --accept-energy-error"});
+  EXPECT_NE(h5io::read_attribute(dir.file("fe.h5"), "accept_energy_error").find("waived"), std::string::npos);
+  EXPECT_NE(h5io::read_attribute(dir.file("fe.h5"), "allow_coarse_coupling").find("0.707"), std::string::npos);
+  // An unwaived run writes neither attribute.
+  r = one_dof(dir, kOneDofTlm + "/ports.cfg", 5.0, 1e-5, 10, 1e-4, 0.05);
+  EXPECT_EQ(r.server, 0) << r.server_log;
+  EXPECT_EQ(r.host, 0) << r.host_log;
+  EXPECT_EQ(h5io::read_attribute(dir.file("fe.h5"), "accept_energy_error"), "");
+}

@@ -142,9 +142,16 @@ TEST(HardCase, ATinyChamberMakingTheFluidStiffAgainstThePistonIsForetoldAndStops
   EXPECT_NE(server.wait(30.0), 0);
   const std::string fe = server.output(), h = host.output();
   EXPECT_NE(fe.find("needs a chamber of at least 0.028 cm³"), std::string::npos) << fe;
-  const size_t at = fe.find("no longer finite");
+  // The run-quality guard stops it: the piston more than the model's size
+  // outside its initial box (32 coupling steps in), or, had it stayed
+  // near, its state no longer finite.
+  EXPECT_TRUE(fe.find("outside the model's initial bounding box") != std::string::npos ||
+              fe.find("no longer finite") != std::string::npos)
+      << fe;
+  const std::string tag = "the FE step failed at coupling step ";
+  const size_t at = fe.find(tag);
   ASSERT_NE(at, std::string::npos) << fe;
-  const std::string step = fe.substr(fe.find("step ", at) + 5, fe.find(" (", at) - fe.find("step ", at) - 5);
+  const std::string step = fe.substr(at + tag.size(), fe.find(':', at) - at - tag.size());
   EXPECT_NE(h.find("at step " + step), std::string::npos) << "host and server name the same step " << step << "\n" << h;
   // What was written is kept, and it is finite.
   const auto x = h5io::read_series(dir.file("host.h5"), "time");
@@ -155,13 +162,16 @@ TEST(HardCase, ATinyChamberMakingTheFluidStiffAgainstThePistonIsForetoldAndStops
 // The same tiny chamber under TLM coupling (issue 16): the FE side solves
 // its port implicitly, so the loop stays bounded at ω·T = 1.7 where pressure
 // coupling diverges (the case above); fe_server says so before the run.
+// Bounded is not accurate: at ω·T = 1.7 the frequency is off by about 30 %,
+// so by default fe_server refuses the port at step 0 (Stops.*); the loop's
+// stability is measured here with the guard waived.
 TEST(HardCase, ATinyChamberUnderTlmCouplingStaysBounded) {
   testing_support::TempDir dir;
   const std::string scene = PCS_SCENES_DIR "/one_dof";
   testing_support::ChildProcess server({PCS_FE_SERVER_EXE, "--model", scene + "/piston.k", "--ports",
                                         PCS_SCENES_DIR "/one_dof_tlm/ports.cfg", "--listen", "127.0.0.1:0",
                                         "--port-file", dir.file("port"), "--out", dir.file("fe.h5"),
-                                        "--accept-timeout", "20"});
+                                        "--accept-timeout", "20", "--allow-coarse-coupling"});
   const int port = testing_support::read_port_file(dir.file("port"), 10.0);
   ASSERT_GT(port, 0) << server.output();
   testing_support::ChildProcess host({PCS_TLM_HOST_EXE, scene + "/model.tlm", "--fmu", PCS_ONE_DOF_TLM_FMU,

@@ -182,6 +182,11 @@ Solver::Solver(const Model& model, double dt, const Domain& domain, const Partit
       (!part_.serial() && (part_.solid.size() != model.solids.size() || part_.axi.size() != model.axis.size() ||
                            part_.bar.size() != model.bars.size())))
     throw std::logic_error("Solver: the partition is not one of this model on these ranks");
+  if (!model.x0.empty()) {
+    box_lo_ = box_hi_ = model.x0.front();
+    for (const Vec3& x : model.x0) box_lo_ = box_lo_.cwiseMin(x), box_hi_ = box_hi_.cwiseMax(x);
+    box_size_ = (box_hi_ - box_lo_).norm();
+  }
   const StableStep crit = stable_dt(model);
   // 1e-12 relative: mass scaling sets the density for exactly dt = TSSFAC·Δt_e,
   // and the round-off of that density must not refuse its own step.
@@ -711,8 +716,15 @@ void Solver::internal_forces() {
     axi4_forces(m_, axi4_, x_, v_, dt_, f_int_, w, pool_.get());
   } catch (const InvertedElement& e) {
     std::ostringstream s;
-    s << e.element << " inverted at t = " << t_ << " s, step " << n_ << " (" << e.measure
-      << "): the mesh is too coarse for this deformation, or the step is too large";
+    // A volume that is not a number is a state gone non-finite (a load or a
+    // velocity of the last step), not a crushed element: named as such.
+    const std::string first = first_non_finite();
+    if (!first.empty() && first.find("another rank") == std::string::npos)
+      s << "the FE state is no longer finite at t = " << t_ << " s, step " << n_ << " (" << e.element << ": "
+        << e.measure << first << "): check the loads (in a co-simulation, the host's values) and the step";
+    else
+      s << e.element << " inverted at t = " << t_ << " s, step " << n_ << " (" << e.measure
+        << "): the mesh is too coarse for this deformation, or the step is too large";
     error = s.str();
   }
   if (dom_.parallel())
@@ -1219,10 +1231,54 @@ void Solver::energy_account() {
   if (!std::isfinite(total)) {
     std::ostringstream s;
     s << "the FE state is no longer finite at t = " << t_ << " s, step " << n_ << " (kinetic energy " << e.kinetic
-      << " J): the step is unstable for this model; lower the time step or check the loads (in a co-simulation, "
+      << " J" << first_non_finite()
+      << "): the step is unstable for this model; lower the time step or check the loads (in a co-simulation, "
          "compare the chamber volumes with the coupling estimate fe_server printed before the run)";
     throw std::runtime_error(s.str());
   }
+  if (n_ % kBoxCheckEvery == 0) check_state();
+}
+
+// Only on the way out: which node went first, in the order of the deck.
+std::string Solver::first_non_finite() const {
+  // The state before what is derived from it: a NaN position spreads to
+  // its elements' forces within the same pass.
+  const std::pair<const char*, const std::vector<Vec3>*> quantities[] = {
+      {"position", &x_}, {"velocity", &v_}, {"load", &f_ext_}, {"internal force", &f_int_}};
+  for (const auto& [what, values] : quantities)
+    for (size_t i = 0; i < values->size(); ++i)
+      if (!(*values)[i].allFinite()) {
+        std::ostringstream s;
+        s << "; first not finite: the " << what << " of node " << m_.node_ids[i];
+        return s.str();
+      }
+  return dom_.parallel() ? "; the first node not finite is on another rank" : "";
+}
+
+// A node that left the model's neighbourhood: a pass-through at an impact,
+// an unconstrained body, units that do not fit. Far outside (more than the
+// box's diagonal beyond the initial bounding box) is never a right answer
+// for the bodies of a percussion unit; the run stops naming the node.
+void Solver::check_state() const {
+  if (box_size_ == 0.0) return;  // one node: no size to compare with
+  size_t far = x_.size();
+  double worst = 0.0;
+  for (size_t i = 0; i < x_.size(); ++i) {
+    const Vec3 out = (x_[i] - box_hi_).cwiseMax(box_lo_ - x_[i]).cwiseMax(0.0);
+    const double d = out.norm();
+    if (d > box_size_ && d > worst) worst = d, far = i;
+  }
+  if (!dom_.any(far < x_.size())) return;
+  std::ostringstream s;
+  s << "at t = " << t_ << " s, step " << n_ << ": ";
+  if (far < x_.size())
+    s << "node " << m_.node_ids[far] << " is " << worst << " outside the model's initial bounding box (["
+      << box_lo_.transpose() << "] to [" << box_hi_.transpose() << "]), more than the box's diagonal " << box_size_;
+  else
+    s << "a node on another rank is farther outside the model's initial bounding box than its diagonal " << box_size_;
+  s << ": a body passed through another (contact), flew off unconstrained, or the deck's units do not fit "
+       "(check contacts, boundary conditions and units)";
+  throw std::runtime_error(s.str());
 }
 
 void Solver::step() {

@@ -350,6 +350,14 @@ class Solver {
   mutable bool contact_force_stale_ = false;
   Energies energies_;
   double energy0_ = 0.0;
+  // The run-quality guard (the end of every step, solver.cpp): what is not
+  // finite, named by node; a node farther outside the initial bounding box
+  // than the box's diagonal (every kBoxCheckEvery steps, agreed by all ranks).
+  void check_state() const;
+  std::string first_non_finite() const;
+  static constexpr long kBoxCheckEvery = 32;
+  Vec3 box_lo_ = Vec3::Zero(), box_hi_ = Vec3::Zero();
+  double box_size_ = 0.0;
   // Across ranks (see the top of this file). sharers_[i]: the ranks that
   // hold node i, ascending ({0} for a node no element touches).
   void plan_ranks(const std::vector<char>& global);

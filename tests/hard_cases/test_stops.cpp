@@ -133,3 +133,56 @@ TEST(Stops, AnEnergyAccountBeyondItsBoundEndsWithElevenUnlessWaivedAndTheResults
   EXPECT_EQ(r.host, 0) << r.host_log;
   EXPECT_EQ(h5io::read_attribute(dir.file("fe.h5"), "accept_energy_error"), "");
 }
+
+namespace {
+
+Outcome host_alone(const TempDir& dir, const std::string& model) {
+  std::ofstream(dir.file("m.tlm")) << model;
+  ChildProcess host({PCS_TLM_HOST_EXE, dir.file("m.tlm"), "--out", dir.file("h.h5"), "--quiet"});
+  Outcome r;
+  r.host = host.wait(kTimeout);
+  r.host_log = host.output();
+  return r;
+}
+
+const char* kLineCircuit =
+    "*SIMULATION\ntimestep, 1e-5\nstoptime, 0.01\n*COMPONENT\n"
+    "supply, PressureSourceC, p=SUPPLY\n"
+    "orifice, HydraulicTurbulentOrificeQ, Cd=0.65, A=1e-6, rho=870\n"
+    "line, LosslessLineC, Zc=1e9, delay=1e-4, p0=LINE_P0\n"
+    "valve, HydraulicTurbulentOrificeQ, Cd=0.65, A=1e-7, rho=870\n"
+    "tank, PressureSourceC, p=1e5\n"
+    "*CONNECT\nsupply.P1, orifice.P1\norifice.P2, line.P1\nline.P2, valve.P1\nvalve.P2, tank.P1\n";
+
+std::string circuit(const std::string& supply, const std::string& line_p0) {
+  std::string m = kLineCircuit;
+  m.replace(m.find("SUPPLY"), 6, supply);
+  m.replace(m.find("LINE_P0"), 7, line_p0);
+  return m;
+}
+
+}  // namespace
+
+// A supply of 1e308 Pa wrote Inf in 1000 of 1001 rows with exit 0. A
+// physical parameter outside its plausible range (SI units) is now refused
+// at its line; so is a volume in cm³ written as m³.
+TEST(Stops, AParameterOutsideItsPlausibleRangeIsRefusedAtItsLine) {
+  TempDir dir;
+  Outcome r = host_alone(dir, circuit("1e308", "1e5"));
+  EXPECT_EQ(r.host, 3) << r.host_log;
+  expect_words(r.host_log, {"m.tlm:5: parameter p = 1e308 is outside the plausible range of a pressure, -100000 to 1e+09 Pa"});
+  r = host_alone(dir, "*SIMULATION\ntimestep, 1e-5\nstoptime, 0.01\n*COMPONENT\nv, HydraulicVolumeC, V=100, ports=1\n");
+  EXPECT_EQ(r.host, 3) << r.host_log;
+  expect_words(r.host_log, {"m.tlm:5: parameter V = 100 is outside the plausible range of a volume", "1 cm³ = 1e-6 m³"});
+  r = host_alone(dir, circuit("1e7", "1e5"));
+  EXPECT_EQ(r.host, 0) << r.host_log;  // the same circuit with 100 bar runs
+}
+
+// The guard's upper bound is 10 × the highest source or start pressure: a
+// line that starts at 500 bar in a 10 bar circuit is a start, not a blow-up
+// (the line's p0 counts as a source), and runs.
+TEST(Stops, AStartPressureAboveTheSupplyIsASourceNotABlowUp) {
+  TempDir dir;
+  const Outcome r = host_alone(dir, circuit("1e6", "5e7"));
+  EXPECT_EQ(r.host, 0) << r.host_log;
+}

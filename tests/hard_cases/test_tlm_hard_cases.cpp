@@ -142,30 +142,26 @@ TEST(HardCase, ATinyChamberMakingTheFluidStiffAgainstThePistonIsForetoldAndStops
   EXPECT_NE(server.wait(30.0), 0);
   const std::string fe = server.output(), h = host.output();
   EXPECT_NE(fe.find("needs a chamber of at least 0.028 cm³"), std::string::npos) << fe;
-  // The run-quality guard stops it: the piston more than the model's size
-  // outside its initial box (32 coupling steps in), or, had it stayed
-  // near, its state no longer finite.
-  EXPECT_TRUE(fe.find("outside the model's initial bounding box") != std::string::npos ||
-              fe.find("no longer finite") != std::string::npos)
-      << fe;
-  const std::string tag = "the FE step failed at coupling step ";
-  const size_t at = fe.find(tag);
-  ASSERT_NE(at, std::string::npos) << fe;
-  const std::string step = fe.substr(at + tag.size(), fe.find(':', at) - at - tag.size());
-  EXPECT_NE(h.find("at step " + step), std::string::npos) << "host and server name the same step " << step << "\n" << h;
+  // The host's run-quality guard stops it at the FMU's port, whose pressure
+  // swings far below −1 bar absolute (−133 bar by the first steps), naming
+  // node and step; fe_server is told and ends. (Before the guard fe_server
+  // found the state non-finite some steps later.)
+  EXPECT_NE(h.find("the pressure at the FMU's port node chamber.P2 is "), std::string::npos) << h;
+  EXPECT_NE(h.find("at step "), std::string::npos) << h;
+  EXPECT_NE(fe.find("host aborted at step "), std::string::npos) << fe;
   // What was written is kept, and it is finite.
   const auto x = h5io::read_series(dir.file("host.h5"), "time");
-  EXPECT_GT(x.size(), 10u);
+  EXPECT_GE(x.size(), 2u);  // the start and the steps before the stop
   for (double v : h5io::read_series(dir.file("host.h5"), "nodes/chamber.P2/p")) ASSERT_TRUE(std::isfinite(v));
 }
 
 // The same tiny chamber under TLM coupling (issue 16): the FE side solves
-// its port implicitly, so the loop stays bounded at ω·T = 1.7 where pressure
-// coupling diverges (the case above); fe_server says so before the run.
-// Bounded is not accurate: at ω·T = 1.7 the frequency is off by about 30 %,
-// so by default fe_server refuses the port at step 0 (Stops.*); the loop's
-// stability is measured here with the guard waived.
-TEST(HardCase, ATinyChamberUnderTlmCouplingStaysBounded) {
+// its port implicitly, so the loop itself stays bounded at ω·T = 1.7 where
+// pressure coupling diverges (the case above). Bounded is not right: the
+// frequency is off by about 30 % and the port's pressure swings to −133 bar
+// absolute. fe_server refuses the port at step 0 (Stops.*); waived there,
+// the host's port guard stops it at its first step with the node's name.
+TEST(HardCase, ATinyChamberUnderTlmCouplingIsRefusedOrStoppedAtItsPort) {
   testing_support::TempDir dir;
   const std::string scene = PCS_SCENES_DIR "/one_dof";
   testing_support::ChildProcess server({PCS_FE_SERVER_EXE, "--model", scene + "/piston.k", "--ports",
@@ -178,19 +174,9 @@ TEST(HardCase, ATinyChamberUnderTlmCouplingStaysBounded) {
                                       "--server", "127.0.0.1:" + std::to_string(port), "--out", dir.file("host.h5"),
                                       "--quiet", "--set", "chamber.V=1e-8", "--set", "orifice.A=1e-12", "--set",
                                       "simulation.stoptime=0.04"});
-  ASSERT_EQ(host.wait(60.0), 0) << host.output();
-  ASSERT_EQ(server.wait(30.0), 0) << server.output();
-  EXPECT_NE(server.output().find("stable for any chamber"), std::string::npos) << server.output();
-  const auto x = h5io::read_series(dir.file("fe.h5"), "ports/cavity.x");
-  ASSERT_GT(x.size(), 3000u);
-  auto swing = [&](size_t from, size_t to) {
-    const auto [lo, hi] = std::minmax_element(x.begin() + static_cast<long>(from), x.begin() + static_cast<long>(to));
-    return *hi - *lo;
-  };
-  const size_t q = x.size() / 4;
-  const double first = swing(0, q), last = swing(3 * q, x.size());
-  ASSERT_GT(first, 0.0);
-  // The loop is lossless in the linear model (bench/coupling_loop_model.py);
-  // 1.1 is the growth the stability map calls unstable.
-  EXPECT_LE(last, 1.1 * first) << "swing " << first << " m, then " << last << " m";
+  EXPECT_EQ(host.wait(60.0), 4) << host.output();
+  EXPECT_EQ(server.wait(30.0), 7) << server.output();  // the host aborted
+  EXPECT_NE(host.output().find("the pressure at the FMU's port node chamber.P2 is -133"), std::string::npos)
+      << host.output();
+  for (double v : h5io::read_series(dir.file("host.h5"), "nodes/chamber.P2/p")) EXPECT_GE(v, -11e5) << "no row beyond the bound";
 }

@@ -1,5 +1,8 @@
 #include "component.hpp"
 
+#include <initializer_list>
+#include <sstream>
+
 #include <gsl/gsl_errno.h>
 
 #include <cmath>
@@ -24,11 +27,44 @@ void ParameterSet::set(const std::string& key, const std::string& value, const c
   values_[key] = Entry{value, where, false};
 }
 
+namespace {
+
+// Plausible ranges of the physical parameters, by their names across the
+// library (SI units): a value outside is a unit slip (bar or MPa for Pa,
+// cm³ for m³, g for kg) or a typo, refused where it is written. Wide on
+// purpose: a percussion unit's parameters sit orders of magnitude inside.
+struct Plausible {
+  const char* what;
+  double lo, hi;
+  const char* unit;
+  std::initializer_list<const char*> keys;
+};
+const Plausible kPlausible[] = {
+    {"pressure", -1e5, 1e9, "Pa (absolute; 1 bar = 1e5 Pa)",
+     {"p", "p0", "pa0", "p_init", "p1_0", "p2_0", "p_vap", "p_max", "p_crack", "p_h"}},
+    {"volume", 0.0, 10.0, "m³ (1 cm³ = 1e-6 m³)", {"V", "V0", "V_1", "V_2", "V_min", "V_dead"}},
+    {"mass", 0.0, 1e6, "kg", {"m", "m_tool", "m_l", "ML"}},
+    {"area", 0.0, 10.0, "m² (1 mm² = 1e-6 m²)", {"A", "A_1", "A_2", "A_s", "A_c", "A_A", "A_B", "Ap"}},
+    {"bulk modulus", 1e5, 1e12, "Pa (oil: about 1.4e9)", {"beta", "beta_e", "Beta_e"}},
+    {"density", 0.01, 1e5, "kg/m³ (oil: about 870)", {"rho"}},
+};
+
+}  // namespace
+
 double ParameterSet::real(const std::string& key, double fallback) {
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
   it->second.used = true;
-  return config::parse_real(it->second.value, it->second.where, "parameter " + key);
+  const double v = config::parse_real(it->second.value, it->second.where, "parameter " + key);
+  for (const auto& r : kPlausible)
+    for (const char* k : r.keys)
+      if (key == k && !(v >= r.lo && v <= r.hi)) {
+        std::ostringstream s;
+        s << "parameter " << key << " = " << it->second.value << " is outside the plausible range of a " << r.what
+          << ", " << r.lo << " to " << r.hi << " " << r.unit;
+        throw config::InputError(it->second.where, s.str());
+      }
+  return v;
 }
 
 double ParameterSet::real(const std::string& key) {

@@ -104,6 +104,11 @@ class Component {
   // Why the host's time step `dt` cannot drive this component ("" if it can):
   // checked before step 1, so a mismatch is refused rather than simulated.
   virtual std::string step_mismatch(double /*dt*/) const { return ""; }
+  // The highest pressure (Pa absolute) this component imposes or starts at:
+  // a pressure source its set value, a volume its start pressure. A
+  // component that can drive a node to any pressure (a flow source, a pump,
+  // an FMU) returns +inf: the run-quality guard then has no upper bound.
+  virtual double source_pressure() const { return 0.0; }
 
  protected:
   Port& add_port(const std::string& port_name, Kind side, bool mechanical = false);

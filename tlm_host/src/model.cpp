@@ -131,11 +131,14 @@ ModelSpec read_model(const std::string& path) {
 
 System::System(ModelSpec spec) : spec_(std::move(spec)) {
   spec_.check_simulation();
+  double sources = 1e5, unbounded = 0.0;  // the highest finite source (at least the atmosphere); any unbounded one
   for (auto& cs : spec_.components) {
     auto comp = component_types().at(cs.type)(cs.name);
     comp->configure(cs.params);
     cs.params.check_all_used(cs.name);
     if (const std::string why = comp->step_mismatch(spec_.dt); !why.empty()) throw InputError(cs.params.where(), why);
+    const double source = comp->source_pressure();
+    (source >= 1e300 ? unbounded : sources) = std::max(source >= 1e300 ? unbounded : sources, source);
     switch (comp->kind()) {
       case Kind::Signal: signal_.push_back(comp.get()); break;
       case Kind::C: c_type_.push_back(comp.get()); break;
@@ -143,6 +146,8 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
     }
     components_.push_back(std::move(comp));
   }
+  highest_pressure_ = unbounded > 0.0 ? 1e300 : kSourceFactor * sources;
+  lowest_port_pressure_ = kLowestPressure - kUndershoot * sources;
   auto component_of = [&](const std::string& ref, const config::SourceLocation& where) {
     size_t dot = ref.find('.');
     if (dot == std::string::npos) throw InputError(where, "'" + ref + "': expected COMPONENT.PORT");
@@ -207,6 +212,10 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
       if (!p.node)
         throw InputError(spec_.source.empty() ? config::SourceLocation{"model", 0} : config::SourceLocation{spec_.source, 1},
                          "port " + c->name() + "." + p.name + " is not connected (add it to *CONNECT)");
+  for (auto& c : components_)
+    if (dynamic_cast<FmuQ*>(c.get()))
+      for (auto& p : c->ports())
+        if (!p.node->mechanical) fmu_nodes_.insert(p.node);
 }
 
 System::~System() = default;
@@ -224,6 +233,35 @@ std::vector<std::string> System::stability_warnings(double dt) const {
     }
   }
   return out;
+}
+
+std::string System::check_nodes() const {
+  for (const auto& n : nodes_) {
+    const bool finite = std::isfinite(n->p) && std::isfinite(n->q) && std::isfinite(n->c) && std::isfinite(n->Zc) &&
+                        (!n->mechanical || std::isfinite(n->x));
+    const double lowest = fmu_nodes_.count(n.get()) ? lowest_port_pressure_ : -1e300;
+    if (finite && (n->mechanical || (n->p >= lowest && n->p <= highest_pressure_))) continue;
+    std::ostringstream s;
+    s.precision(4);
+    if (!finite) {
+      s << "node " << n->name << " is no longer finite (" << (n->mechanical ? "F = " : "p = ") << n->p
+        << (n->mechanical ? ", v = " : ", q = ") << n->q << ", c = " << n->c << ", Zc = " << n->Zc
+        << "): the step is unstable for this model; lower simulation.timestep or check the parameters";
+    } else if (n->p < lowest) {
+      s << "the pressure at the FMU's port node " << n->name << " is " << n->p / 1e5 << " bar absolute, below "
+        << lowest / 1e5 << " bar (−1 bar, less " << kUndershoot * 100
+        << " % of the highest source pressure for a cavitating chamber's undershoot), where no oil is liquid: the "
+           "coupling step is too coarse for the chamber (see fe_server's coupling estimate), or the port has no "
+           "volume to cavitate in";
+    } else {
+      s << "the pressure at node " << n->name << " is " << n->p / 1e5 << " bar, more than " << kSourceFactor
+        << " times the model's highest source or start pressure (" << highest_pressure_ / kSourceFactor / 1e5
+        << " bar): nothing in a circuit driven by these sources reaches it; the step is too coarse or a parameter "
+           "is off by a unit (Pa, not bar)";
+    }
+    return s.str();
+  }
+  return "";
 }
 
 Component* System::find(const std::string& name) {
@@ -452,6 +490,12 @@ void System::run(const std::string& out_path, bool progress) {
   std::vector<double> row(sources.size());
   auto record = [&] {
     for (size_t i = 0; i < sources.size(); ++i) row[i] = *sources[i];
+    // No row with a value that is not a number: the run stops at it instead
+    // (a component's own variable; the nodes are checked every step).
+    for (size_t i = 0; i < row.size(); ++i)
+      if (!std::isfinite(row[i]))
+        throw std::runtime_error("the result " + names[i] + " is no longer finite (" + std::to_string(row[i]) +
+                                 "): the step is unstable for this model or a parameter is out of its range");
     out.append(row);
     if (csv.is_open()) {
       for (size_t i = 0; i < csv_sources.size(); ++i) csv << (i ? "," : "") << *csv_sources[i];
@@ -547,6 +591,7 @@ void System::run(const std::string& out_path, bool progress) {
           c->simulate_one_step(t);
       }
       stepping = nullptr;
+      if (const std::string why = check_nodes(); !why.empty()) throw std::runtime_error(why);
       time = static_cast<double>(k + 1) * dt;
       steps_done_ = k + 1;
       if ((k + 1) % spec_.log_every == 0) record();

@@ -114,6 +114,24 @@ class System {
   // which then holds only that first one of them.
   std::unique_ptr<PeerGroup> peers_;
   long steps_done_ = 0;
+  // The run-quality guard, after every step ("" when all is well, else why,
+  // naming the node):
+  //  - every node's values finite;
+  //  - a hydraulic node's pressure at most kSourceFactor × the model's
+  //    highest source or start pressure, where sources bound it (no flow
+  //    source, pump, force or FMU that can drive a node to any pressure);
+  //  - at an FMU's port (the coupling's TLM port) at least −1 bar absolute,
+  //    less kUndershoot × the highest source pressure: a cavitating chamber
+  //    holds p_vap, but the port's p = c + Zc·q undershoots for a step or
+  //    two (the main job: −6.1 bar at its 150 bar), while a coupling far
+  //    too coarse swings to hundreds of bar below zero.
+  static constexpr double kLowestPressure = -1e5;  // Pa absolute
+  static constexpr double kSourceFactor = 10.0;
+  static constexpr double kUndershoot = 0.1;
+  double highest_pressure_ = 1e300;  // Pa; 1e300 where no source bounds it
+  double lowest_port_pressure_ = kLowestPressure;
+  std::set<const HydraulicNode*> fmu_nodes_;
+  std::string check_nodes() const;
   std::set<const SignalPort*> bound_;
   std::string csv_path_;
   // A Hopsan model's results under Hopsan's names (ModelSpec::hopsan_results).

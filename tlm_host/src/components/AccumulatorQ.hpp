@@ -62,6 +62,8 @@ class AccumulatorBase : public Component {
  public:
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
+  // The gas's start pressure (asked once, after configure).
+  double source_pressure() const override { return pa_; }
 
  protected:
   void configure_state(ParameterSet& prm) {

@@ -12,6 +12,8 @@ class FlowSourceQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "FlowSourceQ"; }
+  // Moves oil by force or displacement: a node's pressure has no bound from the sources.
+  double source_pressure() const override { return 1e300; }
   void state(config::StateIO& io) override { io.value("q", q_); }
   void configure(ParameterSet& prm) override {
     q_ = prm.real("q", 0.0);  // m³/s into the node

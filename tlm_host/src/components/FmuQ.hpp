@@ -22,6 +22,8 @@ class FmuQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "FmuQ"; }
+  // Moves oil by force or displacement: a node's pressure has no bound from the sources.
+  double source_pressure() const override { return 1e300; }
   // The last flows and outputs; the FMU's own session state is fe_server's
   // checkpoint, taken first (System::checkpoint).
   void state(config::StateIO& io) override;

@@ -23,6 +23,7 @@ class GasAccumulatorC : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::C; }
   const char* type_name() const override { return "GasAccumulatorC"; }
+  double source_pressure() const override { return std::max(p0_, p_init_); }
   void state(config::StateIO& io) override {
     io.value("V_oil", V_oil_);
     io.value("p", p_);

@@ -17,6 +17,8 @@ class HammerPistonQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "HammerPistonQ"; }
+  // Moves oil by force or displacement: a node's pressure has no bound from the sources.
+  double source_pressure() const override { return 1e300; }
   void state(config::StateIO& io) override {
     io.value("x", x_);
     io.value("v", v_);

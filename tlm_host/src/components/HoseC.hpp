@@ -32,6 +32,7 @@ class HoseC : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::C; }
   const char* type_name() const override { return "HoseC"; }
+  double source_pressure() const override { return p0_; }  // its start pressure
   void configure(ParameterSet& prm) override {
     rho_ = prm.positive("rho", 870.0);    // kg/m³
     eta_ = prm.positive("eta", 0.03);     // N·s/m², the oil's viscosity

@@ -47,6 +47,7 @@ class HydraulicVolumeC : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::C; }
   const char* type_name() const override { return "HydraulicVolumeC"; }
+  double source_pressure() const override { return p0_; }
   void state(config::StateIO& io) override {
     for (double* s : {&V_, &Zc_, &p_mean_, &stored_, &void_, &t_last_}) io.value("volume", *s);
     io.value("cavitating", cavitating_);

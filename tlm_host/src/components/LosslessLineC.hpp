@@ -30,6 +30,7 @@ class LosslessLineC : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::C; }
   const char* type_name() const override { return "LosslessLineC"; }
+  double source_pressure() const override { return p0_; }  // its start pressure
   void configure(ParameterSet& prm) override {
     if (prm.has("Zc") || prm.has("delay")) {  // the line by its impedance and delay
       Zc_given_ = prm.real("Zc");     // Pa·s/m³ (both required)

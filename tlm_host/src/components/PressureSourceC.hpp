@@ -11,6 +11,7 @@ class PressureSourceC : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::C; }
   const char* type_name() const override { return "PressureSourceC"; }
+  double source_pressure() const override { return p_; }
   void state(config::StateIO&) override {}  // a constant pressure: nothing changes
   void configure(ParameterSet& prm) override {
     p_ = prm.real("p");  // Pa

@@ -56,6 +56,8 @@ class TranslationalMassQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "TranslationalMassQ"; }
+  // Moves oil by force or displacement: a node's pressure has no bound from the sources.
+  double source_pressure() const override { return 1e300; }
   void configure(ParameterSet& prm) override {
     m_ = prm.positive("m", 100.0);          // kg
     B_ = prm.real("B", 10.0);               // N·s/m, viscous friction
@@ -117,6 +119,8 @@ class CylinderC : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::C; }
   const char* type_name() const override { return "CylinderC"; }
+  // Moves oil by force or displacement: a node's pressure has no bound from the sources.
+  double source_pressure() const override { return 1e300; }
   void configure(ParameterSet& prm) override {
     A1_ = prm.positive("A_1", 1e-3);        // m², piston area of chamber 1
     A2_ = prm.positive("A_2", 1e-3);        // m², of chamber 2
@@ -216,6 +220,8 @@ class CylinderQ : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "CylinderQ"; }
+  // Moves oil by force or displacement: a node's pressure has no bound from the sources.
+  double source_pressure() const override { return 1e300; }
   void configure(ParameterSet& prm) override {
     A1_ = prm.positive("A_1", 1e-4);  // m²
     A2_ = prm.positive("A_2", 1e-4);
@@ -295,6 +301,8 @@ class ForceSourceC : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::C; }
   const char* type_name() const override { return "ForceSourceC"; }
+  // Moves oil by force or displacement: a node's pressure has no bound from the sources.
+  double source_pressure() const override { return 1e300; }
   void configure(ParameterSet& prm) override {
     F_ = prm.real("F", 0.0);  // N, when the signal F is not connected
     add_port("P1", Kind::C, true);

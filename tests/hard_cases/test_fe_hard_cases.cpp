@@ -161,6 +161,50 @@ TEST(HardCase, ANodeFarOutsideTheModelsBoxStopsTheRunNamingIt) {
   EXPECT_LT(s.time(), 0.0173 / 50.0 + 33 * s.dt());
 }
 
+// Deck semantics (issue 32). A misspelt output request wrote nothing, with
+// only a warning; NaN in a field no keyword reads passed; and a deck with
+// several errors took one run per error.
+TEST(HardCase, AMisspeltDatabaseKeywordIsAnErrorNamingTheNearestOne) {
+  const std::string e = error_of([] { fe::parse_deck(block_deck(1, 1, 1, 0.01, "*DATABASE_NODEOUT\n1e-4\n"), "d.k"); });
+  EXPECT_NE(e.find("*DATABASE_NODEOUT is not one of LS-DYNA's *DATABASE_ keywords (did you mean *DATABASE_NODOUT?)"),
+            std::string::npos)
+      << e;
+  // A real one that fe_server does not write is still a warning.
+  fe::DeckWarnings w;
+  EXPECT_EQ(error_of([&] { fe::parse_deck(block_deck(1, 1, 1, 0.01, "*DATABASE_BNDOUT\n1e-4\n"), "d.k", &w); }), "");
+  ASSERT_EQ(w.messages.size(), 1u);
+  EXPECT_NE(w.messages[0].find("*DATABASE_BNDOUT asks for LS-DYNA's output"), std::string::npos) << w.messages[0];
+}
+
+TEST(HardCase, NanOrInfInAFieldNoKeywordReadsIsRefusedAtItsLine) {
+  for (const char* bad : {"nan", "-inf", "1e999"}) {
+    std::string deck = block_deck(1, 1, 1, 0.01);
+    const std::string mat = "*MAT_ELASTIC\n";
+    const size_t at = deck.find(mat);
+    ASSERT_NE(at, std::string::npos);
+    const size_t eol = deck.find('\n', at + mat.size());  // the card MID, RO, E, PR
+    deck.insert(eol, std::string(",0,0,") + bad);  // DA, DB, then K: fields 5-7, not read
+    const std::string e = error_of([&] { fe::parse_deck(deck, "d.k"); });
+    EXPECT_NE(e.find("d.k:"), std::string::npos) << e;
+    EXPECT_NE(e.find("field 7 of *MAT_ELASTIC: '" + std::string(bad) + "' is not a finite number"), std::string::npos) << e;
+  }
+}
+
+TEST(HardCase, ADecksErrorsAreReportedTogetherEachAtItsLine) {
+  std::string deck = block_deck(1, 1, 1, 0.01, "*DATABASE_GLSTATS\n1e-4\n*LOAD_SEGMENT_SETT\n1,1\n*DATABASE_RCFORCE\n1e-4\n");
+  const std::string e = error_of([&] { fe::parse_deck(deck, "d.k"); });
+  EXPECT_NE(e.find("*DATABASE_GLSTATS is not one"), std::string::npos) << e;
+  EXPECT_NE(e.find("*DATABASE_RCFORCE is not one"), std::string::npos) << e;
+  EXPECT_NE(e.find("keyword *LOAD_SEGMENT_SETT is not supported"), std::string::npos) << e;
+  EXPECT_NE(e.find("(3 errors in d.k)"), std::string::npos) << e;
+  EXPECT_EQ(e.rfind("d.k:", 0), 0u) << "the first error's place leads: " << e;
+  // More than 20 are cut at 20.
+  std::string many = block_deck(1, 1, 1, 0.01);
+  for (int i = 0; i < 30; ++i) many += "*DATABASE_NODOUTT\n1e-4\n";
+  const std::string e2 = error_of([&] { fe::parse_deck(many, "m.k"); });
+  EXPECT_NE(e2.find("(20 errors or more in m.k)"), std::string::npos) << e2;
+}
+
 // A point load on the top centre of a coarse block. Viscous hourglass
 // control (LS-DYNA's default type, QH = 0.1) resists hourglass rates, not
 // hourglass shapes, so under a sustained point load the zero-energy mode

@@ -101,7 +101,7 @@ TEST(BadValues, NaNInADeckIsRefusedAtItsLineNotFoundLaterAsAnUnstableState) {
   std::ofstream(dir.file("nan.k")) << bad;
   Outcome o = run({PCS_FE_SERVER_EXE, "--model", dir.file("nan.k"), "--ports", kScene + "/ports.cfg", "--out",
                    dir.file("f.h5")});
-  expect_refused(o, 3, {"nan.k:", "VZ", "expected a finite number, got 'nan'"});
+  expect_refused(o, 3, {"nan.k:", "field 4 of *INITIAL_VELOCITY_NODE: 'nan' is not a finite number"});
 }
 
 TEST(BadValues, APortCountMustBeAWholeNumber) {

@@ -7,9 +7,12 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <set>
+#include <sstream>
 
 namespace fe {
 
@@ -707,12 +710,69 @@ struct Reader {
     }
   }
 
+  // LS-DYNA's output requests (its manual, Vol. I, *DATABASE): those fe_server
+  // reads (first group) and those it ignores with a warning (the rest).
+  static const std::vector<std::string>& database_keywords() {
+    static const std::vector<std::string> k = {
+        "*DATABASE_BINARY_D3PLOT", "*DATABASE_CROSS_SECTION_SET", "*DATABASE_ELOUT", "*DATABASE_GLSTAT",
+        "*DATABASE_HISTORY_BEAM", "*DATABASE_HISTORY_NODE", "*DATABASE_HISTORY_SHELL", "*DATABASE_HISTORY_SOLID",
+        "*DATABASE_MATSUM", "*DATABASE_NODOUT", "*DATABASE_RCFORC", "*DATABASE_SECFORC",
+        // output LS-DYNA writes and fe_server does not
+        "*DATABASE_ABSTAT", "*DATABASE_ATDOUT", "*DATABASE_AVSFLT", "*DATABASE_BEARING", "*DATABASE_BINARY_BLSTFOR",
+        "*DATABASE_BINARY_D3CRACK", "*DATABASE_BINARY_D3DUMP", "*DATABASE_BINARY_D3PART", "*DATABASE_BINARY_D3THDT",
+        "*DATABASE_BINARY_FSIFOR", "*DATABASE_BINARY_INTFOR", "*DATABASE_BINARY_RUNRSF", "*DATABASE_BINARY_XTFILE",
+        "*DATABASE_BNDOUT", "*DATABASE_CPM_SENSOR", "*DATABASE_CROSS_SECTION_PLANE", "*DATABASE_CURVOUT",
+        "*DATABASE_DCFAIL", "*DATABASE_DEFGEO", "*DATABASE_DEFORC", "*DATABASE_DEMASSFLOW", "*DATABASE_DISBOUT",
+        "*DATABASE_EXTENT_AVS", "*DATABASE_EXTENT_BINARY", "*DATABASE_EXTENT_BINARY_COMP", "*DATABASE_EXTENT_D3PART",
+        "*DATABASE_EXTENT_INTFOR", "*DATABASE_EXTENT_MOVIE", "*DATABASE_EXTENT_MPGS", "*DATABASE_EXTENT_SSSTAT",
+        "*DATABASE_FORMAT", "*DATABASE_FREQUENCY_ASCII", "*DATABASE_FREQUENCY_BINARY", "*DATABASE_FSI",
+        "*DATABASE_GCEOUT", "*DATABASE_HISTORY_DISCRETE", "*DATABASE_HISTORY_NODE_SET", "*DATABASE_HISTORY_SOLID_SET",
+        "*DATABASE_HISTORY_SHELL_SET", "*DATABASE_HISTORY_BEAM_SET", "*DATABASE_HISTORY_TSHELL", "*DATABASE_HISTORY_SPH",
+        "*DATABASE_JNTFORC", "*DATABASE_MASSOUT", "*DATABASE_MOVIE", "*DATABASE_MPGS", "*DATABASE_NCFORC",
+        "*DATABASE_NODAL_FORCE_GROUP", "*DATABASE_NODFOR", "*DATABASE_PBSTAT", "*DATABASE_PLLYOUT", "*DATABASE_PRTUBE",
+        "*DATABASE_PROFILE", "*DATABASE_PWP_OUTPUT", "*DATABASE_RBDOUT", "*DATABASE_RWFORC", "*DATABASE_SBTOUT",
+        "*DATABASE_SLEOUT", "*DATABASE_SPCFORC", "*DATABASE_SPHOUT", "*DATABASE_SPHMASSFLOW", "*DATABASE_SSSTAT",
+        "*DATABASE_SSSTAT_MASS_RATIO", "*DATABASE_SUPERPLASTIC_FORMING", "*DATABASE_SWFORC", "*DATABASE_TPRINT",
+        "*DATABASE_TRACER", "*DATABASE_TRHIST"};
+    return k;
+  }
+  static bool known_database_keyword(const std::string& kw) {
+    const auto& k = database_keywords();
+    return std::find(k.begin(), k.end(), kw) != k.end();
+  }
+  // The known keyword fewest edits away, if it is within a third of the name.
+  static std::string nearest_database_keyword(const std::string& kw) {
+    std::string best;
+    size_t best_d = kw.size() / 3 + 1;
+    for (const auto& k : database_keywords()) {
+      std::vector<size_t> row(k.size() + 1);
+      for (size_t j = 0; j <= k.size(); ++j) row[j] = j;
+      for (size_t i = 1; i <= kw.size(); ++i) {
+        size_t diag = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= k.size(); ++j) {
+          const size_t up = row[j];
+          row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (kw[i - 1] == k[j - 1] ? 0 : 1)});
+          diag = up;
+        }
+      }
+      if (row[k.size()] < best_d) best_d = row[k.size()], best = k;
+    }
+    return best;
+  }
+
   // A keyword this reader does not read is ignored only where that provably
   // changes no result: output requests (fe_server writes its own HDF5), and
   // *CONTROL_ cards that hold nothing but blanks and zeros (LS-DYNA's
   // defaults). Anything else is an error with its line.
   void unsupported(const Block& b) {
     const std::string& kw = b.keyword;
+    if (kw.rfind("*DATABASE_", 0) == 0 && !known_database_keyword(kw)) {
+      // A misspelt output request would silently write nothing.
+      const std::string near = nearest_database_keyword(kw);
+      b.fail(kw + " is not one of LS-DYNA's *DATABASE_ keywords" +
+             (near.empty() ? std::string() : " (did you mean " + near + "?)"));
+    }
     if (kw.rfind("*DATABASE_", 0) == 0 || kw == "*CONTROL_OUTPUT" || kw == "*CONTROL_ENERGY" || kw == "*CONTROL_CPU") {
       warn(b.where, kw + " asks for LS-DYNA's output files or limits: fe_server writes its own results (HDF5), ignored");
       return;
@@ -1533,6 +1593,32 @@ struct Reader {
   }
 };
 
+// NaN and Inf in any field, read or not: a field a keyword skips today may be
+// read tomorrow, and a deck holding one is broken either way. Titles are text.
+void refuse_non_finite(const Block& b) {
+  if (b.keyword == "*TITLE" || b.keyword == "*KEYWORD" || b.keyword == "*COMMENT") return;
+  for (size_t i = 0; i < b.cards.size(); ++i) {
+    if (b.keyword == "*PART" && i % 2 == 0) continue;  // the part's title card
+    const Card& c = b.cards[i];
+    std::vector<std::string> tokens = c.fields;
+    if (!c.comma_separated) {
+      std::istringstream in(c.text);
+      for (std::string t; in >> t;) tokens.push_back(t);
+    }
+    for (size_t k = 0; k < tokens.size(); ++k) {
+      const std::string& t = tokens[k];
+      if (t.empty() || !(std::isdigit(static_cast<unsigned char>(t[0])) || t[0] == '+' || t[0] == '-' || t[0] == '.' ||
+                         t[0] == 'n' || t[0] == 'N' || t[0] == 'i' || t[0] == 'I'))
+        continue;
+      char* end = nullptr;
+      const double v = std::strtod(t.c_str(), &end);
+      if (end != t.c_str() && *end == '\0' && !std::isfinite(v))
+        c.fail("field " + std::to_string(k + 1) + " of " + b.keyword + ": '" + t +
+               "' is not a finite number (NaN and Inf are refused in every field, read or not)");
+    }
+  }
+}
+
 }  // namespace
 
 Model parse_deck(const std::string& text, const std::string& name, DeckWarnings* warnings) {
@@ -1546,7 +1632,29 @@ Model parse_deck(const std::string& text, const std::string& name, DeckWarnings*
   if (const auto end = std::find_if(blocks.begin(), blocks.end(), [](const Block& b) { return b.keyword == "*END"; });
       end != blocks.end())
     blocks.erase(end, blocks.end());
-  for (const Block& b : normalise_blocks(std::move(blocks))) r.block(b);
+  // Every block is read even after one failed, so a deck's errors come in
+  // one run (up to kMaxDeckErrors), not one per run. The cross-references
+  // (finish) are only resolved for a deck whose blocks all read: after a
+  // failed block they would report its consequences, not new errors.
+  std::vector<InputError> errors;
+  for (const Block& b : normalise_blocks(std::move(blocks))) {
+    try {
+      r.block(b);           // a field it reads names itself ("VZ: expected a finite number")
+      refuse_non_finite(b);  // then the fields it skipped
+    } catch (const InputError& e) {
+      errors.push_back(e);
+      if (errors.size() == kMaxDeckErrors) break;
+    }
+  }
+  if (!errors.empty()) {
+    const InputError& first = errors.front();
+    std::string text = std::string(first.what()).substr(first.where().str().size() + 2);
+    for (size_t i = 1; i < errors.size(); ++i) text += std::string("\n") + errors[i].what();
+    if (errors.size() > 1)
+      text += "\n(" + std::to_string(errors.size()) + (errors.size() == kMaxDeckErrors ? " errors or more" : " errors") +
+              " in " + name + ")";
+    throw InputError(first.where(), text);
+  }
   r.finish(name);
   return m;
 }

@@ -17,6 +17,10 @@ struct DeckWarnings {
   std::vector<std::string> messages;
 };
 
+// A deck with errors is refused with all of them, up to this many, each
+// with its file:line (the first one's location is the exception's).
+constexpr size_t kMaxDeckErrors = 20;
+
 Model read_deck(const std::string& path, DeckWarnings* warnings = nullptr);
 Model parse_deck(const std::string& text, const std::string& name, DeckWarnings* warnings = nullptr);
 

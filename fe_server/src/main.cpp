@@ -77,6 +77,10 @@ int usage(std::ostream& os, int rc) {
         "  --accept-energy-error  end with 0 although the energy account is beyond its bound (1 % of the\n"
         "                        largest energy; otherwise exit 11); the results carry the attribute\n"
         "                        accept_energy_error\n"
+        "  --approximate         run what the deck asks for as the nearest thing fe_server has (friction\n"
+        "                        dropped, IHQ > 3 as viscous hourglass control, solid ELFORM as 1, ...),\n"
+        "                        each listed in the log and the results' attribute approximations;\n"
+        "                        without it such a deck is refused (exit 3) saying what it would become\n"
         "  --allow-coarse-coupling  run TLM ports whose omega*T exceeds 0.71 (a frequency error above\n"
         "                        10 % by fe_server's estimate; otherwise refused at step 0, exit 3)\n"
         "Exit codes: 0 ok, 2 usage, 3 input rejected, 4 no host (every connection refused or none came),\n"
@@ -394,7 +398,7 @@ int run_main(int argc, char** argv) {
   fe::ServerOptions opt;
   std::string token_file;
   bool no_token = false;
-  bool accept_energy_error = false, allow_coarse_coupling = false;
+  bool accept_energy_error = false, allow_coarse_coupling = false, approximate = false;
   int threads = 0;  // 0: the default below
   int sessions = 1;
   CheckpointOptions ck;
@@ -416,6 +420,7 @@ int run_main(int argc, char** argv) {
       else if (args.is("--quiet")) opt.quiet = true;
       else if (args.is("--accept-energy-error")) accept_energy_error = true;
       else if (args.is("--allow-coarse-coupling")) allow_coarse_coupling = true;
+      else if (args.is("--approximate")) approximate = true;
       else if (args.is("--checkpoint")) ck.path = args.value();
       else if (args.is("--checkpoint-every")) ck.every_s = 60.0 * args.real(1e-3, 1e6);
       else if (args.is("--restart")) ck.restart = args.value();
@@ -466,8 +471,14 @@ int run_main(int argc, char** argv) {
   config::PortTable table;  // all clients' ports together
   try {
     fe::DeckWarnings warnings;
+    warnings.approximate = approximate;
     model = fe::read_deck(deck, &warnings);
     for (const auto& w : warnings.messages) std::cerr << w << "\n";
+    if (!warnings.substitutions.empty()) {
+      std::string list;
+      for (const auto& sub : warnings.substitutions) list += (list.empty() ? "" : "; ") + sub;
+      model.run_attributes["approximations"] = list;
+    }
     if (accept_energy_error) model.run_attributes["accept_energy_error"] = "yes: the energy check was waived";
     if (allow_coarse_coupling)
       model.run_attributes["allow_coarse_coupling"] = "yes: TLM ports may exceed omega*T = " + std::to_string(fe::max_tlm_omega_t());

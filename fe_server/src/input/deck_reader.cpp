@@ -160,8 +160,25 @@ struct Reader {
 
   config::SourceLocation elout_where;  // the *DATABASE_ELOUT block, for its warning
 
+  static std::string short_number(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", v);
+    return b;
+  }
+
   void warn(const config::SourceLocation& w, const std::string& msg) {
     if (warnings) warnings->messages.push_back(w.str() + ": warning: " + msg);
+  }
+
+  // What the deck asks for, run as something else: refused by default, a
+  // listed warning with --approximate.
+  void substitute(const config::SourceLocation& w, const std::string& asked, const std::string& instead) {
+    if (!warnings || !warnings->approximate)
+      throw InputError(w, asked + " would run as " + instead +
+                              ", which changes the result: fe_server --approximate runs it so, listing the substitution "
+                              "in the log and in the results' attribute 'approximations'");
+    warn(w, asked + " runs as " + instead + " (--approximate)");
+    warnings->substitutions.push_back(w.str() + ": " + asked + " runs as " + instead);
   }
 
   // The penalty is capped at twice the default stiffness (contact.hpp says
@@ -201,7 +218,7 @@ struct Reader {
         Card c = fields_of(raw, kW10);
         long elform = c.integer_or(1, "ELFORM", 1);
         if (elform != 1 && elform != 0)
-          warn(c.where, "ELFORM " + std::to_string(elform) + " read as ELFORM 1 (one-point hexahedron)");
+          substitute(c.where, "*SECTION_SOLID ELFORM " + std::to_string(elform), "ELFORM 1 (one-point hexahedron)");
         sections[static_cast<int>(c.integer(0, "SECID"))] = {1, 0.0};
       }
     } else if (kw == "*SECTION_BEAM") {
@@ -642,7 +659,8 @@ struct Reader {
       if (!b.cards.empty()) {
         Card c = fields_of(b.cards[0], kW10);
         long ihq = c.integer_or(0, "IHQ", 1);
-        if (ihq > 3) warn(c.where, "IHQ " + std::to_string(ihq) + " read as viscous FB hourglass control (IHQ 1-3)");
+        if (ihq > 3)
+          substitute(c.where, "*CONTROL_HOURGLASS IHQ " + std::to_string(ihq), "viscous hourglass control (IHQ 1-3)");
         m.hourglass_q = c.real_or(1, "QH", 0.1);
       }
     } else if (kw == "*CONTROL_BULK_VISCOSITY") {
@@ -701,7 +719,7 @@ struct Reader {
       if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
       warn_stiffness_cap(d, "SFACT");
       d.friction = c1.real_or(4, "FS", 0.0);
-      if (d.friction != 0.0) warn(c1.where, "contact friction FS is not modelled yet (frictionless contact)");
+      if (d.friction != 0.0) substitute(c1.where, "contact friction FS " + short_number(d.friction), "frictionless contact");
       if (b.cards.size() > 2) d.damping = fields_of(b.cards[2], kW10).real_or(1, "VDC", 20.0) / 100.0;
       m.contacts.push_back(d);
     } else if (kw == "*COMMENT") {
@@ -827,7 +845,7 @@ struct Reader {
       md.scale = scales(c, 2);
       if (md.curve_id == 0 && md.value == 0.0) return;  // no damping
       if (!m.rigid_bodies.empty() || std::any_of(m.materials.begin(), m.materials.end(), [](const auto& kv) { return kv.second.rigid; }))
-        warn(c.where, "*DAMPING_GLOBAL damps the deformable nodes only here: rigid bodies keep their motion");
+        substitute(c.where, "*DAMPING_GLOBAL on a model with rigid bodies", "damping of the deformable nodes only (rigid bodies undamped)");
     }
     if (md.curve_id != 0 && !m.curves.count(md.curve_id))
       c.fail("LCID " + std::to_string(md.curve_id) + " is not defined by a *DEFINE_CURVE");
@@ -944,7 +962,7 @@ struct Reader {
       Card c2 = fields_of(b.cards[1], kW10);
       d.friction = c2.real_or(0, "FS", 0.0);
       d.damping = c2.real_or(4, "VDC", 20.0) / 100.0;
-      if (d.friction != 0.0) warn(c2.where, "contact friction FS is not modelled yet (frictionless contact)");
+      if (d.friction != 0.0) substitute(c2.where, "contact friction FS " + short_number(d.friction), "frictionless contact");
     }
     if (b.cards.size() > 2) d.stiffness_factor = fields_of(b.cards[2], kW10).real_or(0, "SFS", 1.0);
     if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;

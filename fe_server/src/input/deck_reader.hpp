@@ -15,6 +15,11 @@ namespace fe {
 
 struct DeckWarnings {
   std::vector<std::string> messages;
+  // A substitution that changes the physics (friction dropped, another
+  // hourglass type, another element formulation) is refused unless
+  // `approximate` (fe_server --approximate); then each is listed here too.
+  bool approximate = false;
+  std::vector<std::string> substitutions;
 };
 
 // A deck with errors is refused with all of them, up to this many, each

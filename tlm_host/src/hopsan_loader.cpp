@@ -455,6 +455,11 @@ class HmfReader {
           Expressions inner;
           for (const auto& [k, v] : scope.variables) inner.define(k, v);
           read_system(c, prefix + name + "$", inner);
+        } else if (is(c, "component") && attr(c, "disabled") == "true") {
+          // Hopsan leaves a disabled component out of the simulation, and
+          // its connections with it (a disabled leak once drained 0.78 l here).
+          disabled_.insert(prefix + name);
+          out_.notes.push_back(path_ + ": " + prefix + name + ": disabled in the model, left out with its connections");
         } else if (is(c, "component")) {
           read_component(c, prefix, scope);
         } else {
@@ -469,6 +474,7 @@ class HmfReader {
         if (!is(c, "connect")) continue;
         End a{prefix + attr(c, "startcomponent"), attr(c, "startport")};
         End b{prefix + attr(c, "endcomponent"), attr(c, "endport")};
+        if (disabled_.count(a.component) || disabled_.count(b.component)) continue;
         const bool a_port = system_ports.count(attr(c, "startcomponent")) != 0;
         const bool b_port = system_ports.count(attr(c, "endcomponent")) != 0;
         if (a_port && b_port) throw InputError(where(c), "a connection from one system port straight to another is not read");
@@ -676,6 +682,7 @@ class HmfReader {
   std::map<std::string, Known> known_;
   std::set<std::string> dropped_sensors_;                // their signal must not be used
   std::set<std::string> subsystems_;                     // full names
+  std::set<std::string> disabled_;                       // full names of disabled components
   std::map<std::string, std::vector<End>> inside_;       // "<subsystem>$<port>" → what it connects to inside
   std::vector<Raw> raw_;
 };
@@ -712,7 +719,15 @@ HmfModel read_hmf(const std::string& path) {
   if (start != 0.0)
     throw InputError(reader.where(sim), "<simulationtime> start " + attr(sim, "start") + ": runs start at t = 0");
   double samples = 0.0;
-  if (number(attr(system, "logsamples"), samples) && samples >= 1.0) {
+  // The number of log samples: the system's logsamples (older files) or
+  // <simulationlogsettings numsamples> (Hopsan 2.x), the latter first.
+  xmlNode* log = child(system, "simulationlogsettings");
+  double log_start = 0.0;
+  if (log && number(attr(log, "starttime"), log_start) && log_start > 0.0)
+    out.notes.push_back(path + ": <simulationlogsettings starttime=" + attr(log, "starttime") +
+                        ">: the results start at t = 0 here (Hopsan's start from that time)");
+  if ((log && number(attr(log, "numsamples"), samples) && samples >= 1.0) ||
+      (number(attr(system, "logsamples"), samples) && samples >= 1.0)) {
     const double steps = std::round(m.stop_time / m.dt);
     m.log_every = static_cast<int>(std::max(1.0, std::floor(steps / samples)));
   }

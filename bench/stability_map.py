@@ -79,6 +79,7 @@ class Runner:
     def __init__(self, fe_server, tlm_host, fmugen, work):
         self.fe_server, self.tlm_host, self.fmugen, self.work = fe_server, tlm_host, fmugen, Path(work)
         self.deck0 = (ROOT / "scenes/one_dof/piston.k").read_text()
+        self.last_host_stop = ""
         self.ports0 = {"pressure": (ROOT / "scenes/one_dof/ports.cfg").read_text(),
                        "tlm": (ROOT / "scenes/one_dof_tlm/ports.cfg").read_text()}
 
@@ -125,6 +126,10 @@ class Runner:
             # --accept-energy-error): it measures where they must stand. The
             # energy verdict is read from the warning the waived check prints.
             energy_flag = "accepted by --accept-energy-error" in log_text
+            # tlm_host's run-quality guard cannot be waived: a run it stops
+            # (exit 4, "the pressure at the FMU's port node ...") is recorded.
+            self.last_host_stop = ("port guard" if "the pressure at the FMU's port node" in host.stderr
+                                   else "stopped" if host.returncode != 0 else "")
             if host.returncode != 0 or code != 0:
                 return False, float("nan"), est.group(0) if est else "", energy_flag
             with h5py.File(d / "fe.h5") as f:
@@ -179,7 +184,8 @@ def tlm_map(r, quick):
                     stable, f, _, energy_flag = r.run("tlm", m, V, T, k)
                     err = 100 * (2 * math.pi * f / w - 1) if math.isfinite(f) else float("nan")
                     rows.append({"m": m, "V": V, "T": T, "k": k, "omega": w, "stable": stable, "f": f, "err": err,
-                                 "cavitates": cavitates(m, V), "energy_flag": energy_flag})
+                                 "cavitates": cavitates(m, V), "energy_flag": energy_flag,
+                                 "host_stop": r.last_host_stop})
                     log(f"  tlm m={m} V={V*1e6:g} cm3 T={T*1e6:g} us k={k}: "
                         f"{'stable' if stable else 'UNSTABLE'}, ωT = {w*T:.3g}, frequency error {err:.2f} %")
     return rows

@@ -251,8 +251,9 @@ std::string System::check_nodes() const {
       s << "the pressure at the FMU's port node " << n->name << " is " << n->p / 1e5 << " bar absolute, below "
         << lowest / 1e5 << " bar (−1 bar, less " << kUndershoot * 100
         << " % of the highest source pressure for a cavitating chamber's undershoot), where no oil is liquid: the "
-           "coupling step is too coarse for the chamber (see fe_server's coupling estimate), or the port has no "
-           "volume to cavitate in";
+           "chamber behind the port cavitates within a coupling step (Zc·q of the port's flow exceeds its pressure: "
+           "the chamber is small for that flow), or the coupling step is too coarse for it (see fe_server's coupling "
+           "estimate); a larger chamber or a smaller coupling step";
     } else {
       s << "the pressure at node " << n->name << " is " << n->p / 1e5 << " bar, more than " << kSourceFactor
         << " times the model's highest source or start pressure (" << highest_pressure_ / kSourceFactor / 1e5

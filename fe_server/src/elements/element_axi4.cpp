@@ -121,7 +121,9 @@ Axi4State::Axi4State(const Model& m, const std::vector<int>* owner, int rank)
                     axi4_hourglass_coefficient(g, m.hourglass_q, mat.rho, mat.wave_speed()),
                     mat.plastic ? &mat : nullptr};
   }
-  lanes.assign((elements.size() + kAxi4Lanes - 1) / kAxi4Lanes, Lanes{});
+  Lanes idle{};
+  std::fill_n(idle.spl, kAxi4Lanes, 1e300);
+  lanes.assign((elements.size() + kAxi4Lanes - 1) / kAxi4Lanes, idle);
   for (size_t k = 0; k < elements.size(); ++k) {
     Lanes& L = lanes[k / kAxi4Lanes];
     const size_t l = k % kAxi4Lanes;
@@ -129,6 +131,17 @@ Axi4State::Axi4State(const Model& m, const std::vector<int>* owner, int rank)
     for (int a = 0; a < 4; ++a) L.node[a][l] = m.axis[e].n[a];
     const Constants& c = constants[e];
     L.lambda[l] = c.lambda, L.two_mu[l] = 2.0 * c.mu, L.rho[l] = c.rho, L.c[l] = c.wave_speed, L.ch[l] = c.hourglass;
+    {
+      const AxiElement& el = m.axis[e];
+      const Mat42 x0 = axi4_gather(m.x0, el);
+      Axi4Geometry g;
+      axi4_geometry(x0, g);
+      bool fixed_r[4];
+      for (int a = 0; a < 4; ++a) fixed_r[a] = m.fixed[static_cast<size_t>(el.n[a])][0];
+      const double len0 = axi4_characteristic_length(x0, g.area);
+      const double step0 = axi4_stable_step(x0, c.lambda, c.mu, c.rho, m.bulk_q2, fixed_r) * std::sqrt(el.mass_scale);
+      L.spl[l] = len0 > 0.0 && step0 > 0.0 ? step0 / len0 : 1e300;
+    }
     L.count = static_cast<int>(l) + 1;
     L.any_plastic = L.any_plastic || c.plastic;
   }
@@ -152,12 +165,14 @@ constexpr int W = static_cast<int>(kAxi4Lanes);
 struct Axi4Batch {
   double r[4][W], y[4][W], vr[4][W], vy[4][W];
   double lambda[W], two_mu[W], rho[W], c[W], ch[W], sig[4][W];
+  double spl[W];  // stable step per unit of characteristic length
   // Plastic lanes (the Plastic kernel only): material (nullptr: elastic),
   // effective plastic strain and back stress (rr, yy, θθ, ry), in place.
   const Material* plastic[W];
   double ep[W], alpha[4][W];
   // Out:
   double fr[4][W], fy[4][W], det[W], r_c[W], internal[W], hourglass[W], damping_power[W];
+  double limit[W];  // its current stable step
 };
 
 // Plastic: the batch has plastic lanes, which take the radial return
@@ -212,6 +227,7 @@ __attribute__((always_inline)) inline void axi4_kernel_impl(Axi4Batch& B, double
     const double dx1 = r2 - r0, dy1 = y2 - y0, dx2 = r3 - r1, dy2 = y3 - y1;
     const double diag2 = std::max(dx1 * dx1 + dy1 * dy1, dx2 * dx2 + dy2 * dy2);
     const double len = diag2 > 0.0 ? area / std::sqrt(diag2) : 0.0;
+    B.limit[l] = B.spl[l] * len;
     const double q = trD < 0.0 ? B.rho[l] * len * (q1 * len * trD * trD - q2 * B.c[l] * trD) : 0.0;
     const double s_rr = n0 - q, s_yy = n1 - q, s_tt = n2 - q, s_ry = n3;
     // Hourglass (viscous FB), one mode: γ = h − (h·r)·b_r − (h·y)·b_y.
@@ -252,6 +268,7 @@ void axi4_block(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const
       }
     std::copy_n(K.lambda, W, B.lambda), std::copy_n(K.two_mu, W, B.two_mu), std::copy_n(K.rho, W, B.rho);
     std::copy_n(K.c, W, B.c), std::copy_n(K.ch, W, B.ch);
+    std::copy_n(K.spl, W, B.spl);
     for (int l = 0; l < n; ++l) {
       const Eigen::Matrix<double, 6, 1>& s = st.sigma[static_cast<size_t>(st.elements[k0 + static_cast<size_t>(l)])];
       for (int c = 0; c < 4; ++c) B.sig[c][l] = s(c);
@@ -280,6 +297,7 @@ void axi4_block(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const
         res.inverted = static_cast<long>(k);
         res.measure = 4.0 * B.det[l];
       }
+      if (B.limit[l] < res.step_limit) res.step_limit = B.limit[l], res.step_worst = static_cast<long>(k);
       const size_t e = static_cast<size_t>(st.elements[k]);
       for (int c = 0; c < 4; ++c) st.sigma[e](c) = B.sig[c][l];
       if (K.any_plastic && B.plastic[l]) {
@@ -312,6 +330,10 @@ void axi4_forces(const Model& m, Axi4State& st, const std::vector<Vec3>& x, cons
     throw InvertedElement("axisymmetric element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
                           "area " + std::to_string(area) + " m²");
   }
+  check_step_limit(st.blocks, dt, [&](long k) {
+    const AxiElement& el = m.axis[static_cast<size_t>(st.elements[static_cast<size_t>(k)])];
+    return "axisymmetric element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")";
+  });
   st.gather.add_to(st.force, f, pool);
 }
 

@@ -107,6 +107,9 @@ struct Axi4State {
   struct Lanes {
     int node[4][kAxi4Lanes];
     double lambda[kAxi4Lanes], two_mu[kAxi4Lanes], rho[kAxi4Lanes], c[kAxi4Lanes], ch[kAxi4Lanes];
+    // Its initial stable step over its initial characteristic length (s/m):
+    // the step it allows later is this times its length then. Idle: huge.
+    double spl[kAxi4Lanes];
     int count;         // lanes in use
     bool any_plastic;  // a lane of a plastic material
   };

@@ -21,14 +21,32 @@ struct BlockResult {
   double internal = 0.0, hourglass = 0.0, damping_power = 0.0;
   long inverted = -1;     // index into the loop's element list, -1 if none
   double measure = 0.0;   // its volume or area
+  // Each element's current stable step (its initial one scaled by its
+  // characteristic length now over then): the smallest, and its element
+  // (index into the loop's list, -1 if none).
+  double step_limit = 1e300;
+  long step_worst = -1;
   std::vector<double> part_internal, part_hourglass;  // per part (sized once)
   void reset() {
     internal = hourglass = damping_power = measure = 0.0;
-    inverted = -1;
+    step_limit = 1e300;
+    inverted = step_worst = -1;
     std::fill(part_internal.begin(), part_internal.end(), 0.0);
     std::fill(part_hourglass.begin(), part_hourglass.end(), 0.0);
   }
 };
+
+// Throws StepBeyondLimit when the step dt exceeds the smallest current
+// stable step of the blocks (beyond round-off). `name(k)` names element k
+// of the loop's list.
+template <class Name>
+void check_step_limit(const std::vector<BlockResult>& blocks, double dt, Name name) {
+  double least = 1e300;
+  long k = -1;
+  for (const BlockResult& r : blocks)
+    if (r.step_limit < least) least = r.step_limit, k = r.step_worst;
+  if (dt > least * (1.0 + 1e-9)) throw StepBeyondLimit(name(k), dt / least);
+}
 
 // The dense index of each part (Model::parts order).
 int part_slot(const Model& m, int part_id);

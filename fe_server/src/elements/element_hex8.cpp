@@ -109,6 +109,13 @@ Hex8State::Hex8State(const Model& m, const std::vector<int>* owner, int rank)
     double volume = 0.0;
     hex8_gradients(hex8_gather(m.x0, el), b, volume);
     hourglass.push_back(m.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0);
+    // The element's own stable step (mass scaling included) per unit of its
+    // characteristic length V/A_max: the step it allows later is this times
+    // its length then (the wave speed taken as constant).
+    const Mat83 x0 = hex8_gather(m.x0, el);
+    const double len0 = hex8_characteristic_length(x0, volume);
+    const double step0 = hex8_stable_step(x0, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2) * std::sqrt(el.mass_scale);
+    step_per_length.push_back(len0 > 0.0 && step0 > 0.0 ? step0 / len0 : 1e300);
     const int slot = fe::part_slot(m, el.part);
     part_slot.push_back(slot);
     std::array<int, 8> n;
@@ -136,6 +143,8 @@ constexpr int W = static_cast<int>(kHex8Lanes);
 struct Hex8Batch {
   double x[8][3][W], v[8][3][W];
   double lambda[W], two_mu[W], rho[W], c[W], ch[W], sig[6][W];
+  double spl[W];    // the element's stable step per unit of its characteristic length (idle lanes: huge)
+  double limit[W];  // out: its current stable step
   // Plastic lanes: their material (nullptr: elastic), effective plastic
   // strain and back stress, updated in place.
   const Material* plastic[W];
@@ -296,6 +305,7 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void hex8_kernel(He
     B.internal[l] = V * sd * dt;
     const double a_max = 0.5 * std::sqrt(a2max[l]);
     const double len = a_max > 0.0 ? V / a_max : 0.0;
+    B.limit[l] = B.spl[l] * len;
     const double q = trD < 0.0 ? B.rho[l] * len * (q1 * len * trD * trD - q2 * B.c[l] * trD) : 0.0;
     B.damping_power[l] = -q * trD * V;
     B.sig[0][l] = n0, B.sig[1][l] = n1, B.sig[2][l] = n2, B.sig[3][l] = n3, B.sig[4][l] = n4, B.sig[5][l] = n5;
@@ -366,6 +376,7 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
         const Hex8State::PartConstants& pc = st.parts[static_cast<size_t>(st.part_slot[k])];
         B.lambda[l] = pc.lambda, B.two_mu[l] = pc.two_mu, B.rho[l] = pc.rho, B.c[l] = pc.wave_speed;
         B.ch[l] = st.hourglass[k];
+        B.spl[l] = st.step_per_length[k];
         for (int c = 0; c < 6; ++c) B.sig[c][l] = st.sigma[e](c);
         B.plastic[l] = pc.plastic;
         if (B.plastic[l]) {
@@ -376,6 +387,7 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
         for (int a = 0; a < 8; ++a)
           for (int i = 0; i < 3; ++i) B.x[a][i][l] = 0.5 * kXi[a][i], B.v[a][i][l] = 0.0;
         B.lambda[l] = B.two_mu[l] = B.rho[l] = B.c[l] = B.ch[l] = 0.0;
+        B.spl[l] = 1e300;
         for (int c = 0; c < 6; ++c) B.sig[c][l] = 0.0;
         B.plastic[l] = nullptr;
       }
@@ -387,6 +399,7 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
         r.inverted = static_cast<long>(k);
         r.measure = B.volume[l];
       }
+      if (B.limit[l] < r.step_limit) r.step_limit = B.limit[l], r.step_worst = static_cast<long>(k);
       const size_t e = static_cast<size_t>(st.elements[k]);
       for (int c = 0; c < 6; ++c) st.sigma[e](c) = B.sig[c][l];
       if (B.plastic[l]) {
@@ -428,6 +441,10 @@ void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x, cons
     throw InvertedElement("solid element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
                           "volume " + std::to_string(volume) + " m³");
   }
+  check_step_limit(st.blocks, dt, [&](long k) {
+    const SolidElement& el = m.solids[static_cast<size_t>(st.elements[static_cast<size_t>(k)])];
+    return "solid element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")";
+  });
   // The nodes shared between blocks sum their elements' forces in element order.
   st.gather.add_to(st.force, f, pool);
 }

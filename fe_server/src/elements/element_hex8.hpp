@@ -70,6 +70,7 @@ struct Hex8State {
   // element loop (which streams them every step):
   std::vector<std::array<int, 8>> nodes;  // its nodes
   std::vector<double> hourglass;  // Q_h·ρ·c·V0^(2/3)/4, fixed per element (V changes little)
+  std::vector<double> step_per_length;  // its initial stable step over its initial V/A_max (s/m)
   std::vector<int> part_slot;             // its part's dense index (element_blocks.hpp)
   std::vector<double> force;      // 24 per element: the nodal forces of the last step
   NodalGather gather;

@@ -28,4 +28,14 @@ struct InvertedElement : std::runtime_error {
   std::string element, measure;
 };
 
+// The step has outgrown an element's current stable step: the element has
+// deformed (flattened, crushed) since the step was chosen. `ratio` is the
+// step over that element's current limit (> 1).
+struct StepBeyondLimit : std::runtime_error {
+  StepBeyondLimit(const std::string& which, double ratio)
+      : std::runtime_error(which + ": the step exceeds its current stable step"), element(which), ratio(ratio) {}
+  std::string element;
+  double ratio;
+};
+
 }  // namespace fe

@@ -714,6 +714,15 @@ void Solver::internal_forces() {
     bar_forces(m_, bars_, x_, v_, dt_, f_int_, w);
     hex8_forces(m_, hex8_, x_, v_, dt_, f_int_, w, pool_.get());
     axi4_forces(m_, axi4_, x_, v_, dt_, f_int_, w, pool_.get());
+  } catch (const StepBeyondLimit& e) {
+    std::ostringstream s;
+    s << "at t = " << t_ << " s, step " << n_ << ": the FE step " << dt_ << " s exceeds the current stable step "
+      << dt_ / e.ratio << " s of " << e.element
+      << ", which has deformed since the step was chosen (its characteristic length shrank); the run would go "
+         "unstable. This fe_server keeps its step fixed: start with a step of at most "
+      << dt_ / e.ratio << " s (TSSFAC in *CONTROL_TIMESTEP; in a co-simulation more subcycles in the port table), "
+         "or allow mass scaling (DT2MS < 0)";
+    error = s.str();
   } catch (const InvertedElement& e) {
     std::ostringstream s;
     // A volume that is not a number is a state gone non-finite (a load or a

@@ -339,7 +339,102 @@ def ranks_section(runs, cosim):
     return L
 
 
+def stability_section(smap, loop_text):
+    """The RESULTS.md section of the coupling stability map (its markdown lines);
+    loop_text: the linear loop model's table (loop_model())."""
+    L = []
+    L.append("## Coupling stability map\n")
+    L.append("Scene one_dof (rigid piston, A = 10 cm², on a spring of 1 MN/m and a shut chamber of volume V, "
+             "β = 1.4 GPa), kicked at 0.1 m/s; ω² = β·A²/(V·m) + k/m. `bench/stability_map.py` runs every point "
+             "as two processes.\n")
+    tl = smap["tlm"]
+    n_stable = sum(1 for r in tl if r["stable"])
+    max_wt = smap_module.GUARD_OMEGA_T
+
+    def guarded(r):  # fe_server refuses it at step 0 unless --allow-coarse-coupling
+        return smap_module.fe_omega_t(r["m"], r["V"], r["T"]) > max_wt
+
+    def by_default(r):
+        if guarded(r):
+            return "refused by fe_server (exit 3)"
+        if r.get("host_stop") == "port guard":
+            return "stopped by tlm_host's port guard (exit 4)"
+        return "runs"
+
+    n_guarded = sum(1 for r in tl if guarded(r))
+    n_host = sum(1 for r in tl if by_default(r).startswith("stopped"))
+    n_wrong_passed = sum(1 for r in tl if not r["stable"] and by_default(r) == "runs")
+    L.append(f"**TLM coupling: {n_stable} of {len(tl)} runs stable and right** (m = 0.05–5 kg, V = 0.1–100 cm³, "
+             f"T = 1–1000 µs, ω·T = {min(r['omega']*r['T'] for r in tl):.3g}–{max(r['omega']*r['T'] for r in tl):.3g}, "
+             "k = 1 where the FE step allows it and k = 10; the map runs with fe_server's guards waived to see "
+             "where they must stand). Stable and right: the swing over the last quarter of the run is at most 1.5 "
+             "times that over the first, the centre of the swing moves by less than the first quarter's swing, "
+             "and the energy account is within its bound (runs of ≥ 2000 steps and ≥ 10 periods). The step sets "
+             "the accuracy: the frequency error against the analytic ω grows as about 0.2·(ω·T)² (1 % at "
+             "ω·T = 0.22; the TLM link adds an oil inertance m·(ω·T)², a line's own mass). fe_server prints, per "
+             "port, the chamber for which that error stays below 1 %, and refuses a port whose ω·T from the "
+             f"host's Zc exceeds {max_wt:.2f} (10 % by that estimate) at step 0: {n_guarded} of the runs; "
+             f"tlm_host's port guard stops {n_host} more (a kicked 0.1 cm³ chamber cavitating within a step), "
+             f"leaving {n_wrong_passed} that are not right and would still run by default.\n")
+    L.append("| m [kg] | V [cm³] | T [µs] | k | ω·T | stable and right | frequency error [%] | by default |\n"
+             "|---|---|---|---|---|---|---|---|")
+    for r in tl:
+        if r["k"] == 10 and r["T"] <= 1e-4 and r["V"] in (1e-7, 1e-5):
+            cav = " (the kick cavitates this chamber: not the linear frequency)" if r.get("cavitates") else ""
+            cav += " (energy account beyond its bound)" if r.get("energy_flag") else ""
+            L.append(f"| {r['m']:g} | {r['V']*1e6:g} | {r['T']*1e6:g} | {r['k']} | {r['omega']*r['T']:.3g} | "
+                     f"{'yes' if r['stable'] else '**no**'} | {r['err']:.2f}{cav} | "
+                     f"{by_default(r)} |")
+    L.append("\n(The table shows k = 10 for two volumes; `bench/results/stability_map.json` holds all runs. At "
+             "ω·T above about 3 the error is no longer small: the link's delay dominates and the frequency is "
+             "the loop's, not the piston's. With k = 1 the FE output is sampled every T, so above ω·T = π its "
+             "frequency is aliased. The 0.1 m/s kick swings the 0.1 cm³ chamber under 5 kg by 265 bar, below "
+             "vapour pressure: those runs are stable but not linear, and the plot leaves them out.)\n")
+    L.append("![TLM error against ω·T](results/stability_tlm_error.png)\n")
+    pr = smap["pressure"]
+    L.append("**Pressure coupling is bounded.** The largest stable step, bracketed on a ×1.1 grid (runs of "
+             "≥ 4000 steps and ≥ 30 periods; unstable: the swing grows by more than 10 %), beside the estimate "
+             "fe_server prints before the session (ω·T ≤ 1 with the fluid's ω):\n")
+    L.append("| m [kg] | V [cm³] | ω [rad/s] | stable at T [µs] | unstable at T [µs] | fe_server's estimate [µs] | "
+             "limit / estimate |\n|---|---|---|---|---|---|---|")
+    for r in pr:
+        lo, hi, est = r["stable_T"], r["unstable_T"], r["estimate"]
+        ratio = f"{lo/est:.2f}–{hi/est:.2f}" if lo and hi and est else "n/a"
+        L.append(f"| {r['m']:g} | {r['V']*1e6:g} | {r['omega']:.0f} | {lo*1e6 if lo else float('nan'):.3g} | "
+                 f"{hi*1e6 if hi else float('nan'):.3g} | {est*1e6 if est else float('nan'):.3g} | {ratio} |")
+    L.append("\nThe measured limit lies at ω·T ≈ 1.3–1.5 in every case: the estimate is inside ×1.5 of it, on the "
+             "safe side. The hammer sits far inside either way: cavity A at impact (40 cm³ under 14.4 kg, "
+             "ω ≈ 1,400 rad/s) gives ω·T = 0.14 at 100 µs.\n")
+    L.append("![stability map](results/stability_map.png)\n")
+    L.append("**Why TLM coupling used to be bounded too.** The first TLM implementation took the port's flow from "
+             "the velocity at the start of the FE step, an explicit damper Zc·A² on the surface; with the host "
+             "volume's Zc = β·T/V that is the same delayed loop as pressure coupling, and the old map measured the "
+             "same limits for both modes. Measured with that build: m = 0.5 kg, V = 1 cm³ unstable at T = 100 µs "
+             "(ω·T = 5.3) with k = 1 and k = 10, and m = 0.5 kg, V = 100 cm³ unstable at 1 ms. fe_server now "
+             "solves p = c + Zc·q with q from the velocity at t_n (implicitly, a rank-one update per port; "
+             "`fe_server/src/loads/cavity_load.hpp`). A linear model of the loop (`bench/coupling_loop_model.py`, "
+             "spectral radius ρ of one step) shows why that form and not the end-of-step velocity:\n")
+    L.append(loop_text + "\n")
+    L.append("(The model reproduces the TLM variants; for pressure coupling it puts the limit at ω·T = 1.0, "
+             "below the measured 1.3–1.5, so it misses some damping of the real loop.)\n")
+    return L
+
+
+def rewrite_stability_section():
+    """--stability-from-json: the section rewritten in RESULTS.md from
+    bench/results/stability_map.json (after `stability_map.py` alone)."""
+    smap = json.loads((ROOT / "bench/results/stability_map.json").read_text())
+    path = ROOT / "bench/RESULTS.md"
+    text = path.read_text()
+    a = text.index("## Coupling stability map\n")
+    b = text.index("\n## ", a + 1) + 1
+    path.write_text(text[:a] + "\n".join(stability_section(smap, loop_model())) + "\n" + text[b:])
+
+
 def main():
+    if "--stability-from-json" in sys.argv:
+        rewrite_stability_section()
+        return
     OUT.mkdir(parents=True, exist_ok=True)
     started = time.monotonic()
     coupling = csv_rows(run_bench("bench_coupling"), "coupling")
@@ -544,80 +639,7 @@ def main():
     L.append("\nThe scene's 9 × 10 mm mesh keeps plateau, length and W within 0.6 % of the 2.5 mm mesh at 1/13 of "
              "its elements; only the front's overshoot (peak) is lower, by about 6 %: read peaks as mesh-dependent. "
              "![mesh study](results/mesh_study.png)\n")
-    L.append("## Coupling stability map\n")
-    L.append("Scene one_dof (rigid piston, A = 10 cm², on a spring of 1 MN/m and a shut chamber of volume V, "
-             "β = 1.4 GPa), kicked at 0.1 m/s; ω² = β·A²/(V·m) + k/m. `bench/stability_map.py` runs every point "
-             "as two processes.\n")
-    tl = smap["tlm"]
-    n_stable = sum(1 for r in tl if r["stable"])
-    max_wt = smap_module.GUARD_OMEGA_T
-
-    def guarded(r):  # fe_server refuses it at step 0 unless --allow-coarse-coupling
-        return smap_module.fe_omega_t(r["m"], r["V"], r["T"]) > max_wt
-
-    def by_default(r):
-        if guarded(r):
-            return "refused by fe_server (exit 3)"
-        if r.get("host_stop") == "port guard":
-            return "stopped by tlm_host's port guard (exit 4)"
-        return "runs"
-
-    n_guarded = sum(1 for r in tl if guarded(r))
-    n_host = sum(1 for r in tl if by_default(r).startswith("stopped"))
-    n_wrong_passed = sum(1 for r in tl if not r["stable"] and by_default(r) == "runs")
-    L.append(f"**TLM coupling: {n_stable} of {len(tl)} runs stable and right** (m = 0.05–5 kg, V = 0.1–100 cm³, "
-             f"T = 1–1000 µs, ω·T = {min(r['omega']*r['T'] for r in tl):.3g}–{max(r['omega']*r['T'] for r in tl):.3g}, "
-             "k = 1 where the FE step allows it and k = 10; the map runs with fe_server's guards waived to see "
-             "where they must stand). Stable and right: the swing over the last quarter of the run is at most 1.5 "
-             "times that over the first, the centre of the swing moves by less than the first quarter's swing, "
-             "and the energy account is within its bound (runs of ≥ 2000 steps and ≥ 10 periods). The step sets "
-             "the accuracy: the frequency error against the analytic ω grows as about 0.2·(ω·T)² (1 % at "
-             "ω·T = 0.22; the TLM link adds an oil inertance m·(ω·T)², a line's own mass). fe_server prints, per "
-             "port, the chamber for which that error stays below 1 %, and refuses a port whose ω·T from the "
-             f"host's Zc exceeds {max_wt:.2f} (10 % by that estimate) at step 0: {n_guarded} of the runs; "
-             f"tlm_host's port guard stops {n_host} more (a kicked 0.1 cm³ chamber cavitating within a step), "
-             f"leaving {n_wrong_passed} that are not right and would still run by default.\n")
-    L.append("| m [kg] | V [cm³] | T [µs] | k | ω·T | stable and right | frequency error [%] | by default |\n"
-             "|---|---|---|---|---|---|---|---|")
-    for r in tl:
-        if r["k"] == 10 and r["T"] <= 1e-4 and r["V"] in (1e-7, 1e-5):
-            cav = " (the kick cavitates this chamber: not the linear frequency)" if r.get("cavitates") else ""
-            cav += " (energy account beyond its bound)" if r.get("energy_flag") else ""
-            L.append(f"| {r['m']:g} | {r['V']*1e6:g} | {r['T']*1e6:g} | {r['k']} | {r['omega']*r['T']:.3g} | "
-                     f"{'yes' if r['stable'] else '**no**'} | {r['err']:.2f}{cav} | "
-                     f"{by_default(r)} |")
-    L.append("\n(The table shows k = 10 for two volumes; `bench/results/stability_map.json` holds all runs. At "
-             "ω·T above about 3 the error is no longer small: the link's delay dominates and the frequency is "
-             "the loop's, not the piston's. With k = 1 the FE output is sampled every T, so above ω·T = π its "
-             "frequency is aliased. The 0.1 m/s kick swings the 0.1 cm³ chamber under 5 kg by 265 bar, below "
-             "vapour pressure: those runs are stable but not linear, and the plot leaves them out.)\n")
-    L.append("![TLM error against ω·T](results/stability_tlm_error.png)\n")
-    pr = smap["pressure"]
-    L.append("**Pressure coupling is bounded.** The largest stable step, bracketed on a ×1.1 grid (runs of "
-             "≥ 4000 steps and ≥ 30 periods; unstable: the swing grows by more than 10 %), beside the estimate "
-             "fe_server prints before the session (ω·T ≤ 1 with the fluid's ω):\n")
-    L.append("| m [kg] | V [cm³] | ω [rad/s] | stable at T [µs] | unstable at T [µs] | fe_server's estimate [µs] | "
-             "limit / estimate |\n|---|---|---|---|---|---|---|")
-    for r in pr:
-        lo, hi, est = r["stable_T"], r["unstable_T"], r["estimate"]
-        ratio = f"{lo/est:.2f}–{hi/est:.2f}" if lo and hi and est else "n/a"
-        L.append(f"| {r['m']:g} | {r['V']*1e6:g} | {r['omega']:.0f} | {lo*1e6 if lo else float('nan'):.3g} | "
-                 f"{hi*1e6 if hi else float('nan'):.3g} | {est*1e6 if est else float('nan'):.3g} | {ratio} |")
-    L.append("\nThe measured limit lies at ω·T ≈ 1.3–1.5 in every case: the estimate is inside ×1.5 of it, on the "
-             "safe side. The hammer sits far inside either way: cavity A at impact (40 cm³ under 14.4 kg, "
-             "ω ≈ 1,400 rad/s) gives ω·T = 0.14 at 100 µs.\n")
-    L.append("![stability map](results/stability_map.png)\n")
-    L.append("**Why TLM coupling used to be bounded too.** The first TLM implementation took the port's flow from "
-             "the velocity at the start of the FE step, an explicit damper Zc·A² on the surface; with the host "
-             "volume's Zc = β·T/V that is the same delayed loop as pressure coupling, and the old map measured the "
-             "same limits for both modes. Measured with that build: m = 0.5 kg, V = 1 cm³ unstable at T = 100 µs "
-             "(ω·T = 5.3) with k = 1 and k = 10, and m = 0.5 kg, V = 100 cm³ unstable at 1 ms. fe_server now "
-             "solves p = c + Zc·q with q from the velocity at t_n (implicitly, a rank-one update per port; "
-             "`fe_server/src/loads/cavity_load.hpp`). A linear model of the loop (`bench/coupling_loop_model.py`, "
-             "spectral radius ρ of one step) shows why that form and not the end-of-step velocity:\n")
-    L.append(loop_text + "\n")
-    L.append("(The model reproduces the TLM variants; for pressure coupling it puts the limit at ω·T = 1.0, "
-             "below the measured 1.3–1.5, so it misses some damping of the real loop.)\n")
+    L += stability_section(smap, loop_text)
     L.append("## Cavitation that conserves oil\n")
     L.append("A piston circuit (supply 100 bar, 1 mm² orifice, 10 cm³ chamber, 5 kg piston on a return spring; "
              "`tests/tlm_host/cavitation_reference.py`, a CTest) against a continuous model with a void state. "

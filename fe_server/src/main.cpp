@@ -27,6 +27,7 @@
 #include "coupling/coupling_server.hpp"
 #include "input/deck_reader.hpp"
 #include "coupling/exit_codes.hpp"
+#include "input/units.hpp"
 #include "output/checkpoint.hpp"
 #include "output/history.hpp"
 #include "solver/mass_scaling.hpp"
@@ -486,8 +487,12 @@ int run_main(int argc, char** argv) {
     // In a session the host decides when to checkpoint: always ready (on one rank).
     if (!ports_paths.empty() && ck.path.empty() && !dom.parallel()) ck.path = default_checkpoint_path(out);
     if (ck.enabled()) ck.deck_digest = config::file_sha256(deck);
-    if (ports_paths.empty()) return run_standalone(model, out, opt.quiet, threads, ck);
+    if (ports_paths.empty()) {
+      fe::check_units(model, {});
+      return run_standalone(model, out, opt.quiet, threads, ck);
+    }
     for (const auto& p : ports_paths) tables.push_back(config::read_port_table(p));
+    fe::check_units(model, tables);
     table = config::combine_port_tables(tables);
   } catch (const std::exception& e) {
     std::cerr << "fe_server: " << e.what() << "\n";

@@ -186,3 +186,69 @@ TEST(Stops, AStartPressureAboveTheSupplyIsASourceNotABlowUp) {
   const Outcome r = host_alone(dir, circuit("1e6", "5e7"));
   EXPECT_EQ(r.host, 0) << r.host_log;
 }
+
+namespace {
+
+// A 10-unit cube of one hex, standalone for a few steps: E, RO and the
+// edge length in the deck's own units.
+std::string cube_deck(double edge, double E, double rho, double end_time) {
+  std::ostringstream d;
+  d << "*KEYWORD\n*CONTROL_TERMINATION\n" << end_time << "\n*NODE\n";
+  const int c[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  for (int i = 0; i < 8; ++i)
+    d << i + 1 << "," << c[i][0] * edge << "," << c[i][1] * edge << "," << c[i][2] * edge << (c[i][2] == 0 ? ",7" : "") << "\n";
+  d << "*PART\ncube\n1,1,1\n*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1," << rho << "," << E
+    << ",0.3\n*ELEMENT_SOLID\n1,1,1,2,3,4,5,6,7,8\n*END\n";
+  return d.str();
+}
+
+Outcome fe_alone(const TempDir& dir, const std::string& deck, const std::vector<std::string>& extra = {}) {
+  std::ofstream(dir.file("u.k")) << deck;
+  std::vector<std::string> a{PCS_FE_SERVER_EXE, "--model", dir.file("u.k"), "--out", dir.file("u.h5"), "--quiet"};
+  a.insert(a.end(), extra.begin(), extra.end());
+  ChildProcess fe(a);
+  Outcome r;
+  r.server = fe.wait(kTimeout);
+  r.server_log = fe.output();
+  return r;
+}
+
+}  // namespace
+
+// Units (issue 32): E in MPa with RO in kg/m³ ran one step past its end time
+// and exited 0; the mm–t density with MPa in a deck measured in metres took
+// about 1000× the steps. The deck's unit system is inferred from its
+// materials and size; a deck that fits none is refused naming the part.
+TEST(Stops, ADeckWhoseUnitsDoNotFitTogetherIsRefusedNamingThePart) {
+  TempDir dir;
+  // Steel in SI, and in mm–t–s: both run.
+  EXPECT_EQ(fe_alone(dir, cube_deck(0.01, 2.1e11, 7850, 1e-5)).server, 0);
+  EXPECT_EQ(fe_alone(dir, cube_deck(10.0, 2.1e5, 7.85e-9, 1e-5)).server, 0);
+  // E in MPa, RO in kg/m³: a wave speed of 5.2 units per time unit.
+  Outcome r = fe_alone(dir, cube_deck(0.01, 2.1e5, 7850, 1e-5));
+  EXPECT_EQ(r.server, 3) << r.server_log;
+  expect_words(r.server_log, {"u.k:", "the deck's units do not fit together: part 1 (cube): E = 2.1e+05, RO = 7850",
+                              "sqrt(E/RO) = 5.172"});
+  // mm–t–s materials on a mesh in metres: a cube 0.017 mm across.
+  r = fe_alone(dir, cube_deck(0.01, 2.1e5, 7.85e-9, 1e-5));
+  EXPECT_EQ(r.server, 3) << r.server_log;
+  expect_words(r.server_log, {"the deck's units do not fit together", "the model is 0.01732 length units across"});
+}
+
+// A deck in mm–t–s behind a port table with SI scales (1.0) got pressures
+// in Pa as if they were MPa. Now the table's scales must convert to one of
+// the systems the deck fits: here 1e-6 for a pressure.
+TEST(Stops, APortTableWhoseScalesDoNotConvertToTheDecksUnitsIsRefused) {
+  TempDir dir;
+  std::string deck = cube_deck(10.0, 2.1e5, 7.85e-9, 1e-5);
+  deck.replace(deck.find("*END\n"), 5,
+               "*SET_SEGMENT\n1\n5,6,7,8\n*USER_LOADING_SET\n1,PRESSS,1\n*END\n");
+  std::ofstream(dir.file("u.k")) << deck;
+  std::string table = read(kOneDof + "/ports.cfg");
+  std::ofstream(dir.file("si.cfg")) << table;
+  ChildProcess fe({PCS_FE_SERVER_EXE, "--model", dir.file("u.k"), "--ports", dir.file("si.cfg"), "--out",
+                   dir.file("u.h5"), "--accept-timeout", "1"});
+  EXPECT_EQ(fe.wait(kTimeout), 3) << fe.output();
+  expect_words(fe.output(), {"the port table", "does not convert to the deck's units (mm, t, s (N, MPa)",
+                             "cavity.p has scale 1, where a deck in mm, t, s (N, MPa) needs 1e-06"});
+}

@@ -182,6 +182,7 @@ namespace {
 struct ParseState {
   bool follow_includes = false, blank_cards = false;
   std::vector<std::string> include_paths;  // from *INCLUDE_PATH, in the order read
+  std::string master_dir;                  // the master deck's folder (with its '/'), "" for the working one
   uint64_t include_bytes = 0;              // read through *INCLUDE so far, every file counted each time
   long include_files = 0;
 };
@@ -223,6 +224,7 @@ static std::vector<Block> read_impl(const std::string& path, ParseState& st, int
 static std::vector<Block> parse_impl(const std::string& text, const std::string& name, ParseState& st, int depth) {
   constexpr int kMaxIncludeDepth = 16;
   std::vector<Block> blocks;
+  if (depth == 0) st.master_dir = directory_of(name);
   std::istringstream in(text);
   std::string raw;
   int line_no = 0;
@@ -284,14 +286,27 @@ static std::vector<Block> parse_impl(const std::string& text, const std::string&
     for (const auto& c : b.cards) {
       const std::string file = trim(c.text);
       if (file.empty()) continue;
+      // As LS-DYNA looks: the including file's folder, then the master
+      // deck's, then each *INCLUDE_PATH in the order given.
       std::string path = file[0] == '/' ? file : directory_of(name) + file;
       std::error_code ec;
-      if (file[0] != '/' && !std::filesystem::exists(path, ec))
-        for (const std::string& dir : st.include_paths)
+      if (file[0] != '/' && !std::filesystem::exists(path, ec)) {
+        std::vector<std::string> tried{directory_of(name)};
+        if (st.master_dir != directory_of(name)) tried.push_back(st.master_dir);
+        for (const std::string& dir : st.include_paths) tried.push_back(dir);
+        bool found = false;
+        for (const std::string& dir : tried)
           if (std::filesystem::exists(dir + file, ec)) {
-            path = dir + file;
+            path = dir + file, found = true;
             break;
           }
+        if (!found) {
+          std::string where;
+          for (const std::string& dir : tried) where += std::string(where.empty() ? "" : ", ") + (dir.empty() ? "./" : dir);
+          throw InputError(c.where, "*INCLUDE '" + file + "' is in none of the folders looked in: " + where +
+                                        " (the including file's, the master deck's, then *INCLUDE_PATH's)");
+        }
+      }
       auto inc = read_impl(path, st, depth + 1, &c.where);
       for (auto& ib : inc) out.push_back(std::move(ib));
     }
@@ -301,12 +316,12 @@ static std::vector<Block> parse_impl(const std::string& text, const std::string&
 
 std::vector<Block> parse_keyword_text(const std::string& text, const std::string& name, bool follow_includes,
                                       bool blank_cards) {
-  ParseState st{follow_includes, blank_cards, {}};
+  ParseState st{follow_includes, blank_cards, {}, {}};
   return parse_impl(text, name, st, 0);
 }
 
 std::vector<Block> read_keyword_file(const std::string& path, bool follow_includes) {
-  ParseState st{follow_includes, false, {}};
+  ParseState st{follow_includes, false, {}, {}};
   return read_impl(path, st, 0, nullptr);
 }
 

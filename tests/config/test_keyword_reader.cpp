@@ -170,3 +170,34 @@ TEST(KeywordReader, EndInAnIncludedFileEndsOnlyThatFile) {
   EXPECT_EQ(keywords, (std::vector<std::string>{"*KEYWORD", "*KEYWORD", "*PART", "*NODE", "*END"}));
   fs::remove_all(dir);
 }
+
+// Include paths as LS-DYNA resolves them: from the including file's folder,
+// then from the master deck's, then *INCLUDE_PATH. A file in sub/ that
+// includes "mat.k" kept beside the master deck was not found.
+TEST(KeywordReader, AnIncludeIsLookedForBesideTheIncludingFileThenBesideTheMasterDeck) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("pcs_inc_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "sub");
+  std::ofstream(dir / "mat.k") << "*MAT_ELASTIC\nmaster's\n";
+  std::ofstream(dir / "sub" / "local.k") << "*SECTION_SOLID\nlocal\n";
+  std::ofstream(dir / "sub" / "parts.k") << "*PART\nin sub\n*INCLUDE\nlocal.k\nmat.k\n";
+  std::ofstream(dir / "main.k") << "*KEYWORD\n*INCLUDE\nsub/parts.k\n*END\n";
+  const auto blocks = config::read_keyword_file((dir / "main.k").string(), true);
+  std::vector<std::string> keywords;
+  for (const auto& b : blocks) keywords.push_back(b.keyword + ":" + (b.cards.empty() ? "" : b.cards.front().text));
+  EXPECT_EQ(keywords, (std::vector<std::string>{"*KEYWORD:", "*PART:in sub", "*SECTION_SOLID:local",
+                                                "*MAT_ELASTIC:master's", "*END:"}));
+  // Beside neither: refused at its card, naming where it looked.
+  std::ofstream(dir / "sub" / "parts.k") << "*PART\nin sub\n*INCLUDE\nnowhere.k\n";
+  try {
+    config::read_keyword_file((dir / "main.k").string(), true);
+    ADD_FAILURE() << "a missing include was not refused";
+  } catch (const config::InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("parts.k:4: *INCLUDE 'nowhere.k' is in none of the folders looked in: " + (dir / "sub").string() +
+                     "/, " + dir.string() + "/"),
+              std::string::npos)
+        << m;
+  }
+  fs::remove_all(dir);
+}

@@ -420,6 +420,76 @@ def stability_section(smap, loop_text):
     return L
 
 
+# What each hard case of tests/hard_cases must end in (issue 32): the test
+# asserts it; this table says it in words beside the test's outcome and time.
+HARD_CASES = {
+    "Stops.AHostStepThatIsNotTheFmusCouplingStepIsRefusedBeforeStepOne": "host step 1 ms against a 10 µs FMU: exit 3 before step 1",
+    "Stops.ATlmStepFarTooCoarseForItsChamberIsRefusedAtStepZero": "ω·T = 529: fe_server exit 3 at step 0, the largest step that passes named",
+    "Stops.AnEnergyAccountBeyondItsBoundEndsWithElevenUnlessWaivedAndTheResultsSaySo": "energy 9.8 % off: exit 11; waived: 0 and attributes",
+    "Stops.AParameterOutsideItsPlausibleRangeIsRefusedAtItsLine": "a 1e308 Pa supply, a 100 m³ volume: exit 3 at the line",
+    "Stops.AStartPressureAboveTheSupplyIsASourceNotABlowUp": "a line starting at 500 bar in a 10 bar circuit runs (exit 0)",
+    "Stops.ADeckWhoseUnitsDoNotFitTogetherIsRefusedNamingThePart": "E in MPa with RO in kg/m³; mm–t materials on a metre mesh: exit 3 naming the part",
+    "Stops.APortTableWhoseScalesDoNotConvertToTheDecksUnitsIsRefused": "scale 1 for a deck in MPa: exit 3 naming the variable and 1e-6",
+    "HardCase.ATinyChamberMakingTheFluidStiffAgainstThePistonIsForetoldAndStopsWithADiagnostic": "pressure coupling at ω·T = 1.7: foretold, stopped at the port (exit 4 / 7)",
+    "HardCase.ATinyChamberUnderTlmCouplingIsRefusedOrStoppedAtItsPort": "TLM at ω·T = 1.7 waived: host stops at −133 bar (exit 4)",
+    "HardCase.AFlatteningSolidWhoseStepOutgrowsItsLimitStopsBeforeItGoesUnstable": "a flattening hex: stop before the step outgrows its limit, σ = −p within 2 %",
+    "HardCase.ANonFiniteLoadStopsTheStepNamingTheNode": "a NaN load: stop at the step, the node named",
+    "HardCase.ANodeFarOutsideTheModelsBoxStopsTheRunNamingIt": "a free block flying off: stop within 32 steps of leaving the box",
+    "HardCase.ASubstitutionThatChangesThePhysicsIsRefusedUnlessApproximate": "FS 0.2, IHQ 4, ELFORM 2: refused; --approximate lists each",
+    "HardCase.AMisspeltDatabaseKeywordIsAnErrorNamingTheNearestOne": "*DATABASE_NODEOUT: error, 'did you mean *DATABASE_NODOUT?'",
+    "HardCase.NanOrInfInAFieldNoKeywordReadsIsRefusedAtItsLine": "nan, -inf, 1e999 in an unread field: refused at its line",
+    "HardCase.ADecksErrorsAreReportedTogetherEachAtItsLine": "three errors in one run; more than 20 cut at 20",
+}
+
+
+def hard_cases_section():
+    """The hard cases as run by test_hard_cases (its JSON report), and the
+    guards' cost from bench/results/guard_cost.json (bench/guard_cost.py)."""
+    L = ["## Hard cases and the cost of the run-quality guards\n"]
+    report = Path(tempfile.mkdtemp(prefix="pcs_hard_")) / "hard.json"
+    subprocess.run([str(BUILD / "tests" / "test_hard_cases"), f"--gtest_output=json:{report}"], capture_output=True,
+                   timeout=900)
+    results = {}
+    if report.exists():
+        for suite in json.loads(report.read_text()).get("testsuites", []):
+            for t in suite.get("testsuite", []):
+                results[f"{suite['name']}.{t['name']}"] = (not t.get("failures"), t.get("time", ""))
+    L.append("Each case once ended with exit 0 and a wrong answer (issue 32). `tests/hard_cases/` runs it and "
+             "asserts its stop; here, what it must end in, and its outcome and wall time in this run:\n")
+    L.append("| case | expected | outcome | wall |\n|---|---|---|---|")
+    for name, expected in HARD_CASES.items():
+        ok, wall = results.get(name, (None, ""))
+        outcome = "as expected" if ok else ("**not as expected**" if ok is False else "not run")
+        L.append(f"| `{name.split('.', 1)[1]}` | {expected} | {outcome} | {wall} |")
+    cost = ROOT / "bench/results/guard_cost.json"
+    if cost.exists():
+        c = json.loads(cost.read_text())
+        L.append(f"\nThe guards' cost (`bench/guard_cost.py`: this build against {c['before']}, the revision before "
+                 f"them, {c['pairs']} interleaved pairs, load average {' '.join(c['loadavg'])}; the lower bound of "
+                 "each side compared, the medians beside it):\n")
+        L.append("| case | before [ns] | after [ns] | cost (minima) | cost (medians) |\n|---|---|---|---|---|")
+        for r in c["rows"]:
+            unit = "per component-step" if r["case"] == "tlm host" else "per element-cycle"
+            L.append(f"| {r['case']} ({unit}) | {r['before_min']:.2f} | {r['after_min']:.2f} | "
+                     f"{100 * (r['ratio_min'] - 1):+.1f} % | {100 * (r['ratio_median'] - 1):+.1f} % |")
+    return L
+
+
+def rewrite_hard_cases_section():
+    """--hard-cases: that section rewritten in RESULTS.md (appended if absent)."""
+    path = ROOT / "bench/RESULTS.md"
+    text = path.read_text()
+    new = "\n".join(hard_cases_section()) + "\n"
+    tag = "## Hard cases and the cost of the run-quality guards\n"
+    if tag in text:
+        a = text.index(tag)
+        b = text.find("\n## ", a + 1)
+        text = text[:a] + new + (text[b + 1:] if b >= 0 else "")
+    else:
+        text = text.rstrip("\n") + "\n\n" + new
+    path.write_text(text)
+
+
 def rewrite_stability_section():
     """--stability-from-json: the section rewritten in RESULTS.md from
     bench/results/stability_map.json (after `stability_map.py` alone)."""
@@ -434,6 +504,9 @@ def rewrite_stability_section():
 def main():
     if "--stability-from-json" in sys.argv:
         rewrite_stability_section()
+        return
+    if "--hard-cases" in sys.argv:
+        rewrite_hard_cases_section()
         return
     OUT.mkdir(parents=True, exist_ok=True)
     started = time.monotonic()
@@ -640,6 +713,7 @@ def main():
              "its elements; only the front's overshoot (peak) is lower, by about 6 %: read peaks as mesh-dependent. "
              "![mesh study](results/mesh_study.png)\n")
     L += stability_section(smap, loop_text)
+    L += hard_cases_section()
     L.append("## Cavitation that conserves oil\n")
     L.append("A piston circuit (supply 100 bar, 1 mm² orifice, 10 cm³ chamber, 5 kg piston on a return spring; "
              "`tests/tlm_host/cavitation_reference.py`, a CTest) against a continuous model with a void state. "

@@ -374,6 +374,40 @@ TEST(HardCase, ImpactAtTwentyMetresPerSecondStaysOneDimensionalAndConservesEnerg
   EXPECT_NEAR(r.piston_v_after, 0.0, 0.05 * v0) << "equal impedance: the piston stops";
 }
 
+// From 1000 m/s on, the striker passed straight through the target with
+// exit 0 (issue 32): the penalty spring cannot stop a node within the step
+// it has. A node deeper than a fifth of the contact's element size now stops
+// the run, naming the contact, the node, its segment and the depth, before
+// it passes through; one that moves more than half an element per step, so
+// that it could cross a face unseen, stops it before it touches. The search
+// for candidate faces follows the speed (every step at 1000 m/s, where every
+// 20th step missed the striker). 20 m/s stays below 1 % of the element.
+TEST(HardCase, AnImpactTooFastForThePenaltyContactStopsBeforeTheBodiesPassThrough) {
+  for (const double v0 : {1000.0, 8000.0}) {
+    SCOPED_TRACE(v0);
+    fe::Model m = fe::parse_deck(fe_test::bar_impact_deck(0.05, 0.1, 0.01, 0.005, v0, kE), "impact.k");
+    fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
+    double deepest = 0.0;
+    const std::string e = error_of([&] {
+      while (s.time() < 0.2e-3) {
+        s.step();
+        deepest = std::max(deepest, s.max_penetration());
+      }
+    });
+    EXPECT_NE(e.find("contact 1 (impact.k:"), std::string::npos) << e;
+    if (v0 < 5000.0) {  // caught pressed in too deep
+      EXPECT_NE(e.find("mm behind the segment of nodes"), std::string::npos) << e;
+      EXPECT_NE(e.find("passing through each other"), std::string::npos) << e;
+    } else {  // 3.4 mm per step on 3 mm faces: caught by its speed before it touches
+      EXPECT_NE(e.find("mm per step, more than half the contact's element size"), std::string::npos) << e;
+    }
+    EXPECT_LT(deepest, 0.2 * 0.005) << "stopped before a node got deeper than a fifth of an element";
+    // No node of the striker (part 1) is past the target's face (z = 0) by
+    // a whole element when it stops.
+    for (size_t i = 0; i < m.x0.size(); ++i) EXPECT_GT(s.x()[i].z() - m.x0[i].z(), -0.05) << "node " << m.node_ids[i];
+  }
+}
+
 // A rigid plate whose pressurised face sits at its cavity's edge: the oil
 // pushes it out, a spring pulls it back, and the equilibrium lies where the
 // face straddles the edge. A load that switched on and off with the face's

@@ -128,10 +128,17 @@ class System {
   static constexpr double kLowestPressure = -1e5;  // Pa absolute
   static constexpr double kSourceFactor = 10.0;
   static constexpr double kUndershoot = 0.1;
+  static constexpr long kGuardEvery = 16;  // steps between two node checks
   double highest_pressure_ = 1e300;  // Pa; 1e300 where no source bounds it
   double lowest_port_pressure_ = kLowestPressure;
   std::set<const HydraulicNode*> fmu_nodes_;
+  // Per node (nodes_ order): the pressure bounds of the guard (mechanical
+  // nodes ±inf), so that the check every step is two compares and a sum.
+  std::vector<double> node_lo_, node_hi_;
+  std::vector<size_t> fmu_node_index_;  // the FMUs' hydraulic port nodes, checked every step
   std::string check_nodes() const;
+  std::string check_fmu_nodes() const;
+  std::string node_failure(const HydraulicNode& n, double lowest) const;
   std::set<const SignalPort*> bound_;
   std::string csv_path_;
   // A Hopsan model's results under Hopsan's names (ModelSpec::hopsan_results).

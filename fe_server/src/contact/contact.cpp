@@ -275,7 +275,11 @@ int PenaltyContact::side_forces(Side& s, bool slave_nodes, const std::vector<Vec
     on_nodes += F * c.n;
     on_segments -= F * c.n;
     mass_in_contact += m_node;
-    max_penetration_ = std::max(max_penetration_, -c.g);
+    if (-c.g > max_penetration_) {
+      max_penetration_ = -c.g;
+      deepest_node_ = static_cast<int>(node);
+      for (int k2 = 0; k2 < 4; ++k2) deepest_segment_[static_cast<size_t>(k2)] = k2 < nc ? seg.n[k2] : -1;
+    }
     ++active;
   }
   return active;
@@ -312,14 +316,37 @@ void PenaltyContact::refuse_initial_penetration(const Model& model, const Contac
   throw std::runtime_error(m.str());
 }
 
+long PenaltyContact::steps_to_next_search(const Side& s, const std::vector<Vec3>& v) const {
+  double v2 = 0.0;
+  int fastest = -1;
+  auto look = [&](int n) {
+    const double w = v[static_cast<size_t>(n)].squaredNorm();
+    if (w > v2) v2 = w, fastest = n;
+  };
+  for (int n : s.nodes) look(n);
+  for (const Segment& seg : s.segments)
+    for (int k = 0; k < corners(seg); ++k) look(seg.n[k]);
+  if (std::sqrt(v2) * dt_ > fastest_step_) fastest_step_ = std::sqrt(v2) * dt_, fastest_node_ = fastest;
+  const double per_step = 2.0 * std::sqrt(v2) * dt_;  // the most two nodes close in a step
+  if (!(per_step > 0.0)) return search_interval_;
+  const double steps = std::floor(1.25 * size_ / per_step);
+  return static_cast<long>(std::clamp(steps, 1.0, static_cast<double>(search_interval_)));
+}
+
 int PenaltyContact::apply(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f, long step) {
   max_penetration_ = 0.0;
+  deepest_node_ = -1;
+  fastest_step_ = 0.0;
+  fastest_node_ = -1;
   slave_force_ = master_force_ = Vec3::Zero();
   slave_mass_ = master_mass_ = 0.0;
   int active = 0;
   for (size_t k = 0; k < sides_.size(); ++k) {
     Side& s = sides_[k];
-    if (step % search_interval_ == 0 || s.start.empty()) search(s, x);
+    if (step >= s.next_search || step < s.next_search - search_interval_ || s.start.empty()) {
+      search(s, x);
+      s.next_search = step + steps_to_next_search(s, v);
+    }
     active += side_forces(s, k == 0, x, v, f);
   }
   return active;

@@ -51,6 +51,15 @@ class PenaltyContact {
   int apply(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f, long step);
   // Largest penetration of the last apply(), m.
   double max_penetration() const { return max_penetration_; }
+  // The deepest pressed node of the last apply() and its segment's nodes
+  // (model indices; -1 when nothing touched).
+  int deepest_node() const { return deepest_node_; }
+  // The most a node of the contact's surfaces moved per step at the last
+  // search, and which (model index): beyond half an element a node can
+  // cross the touch window in one step, unseen.
+  double fastest_step() const { return fastest_step_; }
+  int fastest_node() const { return fastest_node_; }
+  const std::array<int, 4>& deepest_segment() const { return deepest_segment_; }
   // The last apply()'s resultant force on each side's nodes (slave: the
   // slave set's, master: the master set's; equal and opposite) and the mass
   // of that side's nodes in contact (LS-DYNA's rcforc).
@@ -78,6 +87,7 @@ class PenaltyContact {
     // farther away is skipped without the segment's normal.
     std::vector<double> reach2;
     std::vector<Vec3> centre;  // scratch of the search
+    long next_search = 0;      // the step of the next search (search_interval(), adaptive)
     // Per segment (lines, 2D): how far beyond each end, as a fraction of its
     // length, a node's foot still counts: 5 % where the line meets the next
     // line of its surface, round-off at a free end. A node pressed onto a
@@ -112,10 +122,20 @@ class PenaltyContact {
   // (k = 0.1·m/Δt²); a tenth separates them from a corner's geometry.
   static constexpr double kCornerDepth = 0.1;
   void search(Side& s, const std::vector<Vec3>& x);
+  // Steps until the next search: a pair left out is at least 3 sizes apart
+  // and may touch from 1.75 sizes, so the two may close 1.25 sizes, at twice
+  // the fastest of the side's nodes: every search_interval_ steps at most,
+  // every step at impact speeds (a striker at 1000 m/s on a 5 mm mesh moved
+  // 2.6 elements between two searches and was never seen).
+  long steps_to_next_search(const Side& s, const std::vector<Vec3>& v) const;
   // Side 0's nodes are the slave set's (or the slave node set), side 1's the master's.
   int side_forces(Side& s, bool slave_nodes, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f);
   const std::vector<double>& mass_;
   double dt_, sfs_, damping_, size_ = 0.0, max_penetration_ = 0.0;
+  int deepest_node_ = -1;
+  mutable double fastest_step_ = 0.0;
+  mutable int fastest_node_ = -1;
+  std::array<int, 4> deepest_segment_{-1, -1, -1, -1};
   std::vector<Side> sides_;
   // Single surface: per segment, the nodes of the element it is a face of
   // (a node is never in contact with its own elements' faces).

@@ -291,13 +291,13 @@ void axi4_block(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const
     } else {
       axi4_kernel(B, dt, m.bulk_q1, m.bulk_q2);
     }
+    note_step_limits(B.limit, W, n, k0, res);
     for (int l = 0; l < n; ++l) {
       const size_t k = k0 + static_cast<size_t>(l);
       if (!(B.det[l] > 0.0 && B.r_c[l] > 0.0) && res.inverted < 0) {
         res.inverted = static_cast<long>(k);
         res.measure = 4.0 * B.det[l];
       }
-      if (B.limit[l] < res.step_limit) res.step_limit = B.limit[l], res.step_worst = static_cast<long>(k);
       const size_t e = static_cast<size_t>(st.elements[k]);
       for (int c = 0; c < 4; ++c) st.sigma[e](c) = B.sig[c][l];
       if (K.any_plastic && B.plastic[l]) {

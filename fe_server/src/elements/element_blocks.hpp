@@ -36,6 +36,20 @@ struct BlockResult {
   }
 };
 
+// A batch's current stable steps (`lanes` of them, the first `used` real)
+// into the block's smallest: a vector min, the lane looked for only when it
+// is the block's smallest so far. first: the batch's first element's index.
+inline void note_step_limits(const double* limit, int lanes, int used, size_t first, BlockResult& r) {
+  double least = 1e300;
+  for (int l = 0; l < lanes; ++l) least = limit[l] < least ? limit[l] : least;
+  if (!(least < r.step_limit)) return;
+  for (int l = 0; l < used; ++l)
+    if (limit[l] == least) {
+      r.step_limit = least, r.step_worst = static_cast<long>(first + static_cast<size_t>(l));
+      return;
+    }
+}
+
 // Throws StepBeyondLimit when the step dt exceeds the smallest current
 // stable step of the blocks (beyond round-off). `name(k)` names element k
 // of the loop's list.

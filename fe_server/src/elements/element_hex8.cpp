@@ -393,13 +393,13 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
       }
     }
     hex8_kernel(B, dt, m.bulk_q1, m.bulk_q2);
+    note_step_limits(B.limit, W, n, k0, r);
     for (int l = 0; l < n; ++l) {
       const size_t k = k0 + static_cast<size_t>(l);
       if (!(B.volume[l] > 0.0) && r.inverted < 0) {
         r.inverted = static_cast<long>(k);
         r.measure = B.volume[l];
       }
-      if (B.limit[l] < r.step_limit) r.step_limit = B.limit[l], r.step_worst = static_cast<long>(k);
       const size_t e = static_cast<size_t>(st.elements[k]);
       for (int c = 0; c < 6; ++c) st.sigma[e](c) = B.sig[c][l];
       if (B.plastic[l]) {

@@ -42,7 +42,9 @@ std::vector<UnitSystem> deck_unit_systems(const Model& m, std::string* why) {
   for (const UnitSystem& u : kSystems) {
     bool ok = true;
     for (const auto& [pid, part] : m.parts) {
-      const Material& mat = m.materials.at(part.material);
+      const auto it = m.materials.find(part.material);  // a spring's or damper's material is not a solid's
+      if (it == m.materials.end()) continue;
+      const Material& mat = it->second;
       if (mat.rigid || !(mat.rho > 0.0) || !(mat.E > 0.0)) continue;
       const double c = std::sqrt(mat.E / mat.rho) * u.length / u.time;
       const double rho = mat.rho * u.mass / (u.length * u.length * u.length);
@@ -58,7 +60,9 @@ std::vector<UnitSystem> deck_unit_systems(const Model& m, std::string* why) {
   if (fit.empty() && why) {
     // Name the first deformable part, in SI reading, and the model's size.
     for (const auto& [pid, part] : m.parts) {
-      const Material& mat = m.materials.at(part.material);
+      const auto it = m.materials.find(part.material);
+      if (it == m.materials.end()) continue;
+      const Material& mat = it->second;
       if (mat.rigid || !(mat.rho > 0.0) || !(mat.E > 0.0)) continue;
       *why = "part " + std::to_string(pid) + (part.title.empty() ? "" : " (" + part.title + ")") + ": E = " +
              num(mat.E) + ", RO = " + num(mat.rho) + " give a bar wave speed sqrt(E/RO) = " +
@@ -114,9 +118,9 @@ void check_units(const Model& m, const std::vector<config::PortTable>& tables) {
   const std::vector<UnitSystem> fit = deck_unit_systems(m, &why);
   config::SourceLocation where{m.source, 1};
   for (const auto& [pid, part] : m.parts) {
-    const Material& mat = m.materials.at(part.material);
-    if (!mat.rigid) {
-      where = mat.where.file.empty() ? where : mat.where;
+    const auto it = m.materials.find(part.material);
+    if (it != m.materials.end() && !it->second.rigid) {
+      where = it->second.where.file.empty() ? where : it->second.where;
       break;
     }
   }

@@ -356,6 +356,7 @@ class Solver {
   void check_state() const;
   std::string first_non_finite() const;
   static constexpr long kBoxCheckEvery = 32;
+  static constexpr double kMaxContactDepth = 0.2;  // of a contact's element size: deeper stops the run
   Vec3 box_lo_ = Vec3::Zero(), box_hi_ = Vec3::Zero();
   double box_size_ = 0.0;
   // Across ranks (see the top of this file). sharers_[i]: the ranks that

@@ -32,8 +32,8 @@ struct InvertedElement : std::runtime_error {
 // deformed (flattened, crushed) since the step was chosen. `ratio` is the
 // step over that element's current limit (> 1).
 struct StepBeyondLimit : std::runtime_error {
-  StepBeyondLimit(const std::string& which, double ratio)
-      : std::runtime_error(which + ": the step exceeds its current stable step"), element(which), ratio(ratio) {}
+  StepBeyondLimit(const std::string& which, double over)
+      : std::runtime_error(which + ": the step exceeds its current stable step"), element(which), ratio(over) {}
   std::string element;
   double ratio;
 };

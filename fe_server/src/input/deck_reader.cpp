@@ -1666,12 +1666,12 @@ Model parse_deck(const std::string& text, const std::string& name, DeckWarnings*
   }
   if (!errors.empty()) {
     const InputError& first = errors.front();
-    std::string text = std::string(first.what()).substr(first.where().str().size() + 2);
-    for (size_t i = 1; i < errors.size(); ++i) text += std::string("\n") + errors[i].what();
+    std::string all = std::string(first.what()).substr(first.where().str().size() + 2);
+    for (size_t i = 1; i < errors.size(); ++i) all += std::string("\n") + errors[i].what();
     if (errors.size() > 1)
-      text += "\n(" + std::to_string(errors.size()) + (errors.size() == kMaxDeckErrors ? " errors or more" : " errors") +
-              " in " + name + ")";
-    throw InputError(first.where(), text);
+      all += "\n(" + std::to_string(errors.size()) + (errors.size() == kMaxDeckErrors ? " errors or more" : " errors") +
+             " in " + name + ")";
+    throw InputError(first.where(), all);
   }
   r.finish(name);
   return m;

@@ -132,14 +132,18 @@ ModelSpec read_model(const std::string& path) {
 
 System::System(ModelSpec spec) : spec_(std::move(spec)) {
   spec_.check_simulation();
-  double sources = 1e5, unbounded = 0.0;  // the highest finite source (at least the atmosphere); any unbounded one
+  double sources = 1e5;    // the highest finite source or start pressure (at least the atmosphere)
+  bool unbounded = false;  // a component that drives its nodes to any pressure
   for (auto& cs : spec_.components) {
     auto comp = component_types().at(cs.type)(cs.name);
     comp->configure(cs.params);
     cs.params.check_all_used(cs.name);
     if (const std::string why = comp->step_mismatch(spec_.dt); !why.empty()) throw InputError(cs.params.where(), why);
     const double source = comp->source_pressure();
-    (source >= 1e300 ? unbounded : sources) = std::max(source >= 1e300 ? unbounded : sources, source);
+    if (source >= 1e300)
+      unbounded = true;
+    else
+      sources = std::max(sources, source);
     switch (comp->kind()) {
       case Kind::Signal: signal_.push_back(comp.get()); break;
       case Kind::C: c_type_.push_back(comp.get()); break;
@@ -147,7 +151,7 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
     }
     components_.push_back(std::move(comp));
   }
-  highest_pressure_ = unbounded > 0.0 ? 1e300 : kSourceFactor * sources;
+  highest_pressure_ = unbounded ? 1e300 : kSourceFactor * sources;
   lowest_port_pressure_ = kLowestPressure - kUndershoot * sources;
   auto component_of = [&](const std::string& ref, const config::SourceLocation& where) {
     size_t dot = ref.find('.');
@@ -213,15 +217,17 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
       if (!p.node)
         throw InputError(spec_.source.empty() ? config::SourceLocation{"model", 0} : config::SourceLocation{spec_.source, 1},
                          "port " + c->name() + "." + p.name + " is not connected (add it to *CONNECT)");
+  std::set<const HydraulicNode*> fmu_nodes;  // the FMUs' hydraulic port nodes
   for (auto& c : components_)
     if (dynamic_cast<FmuQ*>(c.get()))
       for (auto& p : c->ports())
-        if (!p.node->mechanical) fmu_nodes_.insert(p.node);
-  for (size_t i = 0; i < nodes_.size(); ++i)
-    if (fmu_nodes_.count(nodes_[i].get())) fmu_node_index_.push_back(i);
-  for (const auto& n : nodes_) {
-    const double inf = std::numeric_limits<double>::infinity();
-    node_lo_.push_back(n->mechanical ? -inf : fmu_nodes_.count(n.get()) ? lowest_port_pressure_ : -inf);
+        if (!p.node->mechanical) fmu_nodes.insert(p.node);
+  const double inf = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const HydraulicNode* n = nodes_[i].get();
+    const bool port = fmu_nodes.count(n) != 0;
+    if (port) fmu_node_index_.push_back(i);
+    node_lo_.push_back(port ? lowest_port_pressure_ : -inf);
     node_hi_.push_back(n->mechanical || highest_pressure_ >= 1e300 ? inf : highest_pressure_);
   }
 }
@@ -271,30 +277,28 @@ std::string System::check_nodes() const {
 
 std::string System::node_failure(const HydraulicNode& node, double lowest) const {
   const HydraulicNode* n = &node;
-  {
-    const bool finite = std::isfinite(n->p) && std::isfinite(n->q) && std::isfinite(n->c) && std::isfinite(n->Zc) &&
-                        std::isfinite(n->x);
-    std::ostringstream s;
-    s.precision(4);
-    if (!finite) {
-      s << "node " << n->name << " is no longer finite (" << (n->mechanical ? "F = " : "p = ") << n->p
-        << (n->mechanical ? ", v = " : ", q = ") << n->q << ", c = " << n->c << ", Zc = " << n->Zc
-        << "): the step is unstable for this model; lower simulation.timestep or check the parameters";
-    } else if (n->p < lowest) {
-      s << "the pressure at the FMU's port node " << n->name << " is " << n->p / 1e5 << " bar absolute, below "
-        << lowest / 1e5 << " bar (−1 bar, less " << kUndershoot * 100
-        << " % of the highest source pressure for a cavitating chamber's undershoot), where no oil is liquid: the "
-           "chamber behind the port cavitates within a coupling step (Zc·q of the port's flow exceeds its pressure: "
-           "the chamber is small for that flow), or the coupling step is too coarse for it (see fe_server's coupling "
-           "estimate); a larger chamber or a smaller coupling step";
-    } else {
-      s << "the pressure at node " << n->name << " is " << n->p / 1e5 << " bar, more than " << kSourceFactor
-        << " times the model's highest source or start pressure (" << highest_pressure_ / kSourceFactor / 1e5
-        << " bar): nothing in a circuit driven by these sources reaches it; the step is too coarse or a parameter "
-           "is off by a unit (Pa, not bar)";
-    }
-    return s.str();
+  const bool finite = std::isfinite(n->p) && std::isfinite(n->q) && std::isfinite(n->c) && std::isfinite(n->Zc) &&
+                      std::isfinite(n->x);
+  std::ostringstream s;
+  s.precision(4);
+  if (!finite) {
+    s << "node " << n->name << " is no longer finite (" << (n->mechanical ? "F = " : "p = ") << n->p
+      << (n->mechanical ? ", v = " : ", q = ") << n->q << ", c = " << n->c << ", Zc = " << n->Zc
+      << "): the step is unstable for this model; lower simulation.timestep or check the parameters";
+  } else if (n->p < lowest) {
+    s << "the pressure at the FMU's port node " << n->name << " is " << n->p / 1e5 << " bar absolute, below "
+      << lowest / 1e5 << " bar (−1 bar, less " << kUndershoot * 100
+      << " % of the highest source pressure for a cavitating chamber's undershoot), where no oil is liquid: the "
+         "chamber behind the port cavitates within a coupling step (Zc·q of the port's flow exceeds its pressure: "
+         "the chamber is small for that flow), or the coupling step is too coarse for it (see fe_server's coupling "
+         "estimate); a larger chamber or a smaller coupling step";
+  } else {
+    s << "the pressure at node " << n->name << " is " << n->p / 1e5 << " bar, more than " << kSourceFactor
+      << " times the model's highest source or start pressure (" << highest_pressure_ / kSourceFactor / 1e5
+      << " bar): nothing in a circuit driven by these sources reaches it; the step is too coarse or a parameter "
+         "is off by a unit (Pa, not bar)";
   }
+  return s.str();
 }
 
 Component* System::find(const std::string& name) {
@@ -525,7 +529,7 @@ void System::run(const std::string& out_path, bool progress) {
     double sum = 0.0;  // a NaN or an infinity anywhere makes the sum one
     for (size_t i = 0; i < sources.size(); ++i) row[i] = *sources[i], sum += row[i] * 0.0;
     // No row with a value that is not a number: the run stops at it instead
-    // (a component's own variable; the nodes are checked every step).
+    // (a component's own variable; the nodes are checked before the row).
     if (!(sum == 0.0))
       for (size_t i = 0; i < row.size(); ++i)
         if (!std::isfinite(row[i]))
@@ -630,15 +634,15 @@ void System::run(const std::string& out_path, bool progress) {
       // first); every node before each results row and at least every
       // kGuardEvery steps (every step it cost a quarter of the monolithic
       // hammer's host step): no row holds a value beyond a bound.
-      const bool row = (k + 1) % spec_.log_every == 0;
-      if (row || (k + 1) % kGuardEvery == 0 || k + 1 == steps) {
+      const bool row_due = (k + 1) % spec_.log_every == 0;
+      if (row_due || (k + 1) % kGuardEvery == 0 || k + 1 == steps) {
         if (const std::string why = check_nodes(); !why.empty()) throw std::runtime_error(why);
       } else if (!fmu_node_index_.empty()) {
         if (const std::string why = check_fmu_nodes(); !why.empty()) throw std::runtime_error(why);
       }
       time = static_cast<double>(k + 1) * dt;
       steps_done_ = k + 1;
-      if ((k + 1) % spec_.log_every == 0) record();
+      if (row_due) record();
       if (progress && (k & 1023) == 0) {
         auto now = std::chrono::steady_clock::now();
         if (now - last_report > std::chrono::seconds(tty ? 1 : 10)) {

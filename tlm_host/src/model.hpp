@@ -114,8 +114,9 @@ class System {
   // which then holds only that first one of them.
   std::unique_ptr<PeerGroup> peers_;
   long steps_done_ = 0;
-  // The run-quality guard, after every step ("" when all is well, else why,
-  // naming the node):
+  // The run-quality guard ("" when all is well, else why, naming the node;
+  // the FMUs' port nodes after every step, every node before each results
+  // row and every kGuardEvery steps):
   //  - every node's values finite;
   //  - a hydraulic node's pressure at most kSourceFactor × the model's
   //    highest source or start pressure, where sources bound it (no flow
@@ -131,7 +132,6 @@ class System {
   static constexpr long kGuardEvery = 16;  // steps between two node checks
   double highest_pressure_ = 1e300;  // Pa; 1e300 where no source bounds it
   double lowest_port_pressure_ = kLowestPressure;
-  std::set<const HydraulicNode*> fmu_nodes_;
   // Per node (nodes_ order): the pressure bounds of the guard (mechanical
   // nodes ±inf), so that the check every step is two compares and a sum.
   std::vector<double> node_lo_, node_hi_;

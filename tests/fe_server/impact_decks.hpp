@@ -21,8 +21,9 @@ constexpr double kRho = 7850.0, kE = 210e9;
 
 // Two coaxial cylinders of radius r along z: a piston (part 1) of length Lp
 // moving at −v0 towards a tool (part 2) of length Lt below it, 0.1 mm apart.
+// vdc: the contact's viscous damping in % of critical (VDC).
 inline std::string bar_impact_deck(double Lp, double Lt, double r, double h, double v0, double E_tool, double sfs = 1.0,
-                                   double nu = 0.0) {
+                                   double nu = 0.0, double vdc = 20.0) {
   fe::RevolutionMeshOptions tool, piston;
   tool.element_size = piston.element_size = h;
   tool.part = 2;
@@ -40,7 +41,7 @@ inline std::string bar_impact_deck(double Lp, double Lt, double r, double h, dou
   d << "*PART\npiston\n1,1,1\n*PART\ntool\n2,1,2\n*SECTION_SOLID\n1,1\n";
   d << "*MAT_ELASTIC\n1," << kRho << "," << kE << "," << nu << "\n2," << kRho << "," << E_tool << "," << nu << "\n";
   // Tool top face: set 2 (z = 0 facing +z); piston bottom face: set 11.
-  d << "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n11,2,0,0\n0,0,0,0,20\n" << sfs << "\n";
+  d << "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n11,2,0,0\n0,0,0,0," << vdc << "\n" << sfs << "\n";
   d << "*INITIAL_VELOCITY_GENERATION\n1,2,0,0,0," << -v0 << "\n0,0,0,0,0,0\n";
   return d.str();
 }
@@ -48,13 +49,16 @@ inline std::string bar_impact_deck(double Lp, double Lt, double r, double h, dou
 struct ImpactResult {
   double sigma_plateau = 0, pulse_length = 0, W = 0, piston_v_after = 0, max_penetration = 0, max_balance = 0;
   double ke0 = 0, area = 0;
+  // At the end: kinetic + internal energy, and what hourglass control and
+  // the contact took (each a share of ke0 once divided by it).
+  double ke_ie_end = 0, hourglass_end = 0, contact_end = 0, damping_end = 0;
 };
 
 // Run the impact and measure at a gauge in the tool, `gauge` below its top.
 inline ImpactResult run_impact(double Lp, double Lt, double h, double v0, double E_tool, double gauge, double t_end,
-                        double sfs = 1.0) {
+                               double sfs = 1.0, double vdc = 20.0) {
   const double r = 0.01;
-  fe::Model m = fe::parse_deck(bar_impact_deck(Lp, Lt, r, h, v0, E_tool, sfs), "impact.k");
+  fe::Model m = fe::parse_deck(bar_impact_deck(Lp, Lt, r, h, v0, E_tool, sfs, 0.0, vdc), "impact.k");
   const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
   fe::Solver s(m, dt);
   // Gauge: tool elements whose centre lies in the layer at z = −gauge.
@@ -104,6 +108,11 @@ inline ImpactResult run_impact(double Lp, double Lt, double h, double v0, double
       mass += m.mass[i];
     }
   res.piston_v_after = p / mass;
+  const fe::Energies& en = s.energies();
+  res.ke_ie_end = en.kinetic + en.internal;
+  res.hourglass_end = en.hourglass;
+  res.contact_end = en.contact;
+  res.damping_end = en.damping;
   return res;
 }
 

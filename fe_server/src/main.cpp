@@ -281,10 +281,15 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
     std::cerr << "fe_server: " << e.what() << "\n";
     return fe::kExitInput;
   }
+  // The run ends on the start step's last multiple at or after ENDTIM, in
+  // however many steps the model's stable step lets it (solver.hpp).
   const long steps = static_cast<long>(std::ceil(model.end_time / dt));
+  const double t_stop = static_cast<double>(steps) * dt;
+  solver.set_horizon(t_stop);
+  const bool nothing_left = solver.time() > t_stop - 0.5 * dt;  // a restart from the end
   if (!writes) {  // a follower: the same steps; its errors are rank 0's too (solver.hpp)
     try {
-      for (long k = first; k < steps; ++k) {
+      for (long k = first; !nothing_left && (k == first || !solver.reached_horizon()); ++k) {
         if ((k & 63) == 0 && dom.any(config::stop_signal() != 0)) return fe::stopped_by(SIGTERM);
         solver.step();
         follower.record(solver);
@@ -298,13 +303,15 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   const auto t0 = std::chrono::steady_clock::now();
   auto last = t0, last_checkpoint = t0;
   bool in_step = false;
+  long taken = first;
   auto checkpoint = [&](long k) {
     id.coupling_step = static_cast<uint64_t>(k);
     fe::save_checkpoint(ck.path, id, solver, loads, history);
     if (!quiet) std::cout << "fe_server: checkpoint at step " << k << " (t = " << solver.time() << " s) in " << ck.path << std::endl;
   };
   try {
-    for (long k = first; k < steps; ++k) {
+    for (long k = first; !nothing_left && (k == first || !solver.reached_horizon()); ++k) {
+      taken = k + 1;
       // Across ranks they agree every 64 steps on whether any saw a stop signal.
       const bool stop = dom.parallel() ? (k & 63) == 0 && dom.any(config::stop_signal() != 0) : config::stop_signal() != 0;
       if (stop) {
@@ -331,8 +338,8 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
       history.record(solver, {}, {});
       if (!quiet && (k & 1023) == 0 && std::chrono::steady_clock::now() - last > std::chrono::seconds(5)) {
         last = std::chrono::steady_clock::now();
-        std::cout << "fe_server: t = " << solver.time() << " of " << model.end_time << " s (" << 100 * (k + 1) / steps
-                  << " %)" << std::endl;
+        std::cout << "fe_server: t = " << solver.time() << " of " << model.end_time << " s ("
+                  << static_cast<int>(100.0 * solver.time() / t_stop) << " %)" << std::endl;
       }
     }
   } catch (const std::exception& e) {
@@ -346,9 +353,14 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   bool drift = false, failed = false;
   const std::string energy = history.energy_summary(solver, &drift, &failed);
+  std::ostringstream shrunk;
+  if (solver.shrunk_steps() > 0)
+    shrunk << "; the stable step shrank as " << solver.limiting_element() << " deformed: the last step " << solver.dt()
+           << " s";
   if (!quiet)
-    std::cout << "fe_server: standalone run, " << steps - first << " steps of " << dt << " s (limited by " << crit.limited_by
-              << "), " << wall << " s wall; " << energy << "; " << history.rows() << " history rows in " << out
+    std::cout << "fe_server: standalone run, " << taken - first << " steps of at most " << dt << " s (limited at the start by " << crit.limited_by
+              << ")"
+              << shrunk.str() << ", " << wall << " s wall; " << energy << "; " << history.rows() << " history rows in " << out
               << (history.snapshots() ? "; " + std::to_string(history.snapshots()) + " field snapshots in " +
                                             history.fields_path() + " (open it in ParaView)"
                                       : std::string())

@@ -120,9 +120,9 @@ TEST(HardCase, AnElementCrushedInsideOutStopsTheRunNamingElementTimeAndStep) {
     for (int k = 0; k < 1000; ++k) s.step();
   });
   EXPECT_NE(e.find("solid element 1"), std::string::npos) << e;
-  // The step outgrows the crushed element's stable step a step before it
-  // would turn inside out: that stop comes first now.
-  EXPECT_NE(e.find("exceeds the current stable step"), std::string::npos) << e;
+  // The step follows the crushed element's stable step down until it turns
+  // inside out or its stable step falls below 1 % of the start's.
+  EXPECT_TRUE(e.find("inverted") != std::string::npos || e.find("being crushed") != std::string::npos) << e;
   EXPECT_NE(e.find("at t = "), std::string::npos) << e;
   EXPECT_NE(e.find("step"), std::string::npos) << e;
   for (const auto& x : s.x()) ASSERT_TRUE(x.allFinite()) << "the state before the failing step is kept finite";
@@ -241,8 +241,21 @@ TEST(HardCase, ASubstitutionThatChangesThePhysicsIsRefusedUnlessApproximate) {
 // with a warning. The step is now held against each element's current
 // limit: the run stops, naming the element, before it goes unstable, with
 // the state still finite and σ_zz = −p (the uniaxial stress) to 2 %.
-TEST(HardCase, AFlatteningSolidWhoseStepOutgrowsItsLimitStopsBeforeItGoesUnstable) {
-  const double h = 0.1, p_end = 0.6 * kE, t_end = 2e-3;
+// One hex under a follower pressure that grows to 0.4·E flattens to 67 % of
+// its height (issue 32: at a fixed step it blew up over its last 3 %, exit 0
+// with a warning; then it stopped once the step outgrew the limit by 10 %).
+// The step follows the element's current stable step down, as LS-DYNA's
+// does with TSSFAC (to 0.73 of the start's: the element's length 0.67, its
+// density 1.18×), and the run reaches its end with the hypoelastic answer
+// of uniaxial stress: σ = −p on the current area and ln(L/L0) = −p/E (the
+// rate of deformation integrates to the log strain). 1 %: the load rises
+// over 100 wave transits, so the ramp's dynamic overshoot is ~1e-4 of p; the
+// rest is the step's O(Δt) lag of σ behind p. Not 0.6·E: beyond about 0.5·E
+// the one-point hex's hourglass mode, which viscous control only damps,
+// takes a negative geometric stiffness from the compression and grows, an
+// instability of the element under that stress that no step cures.
+TEST(HardCase, AFlatteningSolidRunsToItsEndWithTheStepFollowingItsShrinkingLimit) {
+  const double h = 0.1, p_end = 0.4 * kE, t_end = 2e-3;
   std::ostringstream extra;
   extra << "*DEFINE_CURVE\n1\n0,0\n" << t_end << "," << p_end << "\n*LOAD_SEGMENT\n1,1.0,0,5,6,8,7\n";
   std::string deck = block_deck(1, 1, 1, h, extra.str());
@@ -250,25 +263,48 @@ TEST(HardCase, AFlatteningSolidWhoseStepOutgrowsItsLimitStopsBeforeItGoesUnstabl
   deck = std::regex_replace(deck, std::regex(",0,7\n"), ",0,3\n");
   deck = std::regex_replace(deck, std::regex("\n1,0,0,0,3\n"), "\n1,0,0,0,7\n");  // one corner held fully
   fe::Model m = fe::parse_deck(deck, "flat.k");
-  fe::Solver s(m, 0.9 * fe::Solver::stable_dt(m).dt);
+  const double dt0 = 0.9 * fe::Solver::stable_dt(m).dt;
+  fe::Solver s(m, dt0);
+  s.set_horizon(t_end);
   const size_t top = static_cast<size_t>(m.node_index.at(8));
-  double p_last = 0.0, sigma_last = 0.0;
-  const std::string e = error_of([&] {
-    while (s.time() < t_end) {
-      const double p_now = p_end * s.time() / t_end;  // the step's stress is of the state it starts from
-      s.step();
-      p_last = p_now, sigma_last = s.stress(0)(2);
-    }
-  });
-  EXPECT_NE(e.find("exceeds the current stable step"), std::string::npos) << e;
-  EXPECT_NE(e.find("solid element 1 (part 1)"), std::string::npos) << e;
-  EXPECT_LT(s.time(), t_end);
+  double smallest = dt0, worst_margin = 0.0;
+  do {
+    s.step();
+    smallest = std::min(smallest, s.dt());
+    // Every step taken is within TSSFAC (0.9) of the element's stable step as it stood.
+    worst_margin = std::max(worst_margin, s.dt() / s.current_stable_step());
+  } while (!s.reached_horizon());
+  EXPECT_NEAR(s.time(), t_end, 1e-12 * t_end) << "the run lands on its end";
   for (const auto& x : s.x()) ASSERT_TRUE(x.allFinite());
+  EXPECT_LT(smallest, 0.8 * dt0) << "the step shrank with the element";
+  EXPECT_LE(worst_margin, 0.9 * (1.0 + 1e-12));
+  EXPECT_GT(s.shrunk_steps(), 0);
+  // The stress of the last step belongs to the state it started from, at t_end − Δt.
+  const double p_then = p_end * s.stress_time() / t_end;
+  EXPECT_NEAR(s.stress(0)(2), -p_then, 0.01 * p_then);
   const double height = s.x()[top].z();
-  EXPECT_LT(height, 0.92 * h) << "the step is 0.9 of the start's limit: it stops near a 10 % shorter element";
-  EXPECT_GT(height, 0.8 * h);
-  // Quasi-static up to the stop (the ramp is 100 wave transits long): σ_zz = −p.
-  EXPECT_NEAR(sigma_last, -p_last, 0.02 * p_last);
+  EXPECT_NEAR(std::log(height / h), -p_end / kE, 0.01 * p_end / kE);
+  const fe::Energies& e = s.energies();
+  EXPECT_LT(std::fabs(e.balance_error), 0.01 * e.scale) << "the energy account holds through the shrinking steps";
+
+  // As a co-simulation steps it (coupling_server.cpp): a fixed coupling step
+  // of 5 start steps, each ended exactly, in more FE steps as the limit shrinks.
+  fe::Solver c(m, dt0);
+  const double T = 5 * dt0;
+  int most = 0;
+  for (int k = 1; c.time() < t_end - 0.5 * T; ++k) {
+    c.set_horizon(c.time() + c.dt_cap() * 5);
+    int taken = 0;
+    do {
+      c.step(), ++taken;
+      ASSERT_LE(c.dt(), 0.9 * c.current_stable_step() * (1.0 + 1e-12));
+    } while (!c.reached_horizon());
+    ASSERT_NEAR(c.time(), k * T, 1e-9 * T) << "coupling step " << k << " ends on its time";
+    EXPECT_GE(taken, 5) << "never fewer than the subcycles";
+    most = std::max(most, taken);
+  }
+  EXPECT_GE(most, 7) << "a shrunk stable step takes more FE steps per coupling step";
+  EXPECT_NEAR(std::log(c.x()[top].z() / h), -p_end * c.stress_time() / t_end / kE, 0.01 * p_end / kE);
 }
 
 // A point load on the top centre of a coarse block. Viscous hourglass

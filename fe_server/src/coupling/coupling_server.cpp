@@ -91,7 +91,7 @@ void PortMap::apply_inputs(const std::vector<double>& in) {
     if (tlm_[slot]) load_.set_wave(static_cast<int>(slot), wave_[slot], impedance_[slot]);
   std::fill(flow_sum_.begin(), flow_sum_.end(), 0.0);
   std::fill(pressure_sum_.begin(), pressure_sum_.end(), 0.0);
-  substeps_ = 0;
+  substeps_ = 0.0;
 }
 
 void PortMap::set_coupling_guard(const std::vector<PortStability>& ports, double T, bool allow) {
@@ -131,16 +131,19 @@ std::string PortMap::check_coupling() {
 }
 
 void PortMap::accumulate(const Solver& s) {
+  // A time average: a step shortened by the model's stable step weighs its
+  // share (1 exactly at the coupling step over its subcycles).
+  const double w = s.dt() == s.dt_cap() ? 1.0 : s.dt() / s.dt_cap();
   for (size_t slot = 0; slot < flow_sum_.size(); ++slot) {
-    flow_sum_[slot] += load_.step_flow(static_cast<int>(slot), s.v_live());
-    pressure_sum_[slot] += load_.pressure(static_cast<int>(slot));
+    flow_sum_[slot] += w * load_.step_flow(static_cast<int>(slot), s.v_live());
+    pressure_sum_[slot] += w * load_.pressure(static_cast<int>(slot));
   }
-  ++substeps_;
+  substeps_ += w;
 }
 
 void PortMap::measure_outputs(const Solver& s, std::vector<double>& out) {
   out.resize(table_.to_host.size());
-  const double n = substeps_ > 0 ? static_cast<double>(substeps_) : 1.0;
+  const double n = substeps_ > 0.0 ? substeps_ : 1.0;
   for (size_t i = 0; i < out.size(); ++i) {
     const int slot = out_slot_[i];
     if (out_mech_[i]) {
@@ -605,11 +608,13 @@ ExitCode follow_session(const Domain& domain, Solver& solver, PortMap& ports, Fo
     if (command[0] == kCommandEnd) return static_cast<ExitCode>(static_cast<int>(command[1]));
     std::copy(command.begin() + 2, command.end(), in.begin());
     ports.apply_inputs(in);
-    for (int s = 0; s < subcycles; ++s) {
+    // The steps to the coupling step's end, as the leader takes them (run_steps).
+    solver.set_horizon(solver.time() + solver.dt_cap() * subcycles);
+    do {
       solver.step();
       ports.accumulate(solver);
       history.record(solver);
-    }
+    } while (!solver.reached_horizon());
     ports.measure_outputs(solver, out);
   }
 }
@@ -755,7 +760,10 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHis
     // A lost link ends the session after the coupling step: across ranks
     // the others are inside the same FE steps and finish them too.
     ExitCode lost = kExitOk;
-    for (int s = 0; s < subcycles; ++s) {
+    // The FE steps end on the coupling step's end: `subcycles` of them while
+    // the model's stable step allows, more when it has shrunk (solver.hpp).
+    solver.set_horizon(solver.time() + solver.dt_cap() * subcycles);
+    for (bool last = false; !last;) {
       try {
         solver.step();
       } catch (const std::exception& e) {
@@ -767,10 +775,11 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHis
         return kExitNumerical;
       }
       ports.accumulate(solver);
+      last = solver.reached_horizon();
       // The history sees every FE step and writes the rows the deck asks
       // for (a stress gauge can be resolved however long the coupling step);
       // port outputs are the last coupling step's.
-      if (s + 1 < subcycles) history.record(solver, in, out);
+      if (!last) history.record(solver, in, out);
       if (lost == kExitOk && std::chrono::duration<double>(std::chrono::steady_clock::now() - last_beat).count() > beat) {
         for (Client& c : clients_) {
           int rc = pcs_send_frame(&c.conn, PCS_MSG_HEARTBEAT, expected, nullptr, 0, deadline_after(timeout_));

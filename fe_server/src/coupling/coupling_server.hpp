@@ -74,7 +74,7 @@ class PortMap {
   std::vector<double> wave_, impedance_;         // per slot, TLM mode
   std::vector<char> tlm_;                        // per slot: wave/impedance given this step
   std::vector<double> flow_sum_, pressure_sum_;  // per slot, over the sub-steps
-  int substeps_ = 0;
+  double substeps_ = 0.0;  // the FE steps of this coupling step, each weighted by its share of the start's step
   struct Guard {
     std::string label;
     double mass = 0.0, area = 0.0, checked_zc = -1.0;

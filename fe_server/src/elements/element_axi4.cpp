@@ -330,10 +330,7 @@ void axi4_forces(const Model& m, Axi4State& st, const std::vector<Vec3>& x, cons
     throw InvertedElement("axisymmetric element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
                           "area " + std::to_string(area) + " m²");
   }
-  check_step_limit(st.blocks, dt, [&](long k) {
-    const AxiElement& el = m.axis[static_cast<size_t>(st.elements[static_cast<size_t>(k)])];
-    return "axisymmetric element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")";
-  });
+  note_loop_limit(st.blocks, 2, [&](long k) { return static_cast<long>(st.elements[static_cast<size_t>(k)]); }, w);
   st.gather.add_to(st.force, f, pool);
 }
 

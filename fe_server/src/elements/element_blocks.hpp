@@ -50,16 +50,16 @@ inline void note_step_limits(const double* limit, int lanes, int used, size_t fi
     }
 }
 
-// Throws StepBeyondLimit when the step dt exceeds the smallest current
-// stable step of the blocks (beyond round-off). `name(k)` names element k
-// of the loop's list.
-template <class Name>
-void check_step_limit(const std::vector<BlockResult>& blocks, double dt, Name name) {
+// The smallest current stable step of the blocks into w when it is below
+// what w holds (of another loop): `kind` names the loop (ElementWork),
+// `to_model(k)` maps element k of the loop's list to the model's index.
+template <class ToModel>
+void note_loop_limit(const std::vector<BlockResult>& blocks, int kind, ToModel to_model, ElementWork& w) {
   double least = 1e300;
   long k = -1;
   for (const BlockResult& r : blocks)
     if (r.step_limit < least) least = r.step_limit, k = r.step_worst;
-  if (dt > least * (1.0 + 1e-9)) throw StepBeyondLimit(name(k), dt / least);
+  if (k >= 0 && least < w.step_limit) w.step_limit = least, w.limit_kind = kind, w.limit_element = to_model(k);
 }
 
 // The dense index of each part (Model::parts order).

@@ -441,10 +441,7 @@ void hex8_forces(const Model& m, Hex8State& st, const std::vector<Vec3>& x, cons
     throw InvertedElement("solid element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")",
                           "volume " + std::to_string(volume) + " m³");
   }
-  check_step_limit(st.blocks, dt, [&](long k) {
-    const SolidElement& el = m.solids[static_cast<size_t>(st.elements[static_cast<size_t>(k)])];
-    return "solid element " + std::to_string(el.id) + " (part " + std::to_string(el.part) + ")";
-  });
+  note_loop_limit(st.blocks, 1, [&](long k) { return static_cast<long>(st.elements[static_cast<size_t>(k)]); }, w);
   // The nodes shared between blocks sum their elements' forces in element order.
   st.gather.add_to(st.force, f, pool);
 }

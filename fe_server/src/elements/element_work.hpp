@@ -14,6 +14,13 @@ struct ElementWork {
   double hourglass = 0.0;      // dissipated by hourglass control this step, J
   double damping_power = 0.0;  // dampers and bulk viscosity, W (the solver integrates it)
   double spring_energy = 0.0;  // energy stored in the springs now, J
+  // The smallest current stable step (no safety factor) of the solids and
+  // axisymmetric elements as deformed now, and which: kind 1 a solid, 2 an
+  // axisymmetric element; `limit_element` its index in the model's list.
+  // The solver takes its next step from it (solver.hpp).
+  double step_limit = 1e300;
+  int limit_kind = 0;
+  long limit_element = -1;
   // Per part (Model::parts order), the solids' internal work and hourglass
   // energy of this step, added to where the solver points these (or not kept).
   std::vector<double>* part_internal = nullptr;
@@ -26,16 +33,6 @@ struct InvertedElement : std::runtime_error {
   InvertedElement(const std::string& which, const std::string& size)
       : std::runtime_error(which + " inverted (" + size + ")"), element(which), measure(size) {}
   std::string element, measure;
-};
-
-// The step has outgrown an element's current stable step: the element has
-// deformed (flattened, crushed) since the step was chosen. `ratio` is the
-// step over that element's current limit (> 1).
-struct StepBeyondLimit : std::runtime_error {
-  StepBeyondLimit(const std::string& which, double over)
-      : std::runtime_error(which + ": the step exceeds its current stable step"), element(which), ratio(over) {}
-  std::string element;
-  double ratio;
 };
 
 }  // namespace fe

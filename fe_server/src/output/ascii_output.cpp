@@ -209,10 +209,13 @@ void AsciiOutput::nodout(std::FILE* f, const Solver& s) {
   const auto& x = s.x_live();
   const auto& v = s.v_live();
   const auto& v_old = s.v_previous();
+  // v_{n+1/2} − v_{n−1/2} over the step's velocity update (the mean of two
+  // unequal steps); the start step from the second step on, as before.
+  const double h = s.step_count() <= 1 ? dt_ : s.velocity_step_taken();
   for (int node : m_.history_nodes) {
     const size_t i = static_cast<size_t>(node);
     const Vec3 u = x[i] - m_.x0[i];
-    const Vec3 a = (v[i] - v_old[i]) / dt_;
+    const Vec3 a = (v[i] - v_old[i]) / h;
     std::fprintf(f, "%9d%13.4E%12.4E%12.4E", m_.node_ids[i], u.x(), u.y(), u.z());
     std::fprintf(f, "%12.4E%12.4E%12.4E", v[i].x(), v[i].y(), v[i].z());
     std::fprintf(f, "%12.4E%12.4E%12.4E", a.x(), a.y(), a.z());

@@ -198,6 +198,7 @@ Solver::Solver(const Model& model, double dt, const Domain& domain, const Partit
          "(*CONTROL_TIMESTEP DT2MS < 0)";
     throw std::runtime_error(s.str());
   }
+  dt_cap_ = dt_last_ = dt;
   for (const MassDamping& d : model.mass_damping) {
     double D = std::fabs(d.value);
     if (d.curve_id != 0) {  // the curve's largest value, as Curve::value scales and offsets it
@@ -620,6 +621,7 @@ void Solver::reduce_element_work(ElementWork& w, const std::string& error) {
     const Vec3 f = local_section_force(k);
     row.insert(row.end(), {f.x(), f.y(), f.z()});
   }
+  row.insert(row.end(), {w.step_limit, static_cast<double>(w.limit_kind), static_cast<double>(w.limit_element)});
   const size_t width = row.size();
   dom_.sum_in_rank_order(row, scalars_all_);
   const std::vector<double>& total = row;
@@ -647,6 +649,13 @@ void Solver::reduce_element_work(ElementWork& w, const std::string& error) {
   }
   for (int el : m_.history_bars) bars_.force[static_cast<size_t>(el)] = total[j++];
   for (Vec3& f : section_total_) f = Vec3(total[j], total[j + 1], total[j + 2]), j += 3;
+  // The step limit: the smallest of the ranks' (the lowest rank's on a tie), the same on every rank.
+  w.step_limit = 1e300;
+  for (int r = 0; r < dom_.size(); ++r) {
+    const double* theirs = &scalars_all_[static_cast<size_t>(r) * width + j];
+    if (theirs[0] < w.step_limit)
+      w.step_limit = theirs[0], w.limit_kind = static_cast<int>(theirs[1]), w.limit_element = static_cast<long>(theirs[2]);
+  }
 }
 
 void Solver::gather_fields(std::vector<Vec3>& x, std::vector<Vec3>& v, std::vector<Eigen::Matrix<double, 6, 1>>& stress,
@@ -714,15 +723,6 @@ void Solver::internal_forces() {
     bar_forces(m_, bars_, x_, v_, dt_, f_int_, w);
     hex8_forces(m_, hex8_, x_, v_, dt_, f_int_, w, pool_.get());
     axi4_forces(m_, axi4_, x_, v_, dt_, f_int_, w, pool_.get());
-  } catch (const StepBeyondLimit& e) {
-    std::ostringstream s;
-    s << "at t = " << t_ << " s, step " << n_ << ": the FE step " << dt_ << " s exceeds the current stable step "
-      << dt_ / e.ratio << " s of " << e.element
-      << ", which has deformed since the step was chosen (its characteristic length shrank); the run would go "
-         "unstable. This fe_server keeps its step fixed: start with a step of at most "
-      << dt_ / e.ratio << " s (TSSFAC in *CONTROL_TIMESTEP; in a co-simulation more subcycles in the port table), "
-         "or allow mass scaling (DT2MS < 0)";
-    error = s.str();
   } catch (const InvertedElement& e) {
     std::ostringstream s;
     // A volume that is not a number is a state gone non-finite (a load or a
@@ -749,6 +749,53 @@ void Solver::internal_forces() {
   }
   damping_power_ = w.damping_power;
   energies_.spring = w.spring_energy;
+  step_limit_ = w.step_limit, limit_kind_ = w.limit_kind, limit_element_ = w.limit_element;
+}
+
+std::string Solver::limiting_element() const {
+  if (limit_kind_ == 1) {
+    const SolidElement& e = m_.solids[static_cast<size_t>(limit_element_)];
+    return "solid element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")";
+  }
+  if (limit_kind_ == 2) {
+    const AxiElement& e = m_.axis[static_cast<size_t>(limit_element_)];
+    return "axisymmetric element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")";
+  }
+  return "no element";
+}
+
+void Solver::choose_step() {
+  dt_last_ = dt_;
+  // TSSFAC times the smallest current stable step, never above the step
+  // the run was started with (the user's, or the coupling step over its
+  // subcycles): a model whose elements never shrink keeps that step to the bit.
+  const double limit = m_.dt_scale * step_limit_;
+  double next = std::min(dt_cap_, limit);
+  if (next < kMinStepShare * dt_cap_) {
+    std::ostringstream s;
+    s << "at t = " << t_ << " s, step " << n_ << ": the stable step has fallen to " << step_limit_ << " s, "
+      << step_limit_ / dt_cap_ * 100.0 << " % of the step the run started with (" << dt_cap_ << " s), limited by "
+      << limiting_element()
+      << ", which is being crushed: the run would take ever more steps for ever less time. Refine the mesh where it "
+         "flattens, or check the loads";
+    throw std::runtime_error(s.str());
+  }
+  if (next < dt_) ++shrunk_steps_;
+  last_of_horizon_ = false;
+  if (horizon_ > t_) {
+    // Land on the horizon: the remaining time in a whole number of steps
+    // of at most `next`. A run at its start step keeps it exactly.
+    const double remaining = horizon_ - t_;
+    const double whole = std::round(remaining / dt_cap_);
+    if (next == dt_cap_ && whole >= 1.0 && std::fabs(remaining / dt_cap_ - whole) < 1e-6) {
+      last_of_horizon_ = whole == 1.0;
+    } else {
+      const double k = std::max(1.0, std::ceil(remaining / next - 1e-9));
+      next = remaining / k;
+      last_of_horizon_ = k == 1.0;
+    }
+  }
+  dt_ = next;
 }
 
 double Solver::step_work(const std::vector<Vec3>& f_prev, const std::vector<Vec3>& f,
@@ -877,7 +924,8 @@ void Solver::accelerations() {
 }
 
 void Solver::velocities() {
-  const double h = n_ == 0 ? 0.5 * dt_ : dt_;  // v_{1/2} = v_0 + Δt/2·a_0
+  const double h = velocity_step();  // v_{1/2} = v_0 + Δt/2·a_0
+  h_taken_ = h;
   // A tied slave node's force acts on its master segment's nodes (their
   // masses carry its mass: build_ties); it moves with them (stage 6c).
   for (const Tie& t : ties_) {
@@ -1115,7 +1163,7 @@ void Solver::implicit_loads() {
   if (!user_load_) return;
   implicit_forces_.clear();
   Mobility mob;
-  mob.h = n_ == 0 ? 0.5 * dt_ : dt_;
+  mob.h = velocity_step();
   mob.theta = n_ == 0 ? 0.0 : 0.5;
   mob.group = &group_;
   mob.inv_mass = &group_inv_mass_;
@@ -1160,7 +1208,7 @@ void Solver::prescribed_motions() {
   // R = m·(v_target − v_{n−1/2})/h − (the DOF's other forces), joins f_ext,
   // so its work is booked with the loads' (a massless node: R balances the
   // others).
-  const double h = n_ == 0 ? 0.5 * dt_ : dt_;
+  const double h = velocity_step();
   for (RigidMotion& r : rigid_motions_) {
     const PrescribedMotion& p = m_.prescribed[r.motion];
     r.reaction = 0.0;
@@ -1259,7 +1307,7 @@ void Solver::positions() {
 
 void Solver::energy_account() {
   const Energies& e = energies_;
-  if (n_ > 0) energies_.damping += damping_power_ * dt_;
+  if (n_ > 0) energies_.damping += damping_power_ * dt_last_;  // the power of v_{n−1/2}
   const double total = e.kinetic + e.internal + e.spring + e.hourglass + e.contact + e.damping - e.external_work;
   if (n_ == 0) energy0_ = total;
   energies_.balance_error = total - energy0_;
@@ -1321,6 +1369,7 @@ void Solver::check_state() const {
 
 void Solver::step() {
   internal_forces();
+  choose_step();
   user_loads();
   contact();
   accelerations();

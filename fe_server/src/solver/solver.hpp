@@ -23,7 +23,15 @@
 //   8 positions            x_{n+1} = x_n + Δt·v_{n+1/2} and, in the same pass, the
 //                          kinetic energy at t_n; rigid bodies rotate and move
 //   9 energy_account       kinetic + internal + spring + hourglass + contact + damping − external work
-// The stable step is checked once at construction (fixed Δt). A deck with
+// The step follows the model, as LS-DYNA's does with TSSFAC: the element
+// loops of stage 1 measure each element's current stable step, and the step
+// about to be taken is TSSFAC times the smallest, never above the step the
+// solver was constructed with (choose_step). With unequal steps the
+// velocities advance by the mean of the last and the next step. A horizon
+// (set_horizon: a coupling step's end, the run's end) is met exactly: the
+// time left in a whole number of steps. A model whose elements keep their
+// size runs the constructor's step to the bit; a stable step below
+// kMinStepShare of it stops the run (an element being crushed). A deck with
 // a dynamic relaxation settles first (relax(), velocities × DRFCTR every
 // step, the curves of that phase), then begin_transient() restarts at t = 0.
 //
@@ -164,7 +172,22 @@ class Solver {
 
   double time() const { return t_; }
   long step_count() const { return n_; }
+  // The step just taken (after step()), the next one's upper bound.
   double dt() const { return dt_; }
+  double dt_cap() const { return dt_cap_; }
+  // The last step's velocity update: v_{n+1/2} − v_{n−1/2} = h·a_n.
+  double velocity_step_taken() const { return h_taken_; }
+  // Steps end on t exactly (a coupling step's end); reached_horizon(): the
+  // last step ended there. A horizon at or before time() is none.
+  void set_horizon(double t) { horizon_ = t, last_of_horizon_ = false; }
+  bool reached_horizon() const { return last_of_horizon_; }
+  // How many steps were shorter than the one before (the model's stable step shrank).
+  long shrunk_steps() const { return shrunk_steps_; }
+  // The smallest current stable step of the elements at the last step, and what.
+  double current_stable_step() const { return step_limit_; }
+  std::string limiting_element() const;
+  // A stable step below this share of the start's stops the run.
+  static constexpr double kMinStepShare = 0.01;
   // Positions x_n and velocities v_{n-1/2} (of the next step) of every node:
   // places the rigid bodies' interior nodes first (O(mesh); for field
   // snapshots and tests).
@@ -306,6 +329,15 @@ class Solver {
   Partition part_;
   const Model& m_;
   double dt_;
+  double dt_last_ = 0.0, dt_cap_ = 0.0, horizon_ = -1.0, h_taken_ = 0.0;
+  bool last_of_horizon_ = false;
+  long shrunk_steps_ = 0;
+  double step_limit_ = 1e300;
+  int limit_kind_ = 0;
+  long limit_element_ = -1;
+  void choose_step();
+  // v_{n+1/2} = v_{n−1/2} + h·a_n: h = (Δt_{n−1/2} + Δt_{n+1/2})/2, Δt/2 on the first step.
+  double velocity_step() const { return n_ == 0 ? 0.5 * dt_ : 0.5 * (dt_last_ + dt_); }
   double t_ = 0.0;
   long n_ = 0;
   UserLoad* user_load_ = nullptr;

@@ -192,16 +192,16 @@ bool project_onto_segment(const Segment& seg, const Vec3& point, const std::vect
   // is zero at its corners and along its edges, so the triangulated surface
   // the weights describe is the one the gap is measured from.
   if (nc == 4) {
-    const Vec3& a = x[static_cast<size_t>(seg.n[tri[0]])];
-    const Vec3& b = x[static_cast<size_t>(seg.n[tri[1]])];
-    const Vec3& cc = x[static_cast<size_t>(seg.n[tri[2]])];
-    const Vec3 nt = (b - a).cross(cc - a);
+    const Vec3& ta = x[static_cast<size_t>(seg.n[tri[0]])];
+    const Vec3& tb = x[static_cast<size_t>(seg.n[tri[1]])];
+    const Vec3& tc = x[static_cast<size_t>(seg.n[tri[2]])];
+    const Vec3 nt = (tb - ta).cross(tc - ta);
     const double len = nt.norm();
     if (len > 0.0) {
       n = nt / len;
-      g = (point - a).dot(n);
+      g = (point - ta).dot(n);
       if (std::fabs(g) > window) return false;
-      barycentric(point - g * n, a, b, cc, t);  // the same triangle: at most round-off outside
+      barycentric(point - g * n, ta, tb, tc, t);  // the same triangle: at most round-off outside
     }
   }
   for (int k = 0; k < 3; ++k) w[tri[k]] = std::max(t[k], 0.0);

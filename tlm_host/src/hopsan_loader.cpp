@@ -139,9 +139,7 @@ const std::map<std::string, Mapping>& mappings() {
          {"B#Value", "B", 10.0},
          {"k#Value", "k", 0.0},
          {"x_min#Value", "x_min", -1e300},
-         {"x_max#Value", "x_max", 1e300},
-         {"P1#Position", "x1_0", 0.0},
-         {"P2#Position", "x2_0", 0.0}}}},
+         {"x_max#Value", "x_max", 1e300}}}},  // its ports' start positions: see q_type below
       {"HydraulicCylinderC",
        {"CylinderC",
         {{"A_1#Value", "A_1", 1e-3},
@@ -615,6 +613,12 @@ class HmfReader {
     std::map<std::string, std::pair<double, SourceLocation>> vals;
     for (const auto& prm : mp.params) vals.emplace(prm.hopsan, std::make_pair(prm.hopsan_default, s.where));
     std::optional<std::pair<double, SourceLocation>> start_p;
+    // Hopsan 2.24 gives only a C-type component's power ports start values
+    // (PowerPort makes a start node for C types alone): on a Q type such as a
+    // mass, "P1#Position" fails to set with a warning and the component starts
+    // from what its node holds. Read the same way here: ignored, and said.
+    const bool q_type = component_types().at(mp.ours)("probe")->kind() == Kind::Q;
+    std::string ignored_starts;
     for (xmlNode* p = params ? params->children : nullptr; p; p = p->next) {
       if (!is(p, "parameter")) continue;
       const std::string pname = current_name(attr(p, "name"), &mp);
@@ -623,6 +627,10 @@ class HmfReader {
       if (mp.ignored.count(pname)) continue;
       if (auto it = vals.find(pname); it != vals.end()) {
         it->second = {value_of(p), where(p)};
+        continue;
+      }
+      if (q_type && !variable.empty() && variable != "Value" && value_of(p) != 0.0) {
+        ignored_starts += (ignored_starts.empty() ? "" : ", ") + pname + " = " + attr(p, "value");
         continue;
       }
       bool checked = false;
@@ -661,6 +669,7 @@ class HmfReader {
     auto set = [&](const char* key, double v, const SourceLocation& at) { s.params.set(key, text_of(v), at); };
     for (const auto& prm : mp.params)
       if (*prm.key) set(prm.key, vals.at(prm.hopsan).first, vals.at(prm.hopsan).second);
+    if (type == "HydraulicTLMlossless") line_delay_as_hopsan(name, vals.at("deltat"), s);
     for (const auto& [key, terms] : mp.sums)
       set(key, vals.at(terms.first).first + vals.at(terms.second).first, vals.at(terms.first).second);
     if (mp.start_pressure) set(mp.start_pressure, start_p ? start_p->first : 1e5, start_p ? start_p->second : s.where);
@@ -669,11 +678,34 @@ class HmfReader {
       m_.unlogged_ports.insert(name + ".P1");
       m_.unlogged_ports.insert(name + ".P2");
     }
+    if (!ignored_starts.empty())
+      out_.notes.push_back(path_ + ":" + std::to_string(s.where.line) + ": " + name + " (" + type + "): " +
+                           ignored_starts +
+                           " ignored: Hopsan 2.24 keeps start values only on C-type components' ports and fails to "
+                           "set these on a Q type, which starts from its nodes");
     if (std::string(mp.note).size())
       out_.notes.push_back(path_ + ":" + std::to_string(s.where.line) + ": " + name + " (" + type + " → " + mp.ours +
                            "): " + mp.note);
     known_[name] = {&mp, m_.components.size()};
     m_.components.push_back(std::move(s));
+  }
+
+  // Hopsan's lossless line delays its waves by deltat − Ts in a buffer of
+  // int((deltat − Ts)/Ts + 0.5) values, but never fewer than one, and the
+  // C–Q loop adds the step itself: deltat = Ts (or anything below 1.5·Ts)
+  // delays 2 steps in Hopsan, where our line rounds deltat to the nearest
+  // whole step (1). The loader gives our line Hopsan's delay in steps and
+  // says so when it differs from deltat rounded.
+  void line_delay_as_hopsan(const std::string& name, const std::pair<double, SourceLocation>& deltat, ComponentSpec& s) {
+    const double dt = m_.dt, T = deltat.first;
+    const double buffer = std::max(1.0, std::floor((T - dt) / dt + 0.5));
+    const double steps = buffer + 1.0;
+    if (steps == std::max(1.0, std::round(T / dt))) return;
+    s.params.set("delay", text_of(steps * dt), deltat.second);
+    out_.notes.push_back(path_ + ":" + std::to_string(deltat.second.line) + ": " + name +
+                         " (HydraulicTLMlossless): deltat = " + text_of(T) + " s is " + text_of(T / dt) +
+                         " time steps; Hopsan's line holds at least one value besides the step, so it delays " +
+                         text_of(steps) + " steps (" + text_of(steps * dt) + " s), and so does ours here");
   }
 
   std::string path_;

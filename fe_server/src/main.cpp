@@ -53,6 +53,7 @@ int usage(std::ostream& os, int rc) {
         "                        connect (a cluster node has many); warns at start\n"
         "  --port-file FILE      write the bound port number to FILE\n"
         "  --out FILE            HDF5 time histories (default fe_results.h5)\n"
+        "  --keywords            print the LS-DYNA keywords the deck reader reads (Markdown) and exit\n"
         "  --accept-timeout S    give up if no host connects within S seconds (default 300); until then\n"
         "                        strangers are refused and logged and the server keeps listening\n"
         "  --handshake-timeout S a connection must complete the handshake (HELLO, then AUTH) within\n"
@@ -447,6 +448,10 @@ int run_main(int argc, char** argv) {
         if (threads < 1 || threads > 1024) throw std::invalid_argument("--threads must be 1..1024, got " + std::to_string(threads));
       }
       else if (args.is("-h") || args.is("--help")) return usage(std::cout, fe::kExitOk);
+      else if (args.is("--keywords")) {
+        std::cout << fe::deck_keyword_coverage();
+        return fe::kExitOk;
+      }
       else args.unknown();
     }
     if (deck.empty()) throw std::invalid_argument("--model is required");

@@ -195,537 +195,741 @@ struct Reader {
 
   void block(const Block& b) {
     const std::string& kw = b.keyword;
-    if (kw == "*KEYWORD" || kw == "*END") return;
-    if (kw == "*TITLE") {
-      if (!b.cards.empty()) m.title = config::trim(b.cards[0].text);
-    } else if (kw == "*NODE") {
-      for (const Card& raw : b.cards) {
-        Card c = fields_of(raw, {8, 16, 16, 16, 8, 8});
-        int id = static_cast<int>(c.integer(0, "NID"));
-        if (m.node_index.count(id)) c.fail("node " + std::to_string(id) + " defined twice");
-        m.node_index[id] = static_cast<int>(m.node_ids.size());
-        m.node_ids.push_back(id);
-        m.x0.emplace_back(c.real_or(1, "X", 0), c.real_or(2, "Y", 0), c.real_or(3, "Z", 0));
-        // TC as LS-DYNA numbers it (the CON1 code of rigid bodies too): 4 x
-        // and y, 5 y and z, 6 z and x.
-        m.fixed.push_back(constraint_code(c, 4, "TC"));
-      }
-    } else if (kw == "*PART") {
-      if (b.cards.size() % 2) b.fail("*PART needs a title card and a PID card per part");
-      for (size_t i = 0; i + 1 < b.cards.size(); i += 2) part(b.cards[i], b.cards[i + 1]);
-    } else if (kw == "*SECTION_SOLID") {
-      for (const Card& raw : b.cards) {
-        Card c = fields_of(raw, kW10);
-        long elform = c.integer_or(1, "ELFORM", 1);
-        if (elform != 1 && elform != 0)
-          substitute(c.where, "*SECTION_SOLID ELFORM " + std::to_string(elform), "ELFORM 1 (one-point hexahedron)");
-        sections[static_cast<int>(c.integer(0, "SECID"))] = {1, 0.0};
-      }
-    } else if (kw == "*SECTION_BEAM") {
-      // Card 1: SECID, ELFORM (3 = truss); card 2 of a truss: A.
-      for (size_t i = 0; i + 1 < b.cards.size(); i += 2) {
-        Card c1 = fields_of(b.cards[i], kW10), c2 = fields_of(b.cards[i + 1], kW10);
-        long elform = c1.integer_or(1, "ELFORM", 1);
-        if (elform != 3) c1.fail("only truss beams (ELFORM 3, 1D bar) are supported");
-        double area = c2.real(0, "A");
-        if (!(area > 0.0)) c2.fail("truss area A must be positive");
-        sections[static_cast<int>(c1.integer(0, "SECID"))] = {3, area};
-      }
-      if (b.cards.size() % 2) b.fail("*SECTION_BEAM needs two cards per section");
-    } else if (kw == "*SECTION_SHELL") {
-      // Card 1: SECID, ELFORM, ...; card 2: T1..T4, ... (not used by 2D solids).
-      // ELFORM 15 (axisymmetric, volume weighted) is the element; 14 (area
-      // weighted) runs as 15: both solve the same equations and converge to
-      // the same answer, 15 conserves momentum and energy with the full-ring
-      // loads that the cavity hook and contacts apply (element_axi4.hpp).
-      for (size_t i = 0; i + 1 < b.cards.size(); i += 2) {
-        Card c1 = fields_of(b.cards[i], kW10);
-        const long elform = c1.integer_or(1, "ELFORM", 2);
-        if (elform != 14 && elform != 15)
-          c1.fail("ELFORM " + std::to_string(elform) +
-                  ": this fe_server has shells only as 2D axisymmetric solids, ELFORM 15 (or 14)");
-        if (elform == 14)
-          warn(c1.where, "ELFORM 14 (area weighted axisymmetric) runs as ELFORM 15 (volume weighted)");
-        sections[static_cast<int>(c1.integer(0, "SECID"))] = {15, 0.0};
-      }
-      if (b.cards.size() % 2) b.fail("*SECTION_SHELL needs two cards per section");
-    } else if (kw == "*SECTION_DISCRETE") {
-      for (const Card& raw : b.cards) {
-        Card c = fields_of(raw, kW10);
-        if (c.fields.size() >= 2 && c.integer_or(1, "DRO", 0) != 0)
-          c.fail("only translational discrete elements (DRO = 0) are supported");
-      }
-    } else if (kw == "*MAT_RIGID" || kw == "*MAT_020") {
-      // Card 1: MID RO E PR ...; card 2 (optional): CMO CON1 CON2; card 3
-      // (optional): local axes for output, which change nothing here.
-      if (b.cards.empty()) b.fail(kw + " needs its material card");
-      Card c = fields_of(b.cards[0], kW10);
-      Material mat = elastic_constants(c);
-      mat.rigid = true;
-      if (b.cards.size() >= 2) {
-        Card c2 = fields_of(b.cards[1], kW10);
-        const long cmo = static_cast<long>(c2.real_or(0, "CMO", 0.0));
-        if (cmo == 1) {
-          mat.rigid_fixed_translation = constraint_code(c2, 1, "CON1");
-          mat.rigid_fixed_rotation = constraint_code(c2, 2, "CON2");
-        } else if (cmo != 0) {
-          c2.fail("CMO " + std::to_string(cmo) + ": only CMO = 0 (free) and 1 (global constraints CON1, CON2) are supported");
-        }
-      }
-      if (b.cards.size() > 3) b.fail(kw + " has at most three cards; define each material under its own keyword");
-      if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
-      m.materials[mat.id] = mat;
-    } else if (kw == "*PART_INERTIA") {
-      part_inertia(b);
-    } else if (kw == "*MAT_PLASTIC_KINEMATIC" || kw == "*MAT_003") {
-      // MID RO E PR SIGY ETAN BETA; card 2: SRC SRP FS VP.
-      if (b.cards.empty()) b.fail(kw + " needs its material card");
-      Card c = fields_of(b.cards[0], kW10);
-      Material mat = elastic_constants(c);
-      plastic_constants(mat, c);
-      mat.beta = c.real_or(6, "BETA", 0.0);
-      if (mat.beta < 0.0 || mat.beta > 1.0) c.fail("BETA must be between 0 (kinematic) and 1 (isotropic)");
-      if (b.cards.size() > 1) {
-        Card c2 = fields_of(b.cards[1], kW10);
-        if (c2.real_or(0, "SRC", 0.0) != 0.0 || c2.real_or(1, "SRP", 0.0) != 0.0)
-          c2.fail("strain-rate effects (SRC, SRP) are not supported");
-        if (c2.real_or(2, "FS", 0.0) != 0.0) c2.fail("failure (FS, element erosion) is not supported");
-      }
-      if (b.cards.size() > 2) b.fail(kw + " has at most two cards; define each material under its own keyword");
-      if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
-      m.materials[mat.id] = mat;
-    } else if (kw == "*MAT_PIECEWISE_LINEAR_PLASTICITY" || kw == "*MAT_024") {
-      // MID RO E PR SIGY ETAN FAIL TDEL; C P LCSS LCSR VP; EPS1..8; ES1..8.
-      if (b.cards.empty()) b.fail(kw + " needs its material card");
-      Card c = fields_of(b.cards[0], kW10);
-      Material mat = elastic_constants(c);
-      plastic_constants(mat, c);
-      const double fail = c.real_or(6, "FAIL", 0.0);
-      if (fail != 0.0 && fail < 1e20) c.fail("failure (FAIL, element erosion) is not supported");
-      if (b.cards.size() > 1) {
-        Card c2 = fields_of(b.cards[1], kW10);
-        if (c2.real_or(0, "C", 0.0) != 0.0 || c2.real_or(1, "P", 0.0) != 0.0)
-          c2.fail("strain-rate effects (C, P) are not supported");
-        if (c2.integer_or(3, "LCSR", 0) != 0) c2.fail("LCSR (a strain-rate curve) is not supported");
-        if (const long lcss = c2.integer_or(2, "LCSS", 0); lcss != 0) hardening_curves.push_back({mat.id, c2});
-      }
-      if (b.cards.size() > 3) {
-        Card eps = fields_of(b.cards[2], kW10), es = fields_of(b.cards[3], kW10);
-        for (size_t k = 0; k < 8; ++k) {
-          const double e = eps.real_or(k, "EPS", 0.0), sy = es.real_or(k, "ES", 0.0);
-          if (sy == 0.0 && k > 0) break;
-          if (!mat.hardening_strain.empty() && !(e > mat.hardening_strain.back()))
-            eps.fail("EPS must increase");
-          mat.hardening_strain.push_back(e);
-          mat.hardening_stress.push_back(sy);
-        }
-        if (mat.hardening_strain.size() == 1) es.fail("EPS/ES need at least two points");
-      }
-      if (b.cards.size() > 4) b.fail(kw + " has at most four cards; define each material under its own keyword");
-      if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
-      m.materials[mat.id] = mat;
-    } else if (kw == "*MAT_ELASTIC" || kw == "*MAT_001") {
-      for (const Card& raw : b.cards) {
-        Card c = fields_of(raw, kW10);
-        if (c.fields.empty() || c.fields[0].empty()) continue;
-        Material mat = elastic_constants(c);
-        if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
-        m.materials[mat.id] = mat;
-      }
-    } else if (kw == "*MAT_SPRING_ELASTIC" || kw == "*MAT_S01") {
-      for (const Card& raw : b.cards) {
-        Card c = fields_of(raw, kW10);
-        spring_mats[static_cast<int>(c.integer(0, "MID"))].first = c.real(1, "K");
-      }
-    } else if (kw == "*MAT_DAMPER_VISCOUS" || kw == "*MAT_S02") {
-      for (const Card& raw : b.cards) {
-        Card c = fields_of(raw, kW10);
-        spring_mats[static_cast<int>(c.integer(0, "MID"))].second = c.real(1, "DC");
-      }
-    } else if (kw == "*ELEMENT_SOLID") {
-      // One card (EID PID N1..N8), or LS-DYNA's two-card form: EID PID, then
-      // the nodes on the next card (N1..N8, or N1..N10 for a 10-node tet).
-      for (size_t i = 0; i < b.cards.size(); ++i) {
-        Card c = fields_of(b.cards[i], kW8);
-        const auto filled = std::count_if(c.fields.begin(), c.fields.end(), [](const std::string& f) { return !f.empty(); });
-        if (filled <= 2) {
-          if (i + 1 == b.cards.size()) c.fail("element " + (c.fields.empty() ? std::string("card") : c.fields[0]) +
-                                              ": the two-card form needs the nodes on the next card");
-          const Card nodes = fields_of(b.cards[++i], kW8);
-          c.fields.resize(2);
-          c.fields.insert(c.fields.end(), nodes.fields.begin(), nodes.fields.end());
-        }
-        solid_cards.push_back(c);
-      }
-    } else if (kw == "*ELEMENT_BEAM") {
-      for (const Card& raw : b.cards) beam_cards.push_back(fields_of(raw, kW8));
-    } else if (kw == "*ELEMENT_SHELL") {
-      for (const Card& raw : b.cards) shell_cards.push_back(fields_of(raw, kW8));
-    } else if (kw == "*ELEMENT_DISCRETE") {
-      for (const Card& raw : b.cards) discrete_cards.push_back(fields_of(raw, {8, 8, 8, 8, 8, 16, 8, 16}));
-    } else if (kw == "*ELEMENT_MASS") {
-      for (const Card& raw : b.cards) mass_cards.push_back(fields_of(raw, {8, 8, 16, 8}));
-    } else if (kw == "*SET_NODE_LIST") {
-      if (b.cards.empty()) b.fail("*SET_NODE_LIST needs a header card with SID");
-      auto& list = m.node_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
-      for (int id : id_list(b, 1, "NID")) list.push_back(id);
-    } else if (kw == "*SET_NODE_GENERATE") {
-      // SID, then ranges B1 E1 B2 E2 ...: every defined node with an id in a range.
-      if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
-      auto& list = m.node_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
-      for (size_t i = 1; i < b.cards.size(); ++i) {
-        Card c = fields_of(b.cards[i], kW10);
-        for (size_t k = 0; k + 1 < c.fields.size(); k += 2) {
-          if (c.fields[k].empty() && c.fields[k + 1].empty()) continue;
-          const long lo = c.integer(k, "B"), hi = c.integer(k + 1, "E");
-          if (hi < lo) c.fail("range " + std::to_string(lo) + " to " + std::to_string(hi) + " is empty");
-          for (auto it = m.node_index.lower_bound(static_cast<int>(lo)); it != m.node_index.end() && it->first <= hi; ++it)
-            list.push_back(it->first);
-        }
-      }
-    } else if (kw == "*SET_NODE_ADD" || kw == "*SET_PART_ADD") {
-      // SID, then the ids of the sets it joins (resolved after the deck is read).
-      if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
-      SetUnion u;
-      u.parts = kw == "*SET_PART_ADD";
-      u.id = static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"));
-      u.members = id_list(b, 1, "DSID");
-      u.where = b.where;
-      set_unions.push_back(u);
-      (u.parts ? m.part_sets : m.node_sets)[u.id];  // defined from here on
-    } else if (kw == "*SET_PART_LIST" || kw == "*SET_PART") {
-      if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
-      auto& list = m.part_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
-      for (int id : id_list(b, 1, "PID")) list.push_back(id);
-    } else if (kw == "*SET_SOLID" || kw == "*SET_SOLID_LIST" || kw == "*SET_SHELL" || kw == "*SET_SHELL_LIST" ||
-               kw == "*SET_BEAM" || kw == "*SET_BEAM_LIST") {
-      if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
-      auto& sets = kw.rfind("*SET_SOLID", 0) == 0 ? solid_sets : kw.rfind("*SET_SHELL", 0) == 0 ? shell_sets : beam_sets;
-      auto& list = sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
-      for (int id : id_list(b, 1, "EID")) list.push_back(id);
-    } else if (kw == "*DATABASE_CROSS_SECTION_SET") {
-      // NSID HSID BSID SSID TSID DSID ID ITYPE: the cut's nodes and the
-      // solid, beam and shell (here: axisymmetric) elements on one side.
-      for (const Card& raw : b.cards) section_cards.push_back(fields_of(raw, kW10));
-    } else if (kw == "*SET_SEGMENT") {
-      if (b.cards.empty()) b.fail("*SET_SEGMENT needs a header card with SID");
-      auto& list = m.segment_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
-      for (size_t i = 1; i < b.cards.size(); ++i) {
-        Card c = fields_of(b.cards[i], kW10);
-        Segment s;
-        const long n3 = c.integer_or(2, "N3", 0), n4 = c.integer_or(3, "N4", 0);
-        if (n3 == 0 && n4 == 0) {  // N1, N2 only: a 2D line (axisymmetric decks), body on its left
-          s.n[0] = m.index_of(static_cast<int>(c.integer(0, "N1")), c.where);
-          s.n[1] = m.index_of(static_cast<int>(c.integer(1, "N2")), c.where);
-          s.n[2] = s.n[3] = -1;
-          line_set_cards.push_back(c);
-        } else {
-          for (int k = 0; k < 4; ++k) {
-            long id = c.integer_or(static_cast<size_t>(k), "N", k == 3 ? 0 : -1);
-            if (k == 3 && id == 0) {
-              s.n[3] = s.n[2];  // triangle
-              continue;
-            }
-            s.n[k] = m.index_of(static_cast<int>(id), c.where);
-          }
-        }
-        list.push_back(s);
-      }
-    } else if (kw == "*CONSTRAINED_NODAL_RIGID_BODY" || kw == "*CONSTRAINED_NODAL_RIGID_BODY_SPC") {
-      // _SPC: each body's card is followed by CMO CON1 CON2 (as *MAT_RIGID's).
-      const bool spc = kw == "*CONSTRAINED_NODAL_RIGID_BODY_SPC";
-      if (spc && b.cards.size() % 2) b.fail(kw + " needs two cards per body (PID CID NSID; CMO CON1 CON2)");
-      for (size_t i = 0; i < b.cards.size(); i += spc ? 2 : 1) {
-        // Not `{card, {}, {}}`: an explicit {} would replace the members'
-        // initialisers with Eigen's default constructor, which leaves them unset.
-        NodalRigidBodyCards r;
-        r.card = fields_of(b.cards[i], kW10);
-        if (spc) {
-          Card c2 = fields_of(b.cards[i + 1], kW10);
-          const long cmo = static_cast<long>(c2.real_or(0, "CMO", 0.0));
-          if (cmo != 0 && cmo != 1) c2.fail("CMO " + std::to_string(cmo) + ": only 0 (free) and 1 (global CON1, CON2) are supported");
-          if (cmo == 1) {
-            r.fixed_translation = constraint_code(c2, 1, "CON1");
-            r.fixed_rotation = constraint_code(c2, 2, "CON2");
-          }
-        }
-        rigid_cards.push_back(r);
-      }
-    } else if (kw == "*CONSTRAINED_EXTRA_NODES_NODE" || kw == "*CONSTRAINED_EXTRA_NODES_SET") {
-      // PID, NID (or NSID): the nodes move with the rigid part PID.
-      for (const Card& raw : b.cards) extra_node_cards.push_back({fields_of(raw, kW10), kw == "*CONSTRAINED_EXTRA_NODES_SET"});
-    } else if (kw == "*CONSTRAINED_RIGID_BODIES") {
-      // PIDL, PIDC, IFLAG: rigid part PIDC joins the lead part PIDL's body.
-      for (const Card& raw : b.cards) merge_cards.push_back(fields_of(raw, kW10));
-    } else if (kw == "*BOUNDARY_SPC_NODE") {
-      for (const Card& raw : b.cards) spc_cards.push_back(fields_of(raw, kW10));
-    } else if (kw == "*BOUNDARY_SPC_SET") {
-      for (const Card& raw : b.cards) spc_set_cards.push_back(fields_of(raw, kW10));
-    } else if (kw == "*INITIAL_VELOCITY_NODE") {
-      for (const Card& raw : b.cards) vel_cards.push_back(fields_of(raw, kW10));
-    } else if (kw == "*INITIAL_VELOCITY") {
-      for (size_t i = 0; i + 1 < b.cards.size(); i += 2)
-        vel_set_cards.push_back({fields_of(b.cards[i], kW10), fields_of(b.cards[i + 1], kW10)});
-      if (b.cards.size() % 2) b.fail("*INITIAL_VELOCITY needs two cards per set");
-    } else if (kw == "*INITIAL_VELOCITY_GENERATION") {
-      for (size_t i = 0; i + 1 < b.cards.size(); i += 2)
-        vel_gen_cards.push_back({fields_of(b.cards[i], kW10), fields_of(b.cards[i + 1], kW10)});
-      if (b.cards.size() % 2) b.fail("*INITIAL_VELOCITY_GENERATION needs two cards per entry");
-    } else if (kw == "*CONTACT_FORCE_TRANSDUCER_PENALTY") {
-      // Measures the contact force on its surfaces and applies none: output only.
-      warn(b.where, kw + " only measures contact forces for LS-DYNA's rcforc file: ignored (fe_server writes the "
-                         "contacts' total force in contact/force)");
-    } else if (kw == "*CONTACT_AUTOMATIC_SINGLE_SURFACE") {
-      // Card 1: SSID, MSID (not used), SSTYP (2: part set, 3: part; SSID 0:
-      // every part), MSTYP; card 2: FS FD DC VC VDC; card 3: SFS.
-      ContactDef d;
-      Card c1 = b.cards.empty() ? Card{} : fields_of(b.cards[0], kW10);
-      d.where = b.cards.empty() ? b.where : c1.where;
-      d.single_surface = true;
-      const long ssid = b.cards.empty() ? 0 : c1.integer_or(0, "SSID", 0);
-      const long sstyp = b.cards.empty() ? 2 : c1.integer_or(2, "SSTYP", 2);
-      if (ssid != 0 && sstyp != 2 && sstyp != 3)
-        c1.fail("SSTYP must be 2 (part set) or 3 (part) for a single surface in this version (SSID 0: all parts)");
-      d.slave_set = static_cast<int>(ssid);
-      d.slave_nodes = sstyp == 3;  // read here as: SSID names one part (resolved after the deck)
-      contact_cards_2_and_3(b, d);
-      m.contacts.push_back(d);
-    } else if (kw == "*CONTACT_TIED_SURFACE_TO_SURFACE" || kw == "*CONTACT_TIED_NODES_TO_SURFACE") {
-      // Card 1: SSID MSID SSTYP MSTYP (segment sets, or a slave node set:
-      // SSTYP 4, the default of _NODES_TO_SURFACE); cards 2 and 3 (friction,
-      // damping, SFS, thicknesses) mean nothing for a constraint and are read
-      // as LS-DYNA does: not used.
-      TieDef d;
-      contact_card_1(b, kw == "*CONTACT_TIED_NODES_TO_SURFACE", d.slave_set, d.master_set, d.slave_nodes, d.where);
-      m.ties.push_back(d);
-    } else if (kw == "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE" || kw == "*CONTACT_NODES_TO_SURFACE" ||
-               kw == "*CONTACT_AUTOMATIC_NODES_TO_SURFACE") {
-      // _NODES_TO_SURFACE: the slave side is a node set unless SSTYP says
-      // otherwise, checked against the master's segments only (one-sided).
-      const bool nodes_to_surface = kw != "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE";
-      ContactDef d;
-      contact_card_1(b, nodes_to_surface, d.slave_set, d.master_set, d.slave_nodes, d.where);
-      if (nodes_to_surface && !d.slave_nodes) throw InputError(d.where, kw + ": the slave side must be a node set (SSTYP 4)");
-      contact_cards_2_and_3(b, d);
-      m.contacts.push_back(d);
-    } else if (kw == "*USER_LOADING_SET") {
-      // Co-simulation port on a segment set: SID, LTYPE (PRESSS), PORT, and
-      // optionally the cavity's bounds along z: ZMIN, ZMAX, REFNODE (the bounds
-      // move with this node, e.g. on the housing), RAMP (entry width of faces
-      // normal to z).
-      for (const Card& raw : b.cards) {
-        Card c = fields_of(raw, kW10);
-        LoadingSet ls;
-        ls.segment_set = static_cast<int>(c.integer(0, "SID"));
-        std::string ltype = config::to_upper(c.field(1, "LTYPE"));
-        if (ltype != "PRESSS" && ltype != "FORCE" && ltype != "BODY")
-          c.fail("LTYPE '" + c.fields[1] +
-                 "': expected PRESSS (pressure on a segment set), FORCE (force along the axis on a node set) or BODY "
-                 "(force along the axis on a part set, shared by mass)");
-        ls.force = ltype == "FORCE" || ltype == "BODY";
-        ls.body = ltype == "BODY";
-        ls.port_id = static_cast<int>(c.integer(2, "PORT"));
-        ls.z_min = c.real_or(3, "ZMIN", -1e300);
-        ls.z_max = c.real_or(4, "ZMAX", 1e300);
-        const long ref = c.integer_or(5, "REFNODE", 0);
-        ls.reference_node = ref ? m.index_of(static_cast<int>(ref), c.where) : -1;
-        ls.ramp = c.real_or(6, "RAMP", 0.0);
-        if (!(ls.z_min < ls.z_max)) c.fail("ZMIN must be below ZMAX");
-        ls.where = c.where;
-        m.loading_sets.push_back(ls);
-      }
-    } else if (kw == "*USER_LOADING_SQUEEZE_FILM") {
-      // NSID1 NSID2 DIR H0 RO RI MU HMIN, one film per card.
-      for (const Card& raw : b.cards) {
-        Card c = fields_of(raw, kW10);
-        SqueezeFilmDef f;
-        f.where = c.where;
-        f.set1 = static_cast<int>(c.integer(0, "NSID1"));
-        f.set2 = static_cast<int>(c.integer(1, "NSID2"));
-        f.direction = c.real(2, "DIR");
-        if (f.direction != 1.0 && f.direction != -1.0)
-          c.fail("DIR must be 1 (the gap grows as NSID1 moves along +axis relative to NSID2) or -1");
-        f.h0 = c.real(3, "H0");
-        f.r_out = c.real(4, "RO");
-        f.r_in = c.real_or(5, "RI", 0.0);
-        f.viscosity = c.real(6, "MU");
-        f.h_min = c.real_or(7, "HMIN", 5e-6);
-        if (!(f.r_out > 0.0) || !(f.r_in >= 0.0) || !(f.r_in < f.r_out)) c.fail("the film needs 0 <= RI < RO");
-        if (!(f.viscosity > 0.0)) c.fail("MU (the oil's dynamic viscosity, Pa s) must be positive");
-        if (!(f.h_min > 0.0)) c.fail("HMIN must be positive (the gap below which the film's coefficient is held)");
-        if (f.set1 == f.set2) c.fail("NSID1 and NSID2 are the same set: the film needs two faces");
-        m.squeeze_films.push_back(f);
-      }
-    } else if (kw == "*DEFINE_CURVE") {
-      // LCID SIDR SFA SFO OFFA OFFO DATTYP, then one point (A, O) per card (2 fields of 20).
-      if (b.cards.empty()) b.fail("*DEFINE_CURVE needs a card with LCID");
-      Card c = fields_of(b.cards[0], kW10);
-      Curve curve;
-      curve.id = static_cast<int>(c.integer(0, "LCID"));
-      curve.where = c.where;
-      const long sidr = c.integer_or(1, "SIDR", 0);
-      if (sidr < 0 || sidr > 2) c.fail("SIDR " + std::to_string(sidr) + ": 0 (transient), 1 (dynamic relaxation) or 2 (both)");
-      curve.sidr = static_cast<int>(sidr);
-      curve.sfa = c.real_or(2, "SFA", 0.0);
-      curve.sfo = c.real_or(3, "SFO", 0.0);
-      if (curve.sfa == 0.0) curve.sfa = 1.0;  // LS-DYNA: 0 means 1
-      if (curve.sfo == 0.0) curve.sfo = 1.0;
-      curve.offa = c.real_or(4, "OFFA", 0.0);
-      curve.offo = c.real_or(5, "OFFO", 0.0);
-      if (c.integer_or(6, "DATTYP", 0) != 0) c.fail("DATTYP other than 0 (a time curve) is not supported");
-      for (size_t i = 1; i < b.cards.size(); ++i) {
-        Card pt = fields_of(b.cards[i], {20});
-        const double a = pt.real(0, "A1"), o = pt.real_or(1, "O1", 0.0);
-        if (!curve.a.empty() && !(a > curve.a.back()))
-          pt.fail("the curve's abscissae must increase (" + std::to_string(a) + " after " + std::to_string(curve.a.back()) + ")");
-        curve.a.push_back(a);
-        curve.o.push_back(o);
-      }
-      if (curve.a.empty()) c.fail("curve " + std::to_string(curve.id) + " has no points");
-      if (m.curves.count(curve.id)) c.fail("curve " + std::to_string(curve.id) + " defined twice");
-      m.curves[curve.id] = curve;
-    } else if (kw == "*LOAD_BODY_X" || kw == "*LOAD_BODY_Y" || kw == "*LOAD_BODY_Z") {
-      // LCID SF LCIDDR XC YC ZC CID
-      if (b.cards.empty()) b.fail(kw + " needs a card with LCID");
-      Card c = fields_of(b.cards[0], kW10);
-      BodyLoad l;
-      l.dof = kw.back() - 'X';
-      l.curve_id = static_cast<int>(c.integer(0, "LCID"));
-      l.sf = c.real_or(1, "SF", 1.0);
-      if (l.sf == 0.0) l.sf = 1.0;  // LS-DYNA: 0 means 1
-      l.curve_dr_id = static_cast<int>(c.integer_or(2, "LCIDDR", 0));
-      if (c.integer_or(6, "CID", 0) != 0) c.fail("CID (a local coordinate system) is not supported");
-      l.where = c.where;
-      m.body_loads.push_back(l);
-    } else if (kw == "*DAMPING_GLOBAL") {
-      // LCID VALDMP STX STY STZ SRX SRY SRZ
-      if (b.cards.empty()) return;  // LS-DYNA's defaults: no damping
-      damping_cards.push_back({fields_of(b.cards[0], kW10), Card{}, false});
-    } else if (kw == "*DAMPING_PART_MASS") {
-      // PID LCID SF FLAG, and with FLAG = 1 a card STX STY STZ SRX SRY SRZ.
-      for (size_t i = 0; i < b.cards.size(); ++i) {
-        Card c1 = fields_of(b.cards[i], kW10);
-        Card c2;
-        if (c1.integer_or(3, "FLAG", 0) == 1) {
-          if (i + 1 == b.cards.size()) c1.fail("FLAG = 1 needs the card of scale factors STX ... SRZ");
-          c2 = fields_of(b.cards[++i], kW10);
-        }
-        damping_cards.push_back({c1, c2, true});
-      }
-    } else if (kw == "*LOAD_NODE_POINT" || kw == "*LOAD_NODE_SET") {
-      // NID (or NSID), DOF, LCID, SF, CID, M1, M2, M3.
-      for (const Card& raw : b.cards) nodal_load_cards.push_back({fields_of(raw, kW10), kw == "*LOAD_NODE_SET"});
-    } else if (kw == "*LOAD_SEGMENT" || kw == "*LOAD_SEGMENT_SET") {
-      for (const Card& raw : b.cards) pressure_cards.push_back({fields_of(raw, kW10), kw == "*LOAD_SEGMENT_SET"});
-    } else if (kw == "*LOAD_BODY_PARTS") {
-      if (b.cards.empty()) b.fail("*LOAD_BODY_PARTS needs a card with PSID");
-      body_parts_card = fields_of(b.cards[0], kW10);
-      has_body_parts = true;
-    } else if (kw == "*CONTROL_DYNAMIC_RELAXATION") {
-      // NRCYCK DRTOL DRFCTR DRTERM TSSFDR IRELAL EDTTL IDRFLG
-      Card c = b.cards.empty() ? Card{} : fields_of(b.cards[0], kW10);
-      auto& r = m.relaxation;
-      r.where = b.where;
-      if (!b.cards.empty()) {
-        r.nrcyck = static_cast<int>(c.integer_or(0, "NRCYCK", 0));
-        if (r.nrcyck == 0) r.nrcyck = 250;
-        r.drtol = c.real_or(1, "DRTOL", 0.0);
-        if (r.drtol == 0.0) r.drtol = 1e-3;
-        r.drfctr = c.real_or(2, "DRFCTR", 0.0);
-        if (r.drfctr == 0.0) r.drfctr = 0.995;
-        r.drterm = c.real_or(3, "DRTERM", 0.0);
-        if (r.drterm == 0.0) r.drterm = 1e28;
-        if (c.real_or(4, "TSSFDR", 0.0) != 0.0) c.fail("TSSFDR (another step for the relaxation) is not supported: leave it 0");
-        r.idrflg = c.integer_or(7, "IDRFLG", 0) == 1;
-        if (r.nrcyck < 1 || !(r.drtol > 0.0 && r.drtol < 1.0) || !(r.drfctr > 0.0 && r.drfctr < 1.0) || !(r.drterm > 0.0))
-          c.fail("NRCYCK ≥ 1, 0 < DRTOL < 1, 0 < DRFCTR < 1 and DRTERM > 0 are needed");
-      }
-    } else if (kw == "*BOUNDARY_PRESCRIBED_MOTION_NODE" || kw == "*BOUNDARY_PRESCRIBED_MOTION_SET") {
-      for (const Card& raw : b.cards) motion_cards.push_back({fields_of(raw, kW10), kw == "*BOUNDARY_PRESCRIBED_MOTION_SET"});
-    } else if (kw == "*BOUNDARY_PRESCRIBED_MOTION_RIGID") {
-      // PID DOF VAD LCID SF VID DEATH BIRTH: the part's rigid body translates
-      // as the curve says (resolved after the deck: the part's body).
-      for (const Card& raw : b.cards) rigid_motion_cards.push_back(fields_of(raw, kW10));
-    } else if (kw == "*CONTROL_TERMINATION") {
-      if (!b.cards.empty()) m.end_time = fields_of(b.cards[0], kW10).real(0, "ENDTIM");
-    } else if (kw == "*CONTROL_TIMESTEP") {
-      if (!b.cards.empty()) {
-        Card c = fields_of(b.cards[0], kW10);
-        double s = c.real_or(1, "TSSFAC", 0.9);
-        if (s > 0.0) m.dt_scale = s;
-        m.dt2ms = c.real_or(4, "DT2MS", 0.0);
-      }
-    } else if (kw == "*CONTROL_HOURGLASS") {
-      if (!b.cards.empty()) {
-        Card c = fields_of(b.cards[0], kW10);
-        long ihq = c.integer_or(0, "IHQ", 1);
-        if (ihq > 3)
-          substitute(c.where, "*CONTROL_HOURGLASS IHQ " + std::to_string(ihq), "viscous hourglass control (IHQ 1-3)");
-        m.hourglass_q = c.real_or(1, "QH", 0.1);
-      }
-    } else if (kw == "*CONTROL_BULK_VISCOSITY") {
-      if (!b.cards.empty()) {
-        Card c = fields_of(b.cards[0], kW10);
-        m.bulk_q1 = c.real_or(0, "Q1", 1.5);
-        m.bulk_q2 = c.real_or(1, "Q2", 0.06);
-      }
-    } else if (kw == "*DATABASE_BINARY_D3PLOT") {
-      // Field snapshots every DT, written as HDF5 + XDMF (not d3plot).
-      if (!b.cards.empty()) m.snapshot_interval = fields_of(b.cards[0], kW10).real(0, "DT");
-    } else if (kw == "*DATABASE_GLSTAT" || kw == "*DATABASE_RCFORC" || kw == "*DATABASE_NODOUT" ||
-               kw == "*DATABASE_ELOUT" || kw == "*DATABASE_SECFORC" || kw == "*DATABASE_MATSUM") {
-      // Card 1: DT (BINARY, LCUR, IOOPT: LS-DYNA's file options, not used).
-      // The history file's rows at DT (output/history.hpp); DT at or below
-      // the FE step: every step. GLSTAT, MATSUM, RCFORC, NODOUT and ELOUT
-      // also write LS-DYNA's ASCII file of that name (output/ascii_output.hpp).
-      if (b.cards.empty()) b.fail(kw + " needs its card with DT");
-      Card c = fields_of(b.cards[0], kW10);
-      const double dt = c.real(0, "DT");
-      if (!(dt > 0.0)) c.fail("DT must be positive");
-      if (kw != "*DATABASE_SECFORC") {
-        double& ascii = m.ascii_dt[config::to_lower(kw.substr(10))];
-        ascii = ascii > 0.0 ? std::min(ascii, dt) : dt;
-      }
-      if (kw == "*DATABASE_ELOUT") elout_where = b.where;
-      if (kw != "*DATABASE_MATSUM") {  // the HDF5 has no per-part stream
-        double& to = kw == "*DATABASE_NODOUT"                                   ? m.history_dt_nodes
-                     : kw == "*DATABASE_ELOUT" || kw == "*DATABASE_SECFORC" ? m.history_dt_elements
-                                                                            : m.history_dt_global;
-        to = to > 0.0 ? std::min(to, dt) : dt;
-      }
-    } else if (kw == "*DATABASE_HISTORY_NODE") {
-      for (int id : id_list(b, 0, "ID")) m.history_nodes.push_back(m.index_of(id, b.where));
-    } else if (kw == "*DATABASE_HISTORY_SOLID") {
-      for (int id : id_list(b, 0, "ID")) m.history_solids.push_back(id);  // resolved after the elements
-    } else if (kw == "*DATABASE_HISTORY_BEAM") {
-      for (int id : id_list(b, 0, "ID")) m.history_bars.push_back(id);  // resolved after the elements
-    } else if (kw == "*DATABASE_HISTORY_SHELL") {
-      for (int id : id_list(b, 0, "ID")) m.history_axis.push_back(id);  // resolved after the elements
-    } else if (kw == "*CONTACT_2D_AUTOMATIC_SURFACE_TO_SURFACE") {
-      // Card 1: SIDS, SIDM (part sets whose outer boundaries meet), SFACT,
-      // FREQ, FS, FD, DC, MEMBS; card 2 (TBIRTH, ...) is not used; an optional
-      // card 3: VC, VDC (damping, % of critical; 20 when not given, as for
-      // the 3D contact).
-      if (b.cards.empty()) b.fail(kw + " needs card 1 (SIDS, SIDM, ...)");
-      Card c1 = fields_of(b.cards[0], kW10);
-      ContactDef d;
-      d.where = c1.where;
-      d.planar = true;
-      d.slave_set = static_cast<int>(c1.integer(0, "SIDS"));
-      d.master_set = static_cast<int>(c1.integer(1, "SIDM"));
-      if (d.slave_set <= 0 || d.master_set <= 0)
-        c1.fail("SIDS and SIDM must be part sets (> 0); node sets (< 0) are not supported");
-      d.stiffness_factor = c1.real_or(2, "SFACT", 1.0);
-      if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
-      warn_stiffness_cap(d, "SFACT");
-      d.friction = c1.real_or(4, "FS", 0.0);
-      if (d.friction != 0.0) substitute(c1.where, "contact friction FS " + short_number(d.friction), "frictionless contact");
-      if (b.cards.size() > 2) d.damping = fields_of(b.cards[2], kW10).real_or(1, "VDC", 20.0) / 100.0;
-      m.contacts.push_back(d);
-    } else if (kw == "*COMMENT") {
-    } else {
-      unsupported(b);
+    if (kw == "*KEYWORD" || kw == "*END" || kw == "*COMMENT") return;
+    const auto& index = keyword_index();
+    const auto it = index.find(kw);
+    if (it == index.end()) return unsupported(b);
+    (this->*(it->second->read))(b, kw);
+  }
+
+  // The keywords this reader reads: each with its reading function and what
+  // it makes of it. The same table dispatches block() and prints the
+  // coverage page (fe_server --keywords, docs/lsdyna_keywords.md).
+  struct Keyword {
+    std::vector<const char*> names;
+    void (Reader::*read)(const Block&, const std::string&);
+    const char* what;
+  };
+  static const std::vector<Keyword>& keywords() {
+    static const std::vector<Keyword> k = {
+      {{"*TITLE"}, &Reader::read_title, "the deck's title"},
+      {{"*NODE"}, &Reader::read_node, "nodes: NID, X, Y, Z, TC"},
+      {{"*PART"}, &Reader::read_part, "parts: title, PID, SECID, MID"},
+      {{"*SECTION_SOLID"}, &Reader::read_section_solid, "hex8 solids' section (ELFORM)"},
+      {{"*SECTION_BEAM"}, &Reader::read_section_beam, "1D bars' section (ELFORM, area)"},
+      {{"*SECTION_SHELL"}, &Reader::read_section_shell, "2D axisymmetric solids' section (ELFORM)"},
+      {{"*SECTION_DISCRETE"}, &Reader::read_section_discrete, "discrete springs' and dampers' section"},
+      {{"*MAT_RIGID", "*MAT_020"}, &Reader::read_mat_rigid, "rigid material; its constraints and the body's mass properties"},
+      {{"*PART_INERTIA"}, &Reader::read_part_inertia, "a part's given mass and inertia"},
+      {{"*MAT_PLASTIC_KINEMATIC", "*MAT_003"}, &Reader::read_mat_plastic_kinematic, "elastic–plastic material, kinematic to isotropic hardening"},
+      {{"*MAT_PIECEWISE_LINEAR_PLASTICITY", "*MAT_024"}, &Reader::read_mat_piecewise_linear_plasticity, "elastic–plastic material with a yield curve"},
+      {{"*MAT_ELASTIC", "*MAT_001"}, &Reader::read_mat_elastic, "linear elastic material"},
+      {{"*MAT_SPRING_ELASTIC", "*MAT_S01"}, &Reader::read_mat_spring_elastic, "linear spring"},
+      {{"*MAT_DAMPER_VISCOUS", "*MAT_S02"}, &Reader::read_mat_damper_viscous, "linear damper"},
+      {{"*ELEMENT_SOLID"}, &Reader::read_element_solid, "hex8 solid elements"},
+      {{"*ELEMENT_BEAM"}, &Reader::read_element_beam, "bar elements"},
+      {{"*ELEMENT_SHELL"}, &Reader::read_element_shell, "axisymmetric 2D solid elements (4 nodes)"},
+      {{"*ELEMENT_DISCRETE"}, &Reader::read_element_discrete, "discrete spring and damper elements"},
+      {{"*ELEMENT_MASS"}, &Reader::read_element_mass, "lumped masses on nodes"},
+      {{"*SET_NODE_LIST"}, &Reader::read_set_node_list, "node sets"},
+      {{"*SET_NODE_GENERATE"}, &Reader::read_set_node_generate, "node sets by ranges"},
+      {{"*SET_NODE_ADD", "*SET_PART_ADD"}, &Reader::read_set_node_add, "unions of node or part sets"},
+      {{"*SET_PART_LIST", "*SET_PART"}, &Reader::read_set_part_list, "part sets"},
+      {{"*SET_SOLID", "*SET_SOLID_LIST", "*SET_SHELL", "*SET_SHELL_LIST", "*SET_BEAM", "*SET_BEAM_LIST"}, &Reader::read_set_solid, "element sets"},
+      {{"*DATABASE_CROSS_SECTION_SET"}, &Reader::read_database_cross_section_set, "cross sections for the section force output"},
+      {{"*SET_SEGMENT"}, &Reader::read_set_segment, "segment sets"},
+      {{"*CONSTRAINED_NODAL_RIGID_BODY", "*CONSTRAINED_NODAL_RIGID_BODY_SPC"}, &Reader::read_constrained_nodal_rigid_body, "nodal rigid bodies"},
+      {{"*CONSTRAINED_EXTRA_NODES_NODE", "*CONSTRAINED_EXTRA_NODES_SET"}, &Reader::read_constrained_extra_nodes_node, "extra nodes on a rigid body"},
+      {{"*CONSTRAINED_RIGID_BODIES"}, &Reader::read_constrained_rigid_bodies, "rigid bodies merged"},
+      {{"*BOUNDARY_SPC_NODE"}, &Reader::read_boundary_spc_node, "single-point constraints on nodes"},
+      {{"*BOUNDARY_SPC_SET"}, &Reader::read_boundary_spc_set, "single-point constraints on a node set"},
+      {{"*INITIAL_VELOCITY_NODE"}, &Reader::read_initial_velocity_node, "initial velocities per node"},
+      {{"*INITIAL_VELOCITY"}, &Reader::read_initial_velocity, "initial velocity of a node set"},
+      {{"*INITIAL_VELOCITY_GENERATION"}, &Reader::read_initial_velocity_generation, "initial velocity (translation and rotation) of parts"},
+      {{"*CONTACT_FORCE_TRANSDUCER_PENALTY"}, &Reader::read_contact_force_transducer_penalty, "a contact force transducer"},
+      {{"*CONTACT_AUTOMATIC_SINGLE_SURFACE"}, &Reader::read_contact_automatic_single_surface, "single-surface penalty contact"},
+      {{"*CONTACT_TIED_SURFACE_TO_SURFACE", "*CONTACT_TIED_NODES_TO_SURFACE"}, &Reader::read_contact_tied_surface_to_surface, "tied contact"},
+      {{"*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE", "*CONTACT_NODES_TO_SURFACE", "*CONTACT_AUTOMATIC_NODES_TO_SURFACE"}, &Reader::read_contact_automatic_surface_to_surface, "penalty surface-to-surface and nodes-to-surface contact"},
+      {{"*USER_LOADING_SET"}, &Reader::read_user_loading_set, "the cavity ports the host's pressures load (the user-load hook)"},
+      {{"*USER_LOADING_SQUEEZE_FILM"}, &Reader::read_user_loading_squeeze_film, "squeeze-film damping between two surfaces"},
+      {{"*DEFINE_CURVE"}, &Reader::read_define_curve, "load curves"},
+      {{"*LOAD_BODY_X", "*LOAD_BODY_Y", "*LOAD_BODY_Z"}, &Reader::read_load_body_x, "body accelerations along x, y or z"},
+      {{"*DAMPING_GLOBAL"}, &Reader::read_damping_global, "mass-proportional damping of the whole model"},
+      {{"*DAMPING_PART_MASS"}, &Reader::read_damping_part_mass, "mass-proportional damping of a part"},
+      {{"*LOAD_NODE_POINT", "*LOAD_NODE_SET"}, &Reader::read_load_node_point, "point loads on nodes or node sets"},
+      {{"*LOAD_SEGMENT", "*LOAD_SEGMENT_SET"}, &Reader::read_load_segment, "pressure loads on segments or segment sets"},
+      {{"*LOAD_BODY_PARTS"}, &Reader::read_load_body_parts, "the parts a body load acts on"},
+      {{"*CONTROL_DYNAMIC_RELAXATION"}, &Reader::read_control_dynamic_relaxation, "dynamic relaxation before the transient"},
+      {{"*BOUNDARY_PRESCRIBED_MOTION_NODE", "*BOUNDARY_PRESCRIBED_MOTION_SET"}, &Reader::read_boundary_prescribed_motion_node, "prescribed motion of nodes or node sets"},
+      {{"*BOUNDARY_PRESCRIBED_MOTION_RIGID"}, &Reader::read_boundary_prescribed_motion_rigid, "prescribed motion of a rigid body"},
+      {{"*CONTROL_TERMINATION"}, &Reader::read_control_termination, "the end time"},
+      {{"*CONTROL_TIMESTEP"}, &Reader::read_control_timestep, "the time step factor (TSSFAC) and mass scaling (DT2MS)"},
+      {{"*CONTROL_HOURGLASS"}, &Reader::read_control_hourglass, "hourglass control (IHQ, QH)"},
+      {{"*CONTROL_BULK_VISCOSITY"}, &Reader::read_control_bulk_viscosity, "bulk viscosity (Q1, Q2)"},
+      {{"*DATABASE_BINARY_D3PLOT"}, &Reader::read_database_binary_d3plot, "field snapshots (written as XDMF/HDF5 for ParaView)"},
+      {{"*DATABASE_GLSTAT", "*DATABASE_RCFORC", "*DATABASE_NODOUT", "*DATABASE_ELOUT", "*DATABASE_SECFORC", "*DATABASE_MATSUM"}, &Reader::read_database_glstat, "ASCII outputs in LS-DYNA's formats and the history's intervals"},
+      {{"*DATABASE_HISTORY_NODE"}, &Reader::read_database_history_node, "nodal histories"},
+      {{"*DATABASE_HISTORY_SOLID"}, &Reader::read_database_history_solid, "solid element histories"},
+      {{"*DATABASE_HISTORY_BEAM"}, &Reader::read_database_history_beam, "bar element histories"},
+      {{"*DATABASE_HISTORY_SHELL"}, &Reader::read_database_history_shell, "axisymmetric element histories"},
+      {{"*CONTACT_2D_AUTOMATIC_SURFACE_TO_SURFACE"}, &Reader::read_contact_2d_automatic_surface_to_surface, "2D axisymmetric penalty contact"},
+    };
+    return k;
+  }
+  static const std::map<std::string, const Keyword*>& keyword_index() {
+    static const std::map<std::string, const Keyword*> index = [] {
+      std::map<std::string, const Keyword*> m;
+      for (const Keyword& k : keywords())
+        for (const char* n : k.names) m.emplace(n, &k);
+      return m;
+    }();
+    return index;
+  }
+
+  // One function per keyword, in the order of the table.
+  void read_title(const Block& b, [[maybe_unused]] const std::string& kw) {
+    if (!b.cards.empty()) m.title = config::trim(b.cards[0].text);
+  }
+
+  void read_node(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) {
+      Card c = fields_of(raw, {8, 16, 16, 16, 8, 8});
+      int id = static_cast<int>(c.integer(0, "NID"));
+      if (m.node_index.count(id)) c.fail("node " + std::to_string(id) + " defined twice");
+      m.node_index[id] = static_cast<int>(m.node_ids.size());
+      m.node_ids.push_back(id);
+      m.x0.emplace_back(c.real_or(1, "X", 0), c.real_or(2, "Y", 0), c.real_or(3, "Z", 0));
+      // TC as LS-DYNA numbers it (the CON1 code of rigid bodies too): 4 x
+      // and y, 5 y and z, 6 z and x.
+      m.fixed.push_back(constraint_code(c, 4, "TC"));
     }
+  }
+
+  void read_part(const Block& b, [[maybe_unused]] const std::string& kw) {
+    if (b.cards.size() % 2) b.fail("*PART needs a title card and a PID card per part");
+    for (size_t i = 0; i + 1 < b.cards.size(); i += 2) part(b.cards[i], b.cards[i + 1]);
+  }
+
+  void read_section_solid(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) {
+      Card c = fields_of(raw, kW10);
+      long elform = c.integer_or(1, "ELFORM", 1);
+      if (elform != 1 && elform != 0)
+        substitute(c.where, "*SECTION_SOLID ELFORM " + std::to_string(elform), "ELFORM 1 (one-point hexahedron)");
+      sections[static_cast<int>(c.integer(0, "SECID"))] = {1, 0.0};
+    }
+  }
+
+  void read_section_beam(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // Card 1: SECID, ELFORM (3 = truss); card 2 of a truss: A.
+    for (size_t i = 0; i + 1 < b.cards.size(); i += 2) {
+      Card c1 = fields_of(b.cards[i], kW10), c2 = fields_of(b.cards[i + 1], kW10);
+      long elform = c1.integer_or(1, "ELFORM", 1);
+      if (elform != 3) c1.fail("only truss beams (ELFORM 3, 1D bar) are supported");
+      double area = c2.real(0, "A");
+      if (!(area > 0.0)) c2.fail("truss area A must be positive");
+      sections[static_cast<int>(c1.integer(0, "SECID"))] = {3, area};
+    }
+    if (b.cards.size() % 2) b.fail("*SECTION_BEAM needs two cards per section");
+  }
+
+  void read_section_shell(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // Card 1: SECID, ELFORM, ...; card 2: T1..T4, ... (not used by 2D solids).
+    // ELFORM 15 (axisymmetric, volume weighted) is the element; 14 (area
+    // weighted) runs as 15: both solve the same equations and converge to
+    // the same answer, 15 conserves momentum and energy with the full-ring
+    // loads that the cavity hook and contacts apply (element_axi4.hpp).
+    for (size_t i = 0; i + 1 < b.cards.size(); i += 2) {
+      Card c1 = fields_of(b.cards[i], kW10);
+      const long elform = c1.integer_or(1, "ELFORM", 2);
+      if (elform != 14 && elform != 15)
+        c1.fail("ELFORM " + std::to_string(elform) +
+                ": this fe_server has shells only as 2D axisymmetric solids, ELFORM 15 (or 14)");
+      if (elform == 14)
+        warn(c1.where, "ELFORM 14 (area weighted axisymmetric) runs as ELFORM 15 (volume weighted)");
+      sections[static_cast<int>(c1.integer(0, "SECID"))] = {15, 0.0};
+    }
+    if (b.cards.size() % 2) b.fail("*SECTION_SHELL needs two cards per section");
+  }
+
+  void read_section_discrete(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) {
+      Card c = fields_of(raw, kW10);
+      if (c.fields.size() >= 2 && c.integer_or(1, "DRO", 0) != 0)
+        c.fail("only translational discrete elements (DRO = 0) are supported");
+    }
+  }
+
+  void read_mat_rigid(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // Card 1: MID RO E PR ...; card 2 (optional): CMO CON1 CON2; card 3
+    // (optional): local axes for output, which change nothing here.
+    if (b.cards.empty()) b.fail(kw + " needs its material card");
+    Card c = fields_of(b.cards[0], kW10);
+    Material mat = elastic_constants(c);
+    mat.rigid = true;
+    if (b.cards.size() >= 2) {
+      Card c2 = fields_of(b.cards[1], kW10);
+      const long cmo = static_cast<long>(c2.real_or(0, "CMO", 0.0));
+      if (cmo == 1) {
+        mat.rigid_fixed_translation = constraint_code(c2, 1, "CON1");
+        mat.rigid_fixed_rotation = constraint_code(c2, 2, "CON2");
+      } else if (cmo != 0) {
+        c2.fail("CMO " + std::to_string(cmo) + ": only CMO = 0 (free) and 1 (global constraints CON1, CON2) are supported");
+      }
+    }
+    if (b.cards.size() > 3) b.fail(kw + " has at most three cards; define each material under its own keyword");
+    if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
+    m.materials[mat.id] = mat;
+  }
+
+  void read_part_inertia(const Block& b, [[maybe_unused]] const std::string& kw) {
+    part_inertia(b);
+  }
+
+  void read_mat_plastic_kinematic(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // MID RO E PR SIGY ETAN BETA; card 2: SRC SRP FS VP.
+    if (b.cards.empty()) b.fail(kw + " needs its material card");
+    Card c = fields_of(b.cards[0], kW10);
+    Material mat = elastic_constants(c);
+    plastic_constants(mat, c);
+    mat.beta = c.real_or(6, "BETA", 0.0);
+    if (mat.beta < 0.0 || mat.beta > 1.0) c.fail("BETA must be between 0 (kinematic) and 1 (isotropic)");
+    if (b.cards.size() > 1) {
+      Card c2 = fields_of(b.cards[1], kW10);
+      if (c2.real_or(0, "SRC", 0.0) != 0.0 || c2.real_or(1, "SRP", 0.0) != 0.0)
+        c2.fail("strain-rate effects (SRC, SRP) are not supported");
+      if (c2.real_or(2, "FS", 0.0) != 0.0) c2.fail("failure (FS, element erosion) is not supported");
+    }
+    if (b.cards.size() > 2) b.fail(kw + " has at most two cards; define each material under its own keyword");
+    if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
+    m.materials[mat.id] = mat;
+  }
+
+  void read_mat_piecewise_linear_plasticity(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // MID RO E PR SIGY ETAN FAIL TDEL; C P LCSS LCSR VP; EPS1..8; ES1..8.
+    if (b.cards.empty()) b.fail(kw + " needs its material card");
+    Card c = fields_of(b.cards[0], kW10);
+    Material mat = elastic_constants(c);
+    plastic_constants(mat, c);
+    const double fail = c.real_or(6, "FAIL", 0.0);
+    if (fail != 0.0 && fail < 1e20) c.fail("failure (FAIL, element erosion) is not supported");
+    if (b.cards.size() > 1) {
+      Card c2 = fields_of(b.cards[1], kW10);
+      if (c2.real_or(0, "C", 0.0) != 0.0 || c2.real_or(1, "P", 0.0) != 0.0)
+        c2.fail("strain-rate effects (C, P) are not supported");
+      if (c2.integer_or(3, "LCSR", 0) != 0) c2.fail("LCSR (a strain-rate curve) is not supported");
+      if (const long lcss = c2.integer_or(2, "LCSS", 0); lcss != 0) hardening_curves.push_back({mat.id, c2});
+    }
+    if (b.cards.size() > 3) {
+      Card eps = fields_of(b.cards[2], kW10), es = fields_of(b.cards[3], kW10);
+      for (size_t k = 0; k < 8; ++k) {
+        const double e = eps.real_or(k, "EPS", 0.0), sy = es.real_or(k, "ES", 0.0);
+        if (sy == 0.0 && k > 0) break;
+        if (!mat.hardening_strain.empty() && !(e > mat.hardening_strain.back()))
+          eps.fail("EPS must increase");
+        mat.hardening_strain.push_back(e);
+        mat.hardening_stress.push_back(sy);
+      }
+      if (mat.hardening_strain.size() == 1) es.fail("EPS/ES need at least two points");
+    }
+    if (b.cards.size() > 4) b.fail(kw + " has at most four cards; define each material under its own keyword");
+    if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
+    m.materials[mat.id] = mat;
+  }
+
+  void read_mat_elastic(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) {
+      Card c = fields_of(raw, kW10);
+      if (c.fields.empty() || c.fields[0].empty()) continue;
+      Material mat = elastic_constants(c);
+      if (m.materials.count(mat.id)) c.fail("material " + std::to_string(mat.id) + " defined twice");
+      m.materials[mat.id] = mat;
+    }
+  }
+
+  void read_mat_spring_elastic(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) {
+      Card c = fields_of(raw, kW10);
+      spring_mats[static_cast<int>(c.integer(0, "MID"))].first = c.real(1, "K");
+    }
+  }
+
+  void read_mat_damper_viscous(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) {
+      Card c = fields_of(raw, kW10);
+      spring_mats[static_cast<int>(c.integer(0, "MID"))].second = c.real(1, "DC");
+    }
+  }
+
+  void read_element_solid(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // One card (EID PID N1..N8), or LS-DYNA's two-card form: EID PID, then
+    // the nodes on the next card (N1..N8, or N1..N10 for a 10-node tet).
+    for (size_t i = 0; i < b.cards.size(); ++i) {
+      Card c = fields_of(b.cards[i], kW8);
+      const auto filled = std::count_if(c.fields.begin(), c.fields.end(), [](const std::string& f) { return !f.empty(); });
+      if (filled <= 2) {
+        if (i + 1 == b.cards.size()) c.fail("element " + (c.fields.empty() ? std::string("card") : c.fields[0]) +
+                                            ": the two-card form needs the nodes on the next card");
+        const Card nodes = fields_of(b.cards[++i], kW8);
+        c.fields.resize(2);
+        c.fields.insert(c.fields.end(), nodes.fields.begin(), nodes.fields.end());
+      }
+      solid_cards.push_back(c);
+    }
+  }
+
+  void read_element_beam(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) beam_cards.push_back(fields_of(raw, kW8));
+  }
+
+  void read_element_shell(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) shell_cards.push_back(fields_of(raw, kW8));
+  }
+
+  void read_element_discrete(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) discrete_cards.push_back(fields_of(raw, {8, 8, 8, 8, 8, 16, 8, 16}));
+  }
+
+  void read_element_mass(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) mass_cards.push_back(fields_of(raw, {8, 8, 16, 8}));
+  }
+
+  void read_set_node_list(const Block& b, [[maybe_unused]] const std::string& kw) {
+    if (b.cards.empty()) b.fail("*SET_NODE_LIST needs a header card with SID");
+    auto& list = m.node_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
+    for (int id : id_list(b, 1, "NID")) list.push_back(id);
+  }
+
+  void read_set_node_generate(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // SID, then ranges B1 E1 B2 E2 ...: every defined node with an id in a range.
+    if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
+    auto& list = m.node_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
+    for (size_t i = 1; i < b.cards.size(); ++i) {
+      Card c = fields_of(b.cards[i], kW10);
+      for (size_t k = 0; k + 1 < c.fields.size(); k += 2) {
+        if (c.fields[k].empty() && c.fields[k + 1].empty()) continue;
+        const long lo = c.integer(k, "B"), hi = c.integer(k + 1, "E");
+        if (hi < lo) c.fail("range " + std::to_string(lo) + " to " + std::to_string(hi) + " is empty");
+        for (auto it = m.node_index.lower_bound(static_cast<int>(lo)); it != m.node_index.end() && it->first <= hi; ++it)
+          list.push_back(it->first);
+      }
+    }
+  }
+
+  void read_set_node_add(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // SID, then the ids of the sets it joins (resolved after the deck is read).
+    if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
+    SetUnion u;
+    u.parts = kw == "*SET_PART_ADD";
+    u.id = static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"));
+    u.members = id_list(b, 1, "DSID");
+    u.where = b.where;
+    set_unions.push_back(u);
+    (u.parts ? m.part_sets : m.node_sets)[u.id];  // defined from here on
+  }
+
+  void read_set_part_list(const Block& b, [[maybe_unused]] const std::string& kw) {
+    if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
+    auto& list = m.part_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
+    for (int id : id_list(b, 1, "PID")) list.push_back(id);
+  }
+
+  void read_set_solid(const Block& b, [[maybe_unused]] const std::string& kw) {
+    if (b.cards.empty()) b.fail(kw + " needs a header card with SID");
+    auto& sets = kw.rfind("*SET_SOLID", 0) == 0 ? solid_sets : kw.rfind("*SET_SHELL", 0) == 0 ? shell_sets : beam_sets;
+    auto& list = sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
+    for (int id : id_list(b, 1, "EID")) list.push_back(id);
+  }
+
+  void read_database_cross_section_set(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // NSID HSID BSID SSID TSID DSID ID ITYPE: the cut's nodes and the
+    // solid, beam and shell (here: axisymmetric) elements on one side.
+    for (const Card& raw : b.cards) section_cards.push_back(fields_of(raw, kW10));
+  }
+
+  void read_set_segment(const Block& b, [[maybe_unused]] const std::string& kw) {
+    if (b.cards.empty()) b.fail("*SET_SEGMENT needs a header card with SID");
+    auto& list = m.segment_sets[static_cast<int>(fields_of(b.cards[0], kW10).integer(0, "SID"))];
+    for (size_t i = 1; i < b.cards.size(); ++i) {
+      Card c = fields_of(b.cards[i], kW10);
+      Segment s;
+      const long n3 = c.integer_or(2, "N3", 0), n4 = c.integer_or(3, "N4", 0);
+      if (n3 == 0 && n4 == 0) {  // N1, N2 only: a 2D line (axisymmetric decks), body on its left
+        s.n[0] = m.index_of(static_cast<int>(c.integer(0, "N1")), c.where);
+        s.n[1] = m.index_of(static_cast<int>(c.integer(1, "N2")), c.where);
+        s.n[2] = s.n[3] = -1;
+        line_set_cards.push_back(c);
+      } else {
+        for (int k = 0; k < 4; ++k) {
+          long id = c.integer_or(static_cast<size_t>(k), "N", k == 3 ? 0 : -1);
+          if (k == 3 && id == 0) {
+            s.n[3] = s.n[2];  // triangle
+            continue;
+          }
+          s.n[k] = m.index_of(static_cast<int>(id), c.where);
+        }
+      }
+      list.push_back(s);
+    }
+  }
+
+  void read_constrained_nodal_rigid_body(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // _SPC: each body's card is followed by CMO CON1 CON2 (as *MAT_RIGID's).
+    const bool spc = kw == "*CONSTRAINED_NODAL_RIGID_BODY_SPC";
+    if (spc && b.cards.size() % 2) b.fail(kw + " needs two cards per body (PID CID NSID; CMO CON1 CON2)");
+    for (size_t i = 0; i < b.cards.size(); i += spc ? 2 : 1) {
+      // Not `{card, {}, {}}`: an explicit {} would replace the members'
+      // initialisers with Eigen's default constructor, which leaves them unset.
+      NodalRigidBodyCards r;
+      r.card = fields_of(b.cards[i], kW10);
+      if (spc) {
+        Card c2 = fields_of(b.cards[i + 1], kW10);
+        const long cmo = static_cast<long>(c2.real_or(0, "CMO", 0.0));
+        if (cmo != 0 && cmo != 1) c2.fail("CMO " + std::to_string(cmo) + ": only 0 (free) and 1 (global CON1, CON2) are supported");
+        if (cmo == 1) {
+          r.fixed_translation = constraint_code(c2, 1, "CON1");
+          r.fixed_rotation = constraint_code(c2, 2, "CON2");
+        }
+      }
+      rigid_cards.push_back(r);
+    }
+  }
+
+  void read_constrained_extra_nodes_node(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // PID, NID (or NSID): the nodes move with the rigid part PID.
+    for (const Card& raw : b.cards) extra_node_cards.push_back({fields_of(raw, kW10), kw == "*CONSTRAINED_EXTRA_NODES_SET"});
+  }
+
+  void read_constrained_rigid_bodies(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // PIDL, PIDC, IFLAG: rigid part PIDC joins the lead part PIDL's body.
+    for (const Card& raw : b.cards) merge_cards.push_back(fields_of(raw, kW10));
+  }
+
+  void read_boundary_spc_node(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) spc_cards.push_back(fields_of(raw, kW10));
+  }
+
+  void read_boundary_spc_set(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) spc_set_cards.push_back(fields_of(raw, kW10));
+  }
+
+  void read_initial_velocity_node(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) vel_cards.push_back(fields_of(raw, kW10));
+  }
+
+  void read_initial_velocity(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (size_t i = 0; i + 1 < b.cards.size(); i += 2)
+      vel_set_cards.push_back({fields_of(b.cards[i], kW10), fields_of(b.cards[i + 1], kW10)});
+    if (b.cards.size() % 2) b.fail("*INITIAL_VELOCITY needs two cards per set");
+  }
+
+  void read_initial_velocity_generation(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (size_t i = 0; i + 1 < b.cards.size(); i += 2)
+      vel_gen_cards.push_back({fields_of(b.cards[i], kW10), fields_of(b.cards[i + 1], kW10)});
+    if (b.cards.size() % 2) b.fail("*INITIAL_VELOCITY_GENERATION needs two cards per entry");
+  }
+
+  void read_contact_force_transducer_penalty(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // Measures the contact force on its surfaces and applies none: output only.
+    warn(b.where, kw + " only measures contact forces for LS-DYNA's rcforc file: ignored (fe_server writes the "
+                       "contacts' total force in contact/force)");
+  }
+
+  void read_contact_automatic_single_surface(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // Card 1: SSID, MSID (not used), SSTYP (2: part set, 3: part; SSID 0:
+    // every part), MSTYP; card 2: FS FD DC VC VDC; card 3: SFS.
+    ContactDef d;
+    Card c1 = b.cards.empty() ? Card{} : fields_of(b.cards[0], kW10);
+    d.where = b.cards.empty() ? b.where : c1.where;
+    d.single_surface = true;
+    const long ssid = b.cards.empty() ? 0 : c1.integer_or(0, "SSID", 0);
+    const long sstyp = b.cards.empty() ? 2 : c1.integer_or(2, "SSTYP", 2);
+    if (ssid != 0 && sstyp != 2 && sstyp != 3)
+      c1.fail("SSTYP must be 2 (part set) or 3 (part) for a single surface in this version (SSID 0: all parts)");
+    d.slave_set = static_cast<int>(ssid);
+    d.slave_nodes = sstyp == 3;  // read here as: SSID names one part (resolved after the deck)
+    contact_cards_2_and_3(b, d);
+    m.contacts.push_back(d);
+  }
+
+  void read_contact_tied_surface_to_surface(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // Card 1: SSID MSID SSTYP MSTYP (segment sets, or a slave node set:
+    // SSTYP 4, the default of _NODES_TO_SURFACE); cards 2 and 3 (friction,
+    // damping, SFS, thicknesses) mean nothing for a constraint and are read
+    // as LS-DYNA does: not used.
+    TieDef d;
+    contact_card_1(b, kw == "*CONTACT_TIED_NODES_TO_SURFACE", d.slave_set, d.master_set, d.slave_nodes, d.where);
+    m.ties.push_back(d);
+  }
+
+  void read_contact_automatic_surface_to_surface(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // _NODES_TO_SURFACE: the slave side is a node set unless SSTYP says
+    // otherwise, checked against the master's segments only (one-sided).
+    const bool nodes_to_surface = kw != "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE";
+    ContactDef d;
+    contact_card_1(b, nodes_to_surface, d.slave_set, d.master_set, d.slave_nodes, d.where);
+    if (nodes_to_surface && !d.slave_nodes) throw InputError(d.where, kw + ": the slave side must be a node set (SSTYP 4)");
+    contact_cards_2_and_3(b, d);
+    m.contacts.push_back(d);
+  }
+
+  void read_user_loading_set(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // Co-simulation port on a segment set: SID, LTYPE (PRESSS), PORT, and
+    // optionally the cavity's bounds along z: ZMIN, ZMAX, REFNODE (the bounds
+    // move with this node, e.g. on the housing), RAMP (entry width of faces
+    // normal to z).
+    for (const Card& raw : b.cards) {
+      Card c = fields_of(raw, kW10);
+      LoadingSet ls;
+      ls.segment_set = static_cast<int>(c.integer(0, "SID"));
+      std::string ltype = config::to_upper(c.field(1, "LTYPE"));
+      if (ltype != "PRESSS" && ltype != "FORCE" && ltype != "BODY")
+        c.fail("LTYPE '" + c.fields[1] +
+               "': expected PRESSS (pressure on a segment set), FORCE (force along the axis on a node set) or BODY "
+               "(force along the axis on a part set, shared by mass)");
+      ls.force = ltype == "FORCE" || ltype == "BODY";
+      ls.body = ltype == "BODY";
+      ls.port_id = static_cast<int>(c.integer(2, "PORT"));
+      ls.z_min = c.real_or(3, "ZMIN", -1e300);
+      ls.z_max = c.real_or(4, "ZMAX", 1e300);
+      const long ref = c.integer_or(5, "REFNODE", 0);
+      ls.reference_node = ref ? m.index_of(static_cast<int>(ref), c.where) : -1;
+      ls.ramp = c.real_or(6, "RAMP", 0.0);
+      if (!(ls.z_min < ls.z_max)) c.fail("ZMIN must be below ZMAX");
+      ls.where = c.where;
+      m.loading_sets.push_back(ls);
+    }
+  }
+
+  void read_user_loading_squeeze_film(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // NSID1 NSID2 DIR H0 RO RI MU HMIN, one film per card.
+    for (const Card& raw : b.cards) {
+      Card c = fields_of(raw, kW10);
+      SqueezeFilmDef f;
+      f.where = c.where;
+      f.set1 = static_cast<int>(c.integer(0, "NSID1"));
+      f.set2 = static_cast<int>(c.integer(1, "NSID2"));
+      f.direction = c.real(2, "DIR");
+      if (f.direction != 1.0 && f.direction != -1.0)
+        c.fail("DIR must be 1 (the gap grows as NSID1 moves along +axis relative to NSID2) or -1");
+      f.h0 = c.real(3, "H0");
+      f.r_out = c.real(4, "RO");
+      f.r_in = c.real_or(5, "RI", 0.0);
+      f.viscosity = c.real(6, "MU");
+      f.h_min = c.real_or(7, "HMIN", 5e-6);
+      if (!(f.r_out > 0.0) || !(f.r_in >= 0.0) || !(f.r_in < f.r_out)) c.fail("the film needs 0 <= RI < RO");
+      if (!(f.viscosity > 0.0)) c.fail("MU (the oil's dynamic viscosity, Pa s) must be positive");
+      if (!(f.h_min > 0.0)) c.fail("HMIN must be positive (the gap below which the film's coefficient is held)");
+      if (f.set1 == f.set2) c.fail("NSID1 and NSID2 are the same set: the film needs two faces");
+      m.squeeze_films.push_back(f);
+    }
+  }
+
+  void read_define_curve(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // LCID SIDR SFA SFO OFFA OFFO DATTYP, then one point (A, O) per card (2 fields of 20).
+    if (b.cards.empty()) b.fail("*DEFINE_CURVE needs a card with LCID");
+    Card c = fields_of(b.cards[0], kW10);
+    Curve curve;
+    curve.id = static_cast<int>(c.integer(0, "LCID"));
+    curve.where = c.where;
+    const long sidr = c.integer_or(1, "SIDR", 0);
+    if (sidr < 0 || sidr > 2) c.fail("SIDR " + std::to_string(sidr) + ": 0 (transient), 1 (dynamic relaxation) or 2 (both)");
+    curve.sidr = static_cast<int>(sidr);
+    curve.sfa = c.real_or(2, "SFA", 0.0);
+    curve.sfo = c.real_or(3, "SFO", 0.0);
+    if (curve.sfa == 0.0) curve.sfa = 1.0;  // LS-DYNA: 0 means 1
+    if (curve.sfo == 0.0) curve.sfo = 1.0;
+    curve.offa = c.real_or(4, "OFFA", 0.0);
+    curve.offo = c.real_or(5, "OFFO", 0.0);
+    if (c.integer_or(6, "DATTYP", 0) != 0) c.fail("DATTYP other than 0 (a time curve) is not supported");
+    for (size_t i = 1; i < b.cards.size(); ++i) {
+      Card pt = fields_of(b.cards[i], {20});
+      const double a = pt.real(0, "A1"), o = pt.real_or(1, "O1", 0.0);
+      if (!curve.a.empty() && !(a > curve.a.back()))
+        pt.fail("the curve's abscissae must increase (" + std::to_string(a) + " after " + std::to_string(curve.a.back()) + ")");
+      curve.a.push_back(a);
+      curve.o.push_back(o);
+    }
+    if (curve.a.empty()) c.fail("curve " + std::to_string(curve.id) + " has no points");
+    if (m.curves.count(curve.id)) c.fail("curve " + std::to_string(curve.id) + " defined twice");
+    m.curves[curve.id] = curve;
+  }
+
+  void read_load_body_x(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // LCID SF LCIDDR XC YC ZC CID
+    if (b.cards.empty()) b.fail(kw + " needs a card with LCID");
+    Card c = fields_of(b.cards[0], kW10);
+    BodyLoad l;
+    l.dof = kw.back() - 'X';
+    l.curve_id = static_cast<int>(c.integer(0, "LCID"));
+    l.sf = c.real_or(1, "SF", 1.0);
+    if (l.sf == 0.0) l.sf = 1.0;  // LS-DYNA: 0 means 1
+    l.curve_dr_id = static_cast<int>(c.integer_or(2, "LCIDDR", 0));
+    if (c.integer_or(6, "CID", 0) != 0) c.fail("CID (a local coordinate system) is not supported");
+    l.where = c.where;
+    m.body_loads.push_back(l);
+  }
+
+  void read_damping_global(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // LCID VALDMP STX STY STZ SRX SRY SRZ
+    if (b.cards.empty()) return;  // LS-DYNA's defaults: no damping
+    damping_cards.push_back({fields_of(b.cards[0], kW10), Card{}, false});
+  }
+
+  void read_damping_part_mass(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // PID LCID SF FLAG, and with FLAG = 1 a card STX STY STZ SRX SRY SRZ.
+    for (size_t i = 0; i < b.cards.size(); ++i) {
+      Card c1 = fields_of(b.cards[i], kW10);
+      Card c2;
+      if (c1.integer_or(3, "FLAG", 0) == 1) {
+        if (i + 1 == b.cards.size()) c1.fail("FLAG = 1 needs the card of scale factors STX ... SRZ");
+        c2 = fields_of(b.cards[++i], kW10);
+      }
+      damping_cards.push_back({c1, c2, true});
+    }
+  }
+
+  void read_load_node_point(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // NID (or NSID), DOF, LCID, SF, CID, M1, M2, M3.
+    for (const Card& raw : b.cards) nodal_load_cards.push_back({fields_of(raw, kW10), kw == "*LOAD_NODE_SET"});
+  }
+
+  void read_load_segment(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) pressure_cards.push_back({fields_of(raw, kW10), kw == "*LOAD_SEGMENT_SET"});
+  }
+
+  void read_load_body_parts(const Block& b, [[maybe_unused]] const std::string& kw) {
+    if (b.cards.empty()) b.fail("*LOAD_BODY_PARTS needs a card with PSID");
+    body_parts_card = fields_of(b.cards[0], kW10);
+    has_body_parts = true;
+  }
+
+  void read_control_dynamic_relaxation(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // NRCYCK DRTOL DRFCTR DRTERM TSSFDR IRELAL EDTTL IDRFLG
+    Card c = b.cards.empty() ? Card{} : fields_of(b.cards[0], kW10);
+    auto& r = m.relaxation;
+    r.where = b.where;
+    if (!b.cards.empty()) {
+      r.nrcyck = static_cast<int>(c.integer_or(0, "NRCYCK", 0));
+      if (r.nrcyck == 0) r.nrcyck = 250;
+      r.drtol = c.real_or(1, "DRTOL", 0.0);
+      if (r.drtol == 0.0) r.drtol = 1e-3;
+      r.drfctr = c.real_or(2, "DRFCTR", 0.0);
+      if (r.drfctr == 0.0) r.drfctr = 0.995;
+      r.drterm = c.real_or(3, "DRTERM", 0.0);
+      if (r.drterm == 0.0) r.drterm = 1e28;
+      if (c.real_or(4, "TSSFDR", 0.0) != 0.0) c.fail("TSSFDR (another step for the relaxation) is not supported: leave it 0");
+      r.idrflg = c.integer_or(7, "IDRFLG", 0) == 1;
+      if (r.nrcyck < 1 || !(r.drtol > 0.0 && r.drtol < 1.0) || !(r.drfctr > 0.0 && r.drfctr < 1.0) || !(r.drterm > 0.0))
+        c.fail("NRCYCK ≥ 1, 0 < DRTOL < 1, 0 < DRFCTR < 1 and DRTERM > 0 are needed");
+    }
+  }
+
+  void read_boundary_prescribed_motion_node(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (const Card& raw : b.cards) motion_cards.push_back({fields_of(raw, kW10), kw == "*BOUNDARY_PRESCRIBED_MOTION_SET"});
+  }
+
+  void read_boundary_prescribed_motion_rigid(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // PID DOF VAD LCID SF VID DEATH BIRTH: the part's rigid body translates
+    // as the curve says (resolved after the deck: the part's body).
+    for (const Card& raw : b.cards) rigid_motion_cards.push_back(fields_of(raw, kW10));
+  }
+
+  void read_control_termination(const Block& b, [[maybe_unused]] const std::string& kw) {
+    if (!b.cards.empty()) m.end_time = fields_of(b.cards[0], kW10).real(0, "ENDTIM");
+  }
+
+  void read_control_timestep(const Block& b, [[maybe_unused]] const std::string& kw) {
+    if (!b.cards.empty()) {
+      Card c = fields_of(b.cards[0], kW10);
+      double s = c.real_or(1, "TSSFAC", 0.9);
+      if (s > 0.0) m.dt_scale = s;
+      m.dt2ms = c.real_or(4, "DT2MS", 0.0);
+    }
+  }
+
+  void read_control_hourglass(const Block& b, [[maybe_unused]] const std::string& kw) {
+    if (!b.cards.empty()) {
+      Card c = fields_of(b.cards[0], kW10);
+      long ihq = c.integer_or(0, "IHQ", 1);
+      if (ihq > 3)
+        substitute(c.where, "*CONTROL_HOURGLASS IHQ " + std::to_string(ihq), "viscous hourglass control (IHQ 1-3)");
+      m.hourglass_q = c.real_or(1, "QH", 0.1);
+    }
+  }
+
+  void read_control_bulk_viscosity(const Block& b, [[maybe_unused]] const std::string& kw) {
+    if (!b.cards.empty()) {
+      Card c = fields_of(b.cards[0], kW10);
+      m.bulk_q1 = c.real_or(0, "Q1", 1.5);
+      m.bulk_q2 = c.real_or(1, "Q2", 0.06);
+    }
+  }
+
+  void read_database_binary_d3plot(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // Field snapshots every DT, written as HDF5 + XDMF (not d3plot).
+    if (!b.cards.empty()) m.snapshot_interval = fields_of(b.cards[0], kW10).real(0, "DT");
+  }
+
+  void read_database_glstat(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // Card 1: DT (BINARY, LCUR, IOOPT: LS-DYNA's file options, not used).
+    // The history file's rows at DT (output/history.hpp); DT at or below
+    // the FE step: every step. GLSTAT, MATSUM, RCFORC, NODOUT and ELOUT
+    // also write LS-DYNA's ASCII file of that name (output/ascii_output.hpp).
+    if (b.cards.empty()) b.fail(kw + " needs its card with DT");
+    Card c = fields_of(b.cards[0], kW10);
+    const double dt = c.real(0, "DT");
+    if (!(dt > 0.0)) c.fail("DT must be positive");
+    if (kw != "*DATABASE_SECFORC") {
+      double& ascii = m.ascii_dt[config::to_lower(kw.substr(10))];
+      ascii = ascii > 0.0 ? std::min(ascii, dt) : dt;
+    }
+    if (kw == "*DATABASE_ELOUT") elout_where = b.where;
+    if (kw != "*DATABASE_MATSUM") {  // the HDF5 has no per-part stream
+      double& to = kw == "*DATABASE_NODOUT"                                   ? m.history_dt_nodes
+                   : kw == "*DATABASE_ELOUT" || kw == "*DATABASE_SECFORC" ? m.history_dt_elements
+                                                                          : m.history_dt_global;
+      to = to > 0.0 ? std::min(to, dt) : dt;
+    }
+  }
+
+  void read_database_history_node(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (int id : id_list(b, 0, "ID")) m.history_nodes.push_back(m.index_of(id, b.where));
+  }
+
+  void read_database_history_solid(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (int id : id_list(b, 0, "ID")) m.history_solids.push_back(id);  // resolved after the elements
+  }
+
+  void read_database_history_beam(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (int id : id_list(b, 0, "ID")) m.history_bars.push_back(id);  // resolved after the elements
+  }
+
+  void read_database_history_shell(const Block& b, [[maybe_unused]] const std::string& kw) {
+    for (int id : id_list(b, 0, "ID")) m.history_axis.push_back(id);  // resolved after the elements
+  }
+
+  void read_contact_2d_automatic_surface_to_surface(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // Card 1: SIDS, SIDM (part sets whose outer boundaries meet), SFACT,
+    // FREQ, FS, FD, DC, MEMBS; card 2 (TBIRTH, ...) is not used; an optional
+    // card 3: VC, VDC (damping, % of critical; 20 when not given, as for
+    // the 3D contact).
+    if (b.cards.empty()) b.fail(kw + " needs card 1 (SIDS, SIDM, ...)");
+    Card c1 = fields_of(b.cards[0], kW10);
+    ContactDef d;
+    d.where = c1.where;
+    d.planar = true;
+    d.slave_set = static_cast<int>(c1.integer(0, "SIDS"));
+    d.master_set = static_cast<int>(c1.integer(1, "SIDM"));
+    if (d.slave_set <= 0 || d.master_set <= 0)
+      c1.fail("SIDS and SIDM must be part sets (> 0); node sets (< 0) are not supported");
+    d.stiffness_factor = c1.real_or(2, "SFACT", 1.0);
+    if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
+    warn_stiffness_cap(d, "SFACT");
+    d.friction = c1.real_or(4, "FS", 0.0);
+    if (d.friction != 0.0) substitute(c1.where, "contact friction FS " + short_number(d.friction), "frictionless contact");
+    if (b.cards.size() > 2) d.damping = fields_of(b.cards[2], kW10).real_or(1, "VDC", 20.0) / 100.0;
+    m.contacts.push_back(d);
   }
 
   // LS-DYNA's output requests (its manual, Vol. I, *DATABASE): those fe_server
@@ -1679,6 +1883,29 @@ Model parse_deck(const std::string& text, const std::string& name, DeckWarnings*
 
 Model read_deck(const std::string& path, DeckWarnings* warnings) {
   return parse_deck(config::read_text_file(path, "deck"), path, warnings);
+}
+
+std::string deck_keyword_coverage() {
+  std::ostringstream s;
+  s << "# LS-DYNA keywords fe_server reads\n\n"
+       "Generated by `fe_server --keywords` from the reader's own table (fe_server/src/input/deck_reader.cpp); a test "
+       "checks that this page is its output. A field a keyword's reader does not implement is refused at its line, "
+       "or, with `--approximate`, substituted and listed in the results.\n\n"
+       "| keyword | what fe_server makes of it |\n|---|---|\n";
+  for (const Reader::Keyword& k : Reader::keywords()) {
+    s << "| ";
+    for (size_t i = 0; i < k.names.size(); ++i) s << (i ? ", " : "") << "`" << k.names[i] << "`";
+    s << " | " << k.what << " |\n";
+  }
+  s << "\nAlso: `*KEYWORD`, `*END` (ends its own file), `*COMMENT`, `*INCLUDE`, `*INCLUDE_PATH`, "
+       "`_TITLE` and `_ID` forms, long format.\n\n"
+       "Ignored with a warning, because fe_server writes its own results: the other output requests";
+  const char* sep = ": ";
+  for (const std::string& k : Reader::database_keywords())
+    if (!Reader::keyword_index().count(k)) s << sep << "`" << k << "`", sep = ", ";
+  s << "; `*CONTROL_OUTPUT`, `*CONTROL_ENERGY`, `*CONTROL_CPU`; and any other `*CONTROL_` card that holds only blanks "
+       "and zeros (LS-DYNA's defaults). Every other keyword is refused at its line.\n";
+  return s.str();
 }
 
 }  // namespace fe

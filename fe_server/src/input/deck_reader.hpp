@@ -29,4 +29,8 @@ constexpr size_t kMaxDeckErrors = 20;
 Model read_deck(const std::string& path, DeckWarnings* warnings = nullptr);
 Model parse_deck(const std::string& text, const std::string& name, DeckWarnings* warnings = nullptr);
 
+// The keywords the reader reads, and what it makes of each, as Markdown
+// (the page docs/lsdyna_keywords.md; fe_server --keywords prints it).
+std::string deck_keyword_coverage();
+
 }  // namespace fe

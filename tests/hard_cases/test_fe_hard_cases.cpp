@@ -428,29 +428,44 @@ TEST(HardCase, ImpactAtTwentyMetresPerSecondStaysOneDimensionalAndConservesEnerg
 //   the deck asks. Not yet within bounds, and so not asserted: VDC = 0 at
 //   20 and 40 m/s on the 5 mm mesh (hourglass 1.1 and 4.4 %), where only
 //   the deck's contact damping keeps the face's hourglass modes down.
-TEST(HardCase, BarImpactsFromOneToFortyMetresPerSecondConserveEnergyOnBothMeshes) {
+namespace {
+
+// One mesh of the table: each speed with the deck's contact damping (VDC 20)
+// and without (VDC 0) where listed.
+void bar_impact_energy_table(double h, const std::vector<double>& speeds, const std::vector<double>& undamped) {
   const double Lp = 0.1, Lt = 0.3, c = std::sqrt(kE / kRho);
   for (const double vdc : {20.0, 0.0})
-    for (const double h : {0.005, 0.0025})
-      for (const double v0 : {1.0, 5.0, 10.0, 20.0, 40.0}) {
-        if (vdc == 0.0 && h > 0.004 && v0 > 15.0) continue;  // the open case above
-        SCOPED_TRACE("VDC " + std::to_string(vdc) + ", h = " + std::to_string(h) + " m, v0 = " + std::to_string(v0) +
-                     " m/s");
-        // The 0.1 mm gap closes first (100 µs at 1 m/s), then the pulse of 2·Lp/c passes into the tool.
-        const fe_test::ImpactResult r =
-            fe_test::run_impact(Lp, Lt, h, v0, kE, 0.1, 1e-4 / v0 + 2.5 * Lp / c, 1.0, vdc);
-        const double kept = (r.ke_ie_end + r.damping_end) / r.ke0 - 1.0;
-        std::printf("energy table: VDC %2.0f  h %.1f mm  v0 %4.0f m/s  KE+IE %+.3f %%  bulk viscosity %.3f %%  "
-                    "hourglass %.3f %%  contact %+.3f %%  balance %.3f %%\n",
-                    vdc, h * 1e3, v0, 100 * (r.ke_ie_end / r.ke0 - 1.0), 100 * r.damping_end / r.ke0,
-                    100 * r.hourglass_end / r.ke0, 100 * r.contact_end / r.ke0, 100 * r.max_balance / r.ke0);
-        EXPECT_LT(r.max_balance, 0.01 * r.ke0);
-        EXPECT_LT(r.hourglass_end, 0.01 * r.ke0);
-        if (vdc == 0.0) {
-          EXPECT_LT(std::fabs(r.contact_end), 0.01 * r.ke0);
-          EXPECT_LT(std::fabs(kept), 0.01);
-        }
+    for (const double v0 : vdc == 0.0 ? undamped : speeds) {
+      SCOPED_TRACE("VDC " + std::to_string(vdc) + ", h = " + std::to_string(h) + " m, v0 = " + std::to_string(v0) +
+                   " m/s");
+      // The 0.1 mm gap closes first (100 µs at 1 m/s), then the pulse of 2·Lp/c passes into the tool.
+      const fe_test::ImpactResult r = fe_test::run_impact(Lp, Lt, h, v0, kE, 0.1, 1e-4 / v0 + 2.5 * Lp / c, 1.0, vdc);
+      const double kept = (r.ke_ie_end + r.damping_end) / r.ke0 - 1.0;
+      std::printf("energy table: VDC %2.0f  h %.1f mm  v0 %4.0f m/s  KE+IE %+.3f %%  bulk viscosity %.3f %%  "
+                  "hourglass %.3f %%  contact %+.3f %%  balance %.3f %%\n",
+                  vdc, h * 1e3, v0, 100 * (r.ke_ie_end / r.ke0 - 1.0), 100 * r.damping_end / r.ke0,
+                  100 * r.hourglass_end / r.ke0, 100 * r.contact_end / r.ke0, 100 * r.max_balance / r.ke0);
+      EXPECT_LT(r.max_balance, 0.01 * r.ke0);
+      EXPECT_LT(r.hourglass_end, 0.01 * r.ke0);
+      if (vdc == 0.0) {
+        EXPECT_LT(std::fabs(r.contact_end), 0.01 * r.ke0);
+        EXPECT_LT(std::fabs(kept), 0.01);
       }
+    }
+}
+
+}  // namespace
+
+// The 5 mm mesh without contact damping only to 10 m/s: the open case above.
+TEST(HardCase, BarImpactsFromOneToFortyMetresPerSecondConserveEnergyOnTheFiveMillimetreMesh) {
+  bar_impact_energy_table(0.005, {1.0, 10.0, 20.0, 40.0}, {1.0, 10.0});
+}
+
+// Fewer speeds: a 2.5 mm run costs 16 times a 5 mm one (140 s for these
+// five under the sanitizers); 10 m/s, and 10 and 20 m/s without contact
+// damping, measured alike (bench/RESULTS.md).
+TEST(HardCase, BarImpactsFromOneToFortyMetresPerSecondConserveEnergyOnTheTwoAndAHalfMillimetreMesh) {
+  bar_impact_energy_table(0.0025, {1.0, 20.0, 40.0}, {1.0, 40.0});
 }
 
 // From 1000 m/s on, the striker passed straight through the target with

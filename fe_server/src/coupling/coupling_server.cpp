@@ -132,8 +132,8 @@ std::string PortMap::check_coupling() {
 
 void PortMap::accumulate(const Solver& s) {
   // A time average: a step shortened by the model's stable step weighs its
-  // share (1 exactly at the coupling step over its subcycles).
-  const double w = s.dt() == s.dt_cap() ? 1.0 : s.dt() / s.dt_cap();
+  // share (exactly 1 at the coupling step over its subcycles).
+  const double w = s.dt() / s.dt_cap();
   for (size_t slot = 0; slot < flow_sum_.size(); ++slot) {
     flow_sum_[slot] += w * load_.step_flow(static_cast<int>(slot), s.v_live());
     pressure_sum_[slot] += w * load_.pressure(static_cast<int>(slot));

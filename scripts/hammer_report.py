@@ -423,6 +423,47 @@ def stress_field_picture(out):
     return True
 
 
+TABLE2_CSV = pathlib.Path(__file__).resolve().parents[1] / "scenes/hammer_monolithic/thesis_table2.csv"
+CASE_OF = {("150", "6.0"): "c11", ("150", "5.4"): "c12", ("100", "6.0"): "c21", ("100", "5.4"): "c22"}
+
+
+def rig_section(results):
+    """Flow against the rig's Table 2 (Andersson 2018), as Table 3 states it: simulated / measured in %,
+    and the three ratios the rig's trend is made of."""
+    measured = {}
+    for line in TABLE2_CSV.read_text().splitlines():
+        cells = [c.strip() for c in line.split(",")]
+        if len(cells) == 2 and cells[0].startswith("c") and cells[0] != "case":
+            measured[cells[0]] = float(cells[1])
+    flows = {}
+    for cond, cols in results:
+        p, d = cond.name.split("bar_")[0], cond.name.split("_")[1][:-2]
+        case = CASE_OF.get((p, d))
+        if case:
+            flows[case] = {n: col["Q_in"] for n, col in cols.items()}
+    if len(flows) < 4:
+        return []
+    names = list(flows["c11"])
+    label = lambda n: "reference" if n == "reference" else MODE_TEXT[n]
+    md = ["## Against the rig: oil flow (thesis Table 2)", "",
+          "Measured flows from H. Andersson, *A Co-Simulation Approach for Hydraulic Percussion Units* (Linköping 2018), "
+          "Table 2; our flow as % of them (the thesis' own model gave 105.3 / 108.8 / 114.9 / 117.3 %, Table 3).", "",
+          "| case | measured [l/min] | " + " | ".join(f"{label(n)} [l/min] (% of measured)" for n in names) + " |",
+          "|---" * (len(names) + 2) + "|"]
+    for case in ("c11", "c12", "c21", "c22"):
+        md.append(f"| {case[1:]} | {measured[case]:.0f} | " +
+                  " | ".join(f"{flows[case][n]:.1f} ({100 * flows[case][n] / measured[case]:.1f} %)" for n in names) + " |")
+    ratios = [("Ø5.4 / Ø6.0 at 150 bar", "c12", "c11", "0.80–0.86"), ("Ø5.4 / Ø6.0 at 100 bar", "c22", "c21", "0.82–0.88"),
+              ("100 / 150 bar at Ø6.0", "c21", "c11", "0.71–0.79")]
+    md += ["", "| flow ratio | measured | " + " | ".join(label(n) for n in names) + " | wanted |",
+           "|---" * (len(names) + 3) + "|"]
+    for text, a, b, band in ratios:
+        md.append(f"| {text} | {measured[a] / measured[b]:.3f} | " +
+                  " | ".join(f"{flows[a][n] / flows[b][n]:.3f}" for n in names) + f" | {band} |")
+    md += ["", "Where ours is near 1, the layout's flow does not follow the restrictor as the rig's did.", ""]
+    return md
+
+
 def main():
     out = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "out/hammer")
     conds = sorted((d for d in out.glob("*bar_*mm") if (d / "reference.json").exists()),
@@ -460,6 +501,7 @@ def main():
     if len(results) > 1:
         power_plot(out, results)
         md += ["## Input and output power against the restrictor (thesis Fig. 16)", "", "![power](power.png)", ""]
+    md += rig_section(results)
     if stress_field_picture(out):
         md += ["## The stress field at impact", "",
                "The blow alone (`impact/impact.k`: the same piston, tool and anvil meshes, no housing or oil) at the "

@@ -194,6 +194,14 @@ def compare_signals(args):
     for key, label in (("frequency_pct", "frequency"), ("stroke_pct", "stroke")):
         if key in result:
             lines.append(f"| {label} (from piston_x) | {result[key]:.1f} | | | | |")
+    emit(args, lines, result)
+    if args.plot:
+        plot_signals(args, t_m, meas_f, {nm: x[k : k + n] for nm, x in sim_g.items()}, offset)
+    return 0
+
+
+def emit(args, lines, data):
+    """The table on stdout and in --table, the numbers in --json."""
     text = "\n".join(lines) + "\n"
     print(text, end="")
     if args.table:
@@ -201,10 +209,7 @@ def compare_signals(args):
             f.write(text)
     if args.json:
         with open(args.json, "w") as f:
-            json.dump(result, f, indent=1)
-    if args.plot:
-        plot_signals(args, t_m, meas_f, {nm: x[k : k + n] for nm, x in sim_g.items()}, offset)
-    return 0
+            json.dump(data, f, indent=1)
 
 
 def cycle_frequency(x, dt):
@@ -272,14 +277,7 @@ def compare_figures(args):
             out.setdefault(case, {})[name] = pct
             cells.append(f"{pct:.1f}")
         lines.append(f"| {case} | " + " | ".join(cells) + " |")
-    text = "\n".join(lines) + "\n"
-    print(text, end="")
-    if args.table:
-        with open(args.table, "w") as f:
-            f.write(text)
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(out, f, indent=1)
+    emit(args, lines, out)
     return 0
 
 

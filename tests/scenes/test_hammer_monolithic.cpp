@@ -4,6 +4,8 @@
 // reference hammer out of the class users expect.
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include "model.hpp"
 #include "process.hpp"
 
@@ -13,11 +15,19 @@ struct Condition {
   double p_set, restrictor_area;  // Pa, m²
 };
 
+// Every digit: std::to_string keeps six decimals, which made 2.827e-5 m² "0.000028".
+std::string exact(double v) {
+  std::ostringstream o;
+  o.precision(17);
+  o << v;
+  return o.str();
+}
+
 tlm::PercussionFigures run_condition(const Condition& c) {
   testing_support::TempDir dir;
   tlm::ModelSpec spec = tlm::read_model(PCS_SCENES_DIR "/hammer_monolithic/model.tlm");
-  spec.apply_override("relief.p_crack=" + std::to_string(c.p_set));
-  spec.apply_override("restrictor.A=" + std::to_string(c.restrictor_area));
+  spec.apply_override("relief.p_crack=" + exact(c.p_set));
+  spec.apply_override("restrictor.A=" + exact(c.restrictor_area));
   tlm::ReportSettings report = tlm::report_settings(spec);
   tlm::System sys(std::move(spec));
   sys.run(dir.file("r.h5"), false);

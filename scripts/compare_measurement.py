@@ -156,6 +156,11 @@ def compare_signals(args):
     a, b = sim_g[align], meas_f[align]
     n = len(b)
     b0 = b - b.mean()
+    if not b0.std() > 1e-12 * max(abs(b).max(), 1e-300):
+        # A flat signal correlates equally (not at all) with every window:
+        # any offset would be a guess.
+        raise InputError(f"{args.measured}: '{align}' is constant over the measurement; align on a signal that "
+                         f"moves (--align-on NAME)")
     # Normalised cross-correlation of the measurement against every window
     # of the simulation after the settle time.
     csum, csum2 = np.cumsum(np.r_[0.0, a]), np.cumsum(np.r_[0.0, a * a])

@@ -6,6 +6,7 @@
 
 #include <sstream>
 
+#include "calibration.hpp"
 #include "model.hpp"
 #include "process.hpp"
 
@@ -25,13 +26,9 @@ std::string exact(double v) {
 
 tlm::PercussionFigures run_condition(const Condition& c) {
   testing_support::TempDir dir;
-  tlm::ModelSpec spec = tlm::read_model(PCS_SCENES_DIR "/hammer_monolithic/model.tlm");
-  spec.apply_override("relief.p_crack=" + exact(c.p_set));
-  spec.apply_override("restrictor.A=" + exact(c.restrictor_area));
-  tlm::ReportSettings report = tlm::report_settings(spec);
-  tlm::System sys(std::move(spec));
-  sys.run(dir.file("r.h5"), false);
-  return tlm::evaluate_percussion(dir.file("r.h5"), report);
+  return tlm::run_percussion(tlm::read_model(PCS_SCENES_DIR "/hammer_monolithic/model.tlm"),
+                             {"relief.p_crack=" + exact(c.p_set), "restrictor.A=" + exact(c.restrictor_area)},
+                             dir.file("r.h5"));
 }
 
 constexpr double kA60 = 2.827e-5, kA54 = 2.290e-5;  // Ø6.0 and Ø5.4 mm

@@ -7,6 +7,7 @@
 // the report's 0.3 s settle), so the figures are what the scene reports.
 #include <gtest/gtest.h>
 
+#include "calibration.hpp"
 #include "model.hpp"
 #include "process.hpp"
 
@@ -22,13 +23,9 @@ struct Case {
 
 tlm::PercussionFigures run_case(const Case& c) {
   testing_support::TempDir dir;
-  tlm::ModelSpec spec = tlm::read_model(PCS_SCENES_DIR "/hammer_rig/model.tlm");
-  spec.apply_override(std::string("relief.p_crack=") + c.p_crack);
-  spec.apply_override(std::string("restrictor.A=") + c.area);
-  const tlm::ReportSettings report = tlm::report_settings(spec);
-  tlm::System sys(std::move(spec));
-  sys.run(dir.file("r.h5"), false);
-  return tlm::evaluate_percussion(dir.file("r.h5"), report);
+  return tlm::run_percussion(tlm::read_model(PCS_SCENES_DIR "/hammer_rig/model.tlm"),
+                             {std::string("relief.p_crack=") + c.p_crack, std::string("restrictor.A=") + c.area},
+                             dir.file("r.h5"));
 }
 
 }  // namespace

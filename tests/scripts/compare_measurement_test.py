@@ -13,7 +13,8 @@
    spread bound it.
 3. The four running conditions against the thesis' Table 2 flows: each % is
    100 x the report's flow / the table's, to the table's rounding.
-4. A measurement with a NaN is refused, naming file and line.
+4. A measurement with a NaN is refused, naming file and line; one whose
+   alignment signal is flat is refused (any offset would be a guess).
 Usage: compare_measurement_test.py TLM_HOST WORKDIR
 """
 import json
@@ -104,5 +105,10 @@ bad = work / "bad.csv"
 bad.write_text("time [s], p_A [bar]\n" + "".join(f"{i * 1e-5}, {'nan' if i == 5 else 100}\n" for i in range(40)))
 r = subprocess.run(script + ["signals", str(base_h5), str(bad)], capture_output=True, text=True)
 check(r.returncode == 2 and f"{bad}:7 column 2" in r.stderr, f"a NaN is refused with its line: {r.stderr.strip()}")
+
+flat = work / "flat.csv"
+flat.write_text("time [s], p_B [bar]\n" + "".join(f"{i * 2e-5}, 150\n" for i in range(400)))
+r = subprocess.run(script + ["signals", str(base_h5), str(flat)], capture_output=True, text=True)
+check(r.returncode == 2 and "is constant over the measurement" in r.stderr, f"a flat alignment signal is refused: {r.stderr.strip()}")
 
 sys.exit(1 if failures else 0)

@@ -2,14 +2,14 @@
 
 #include <gsl/gsl_blas.h>
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
 #include <gsl/gsl_multifit_nlinear.h>
 #include <gsl/gsl_vector.h>
 #include <stdlib.h>
-#include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <map>
@@ -84,45 +84,88 @@ class TempFolder {
 // Everything the solver's callbacks need.
 struct Evaluator {
   const FitProblem& problem;
+  const ModelSpec model;  // read once; every run starts from a copy
   TempFolder folder;
   int runs = 0, failed_runs = 0;
   std::string last_failure;
 
-  // The figures of every condition at parameter values p (SI). Throws what
-  // the run or its report throws.
-  std::vector<PercussionFigures> run_all(const std::vector<double>& p) {
-    std::vector<PercussionFigures> out;
+  // Each target's simulated figure at parameter values p (SI): every
+  // condition run once. Throws what a run or its report throws.
+  std::vector<double> simulate(const std::vector<double>& p) {
+    std::vector<PercussionFigures> figs;
     for (const FitCondition& c : problem.conditions) {
-      ModelSpec spec = read_model(problem.model_path);
-      for (const auto& o : problem.common_overrides) spec.apply_override(o);
-      for (const auto& o : c.overrides) spec.apply_override(o);
-      for (size_t j = 0; j < p.size(); ++j) spec.apply_override(assignment(problem.parameters[j].name, p[j]));
-      const ReportSettings report = report_settings(spec);
-      const std::string h5 = folder.file("run.h5");
-      {
-        System sys(std::move(spec));
-        sys.run(h5, false);
-      }
+      std::vector<std::string> overrides = problem.common_overrides;
+      overrides.insert(overrides.end(), c.overrides.begin(), c.overrides.end());
+      for (size_t j = 0; j < p.size(); ++j) overrides.push_back(assignment(problem.parameters[j].name, p[j]));
+      figs.push_back(run_percussion(model, overrides, folder.file("run.h5")));
       ++runs;
-      out.push_back(evaluate_percussion(h5, report));
+    }
+    std::vector<double> out;
+    for (const FitTarget& t : problem.targets) {
+      size_t k = 0;
+      while (problem.conditions[k].name != t.condition) ++k;
+      out.push_back(fit_figure(figs[k], t.figure));
     }
     return out;
   }
 
-  // Relative residuals at ln(p / start) = x.
+  std::vector<double> relative(const std::vector<double>& simulated) const {
+    std::vector<double> r;
+    for (size_t i = 0; i < simulated.size(); ++i)
+      r.push_back((simulated[i] - problem.targets[i].value) / std::fabs(problem.targets[i].value));
+    return r;
+  }
+
+  // Relative residuals at the solver's variables x.
   std::vector<double> residuals(const std::vector<double>& x) {
     std::vector<double> p(x.size());
     for (size_t j = 0; j < x.size(); ++j) p[j] = problem.parameters[j].value(x[j]);
-    const std::vector<PercussionFigures> figs = run_all(p);
-    std::vector<double> r;
-    for (const FitTarget& t : problem.targets) {
-      size_t k = 0;
-      while (problem.conditions[k].name != t.condition) ++k;
-      r.push_back((fit_figure(figs[k], t.figure) - t.value) / std::fabs(t.value));
-    }
-    return r;
+    return relative(simulate(p));
   }
 };
+
+// Whether the targets determine every parameter: the Jacobian of the
+// relative residuals by the solver's variables, at the solution, must have
+// full column rank. A column near zero is a parameter the targets do not
+// see; two columns nearly parallel are parameters that act only together
+// (an orifice's Cd and A). Either way the targets can be met with the
+// fitted values arbitrary along that direction: a silent wrong answer for
+// whoever reads them as the design's. Returns "" or what to change.
+// The bound: singular values below 1e-3 of the largest. A 1 % difference
+// step on figures that are smooth to ~0.01 % leaves a noise floor near
+// 1e-2 of a column's norm at worst, so 1e-3 is a direction the targets do
+// not resolve at all, not one they resolve poorly.
+std::string unresolved(const gsl_matrix* J, const FitProblem& p) {
+  const size_t n = J->size1, np = J->size2;
+  gsl_matrix* A = gsl_matrix_alloc(n, np);
+  gsl_matrix* V = gsl_matrix_alloc(np, np);
+  gsl_vector* S = gsl_vector_alloc(np);
+  gsl_vector* work = gsl_vector_alloc(np);
+  gsl_matrix_memcpy(A, J);
+  gsl_linalg_SV_decomp(A, V, S, work);  // S descending
+  std::string why;
+  const double smax = gsl_vector_get(S, 0), smin = gsl_vector_get(S, np - 1);
+  if (!(smin > 1e-3 * smax)) {
+    // The direction the targets do not see: the parameters with the
+    // largest share in the last right-singular vector.
+    std::vector<std::string> names;
+    for (size_t j = 0; j < np; ++j)
+      if (std::fabs(gsl_matrix_get(V, j, np - 1)) > 0.3) names.push_back(p.parameters[j].name);
+    std::string list;
+    for (size_t i = 0; i < names.size(); ++i) list += (i ? (i + 1 == names.size() ? " and " : ", ") : "") + names[i];
+    std::ostringstream o;
+    o << "the targets do not determine " << list
+      << (names.size() > 1 ? ": they fix only a combination of them" : ": they do not depend on it")
+      << " (smallest singular value " << std::setprecision(2) << (smax > 0 ? smin / smax : 0.0)
+      << " of the largest); fit fewer parameters or add targets that tell them apart";
+    why = o.str();
+  }
+  gsl_matrix_free(A);
+  gsl_matrix_free(V);
+  gsl_vector_free(S);
+  gsl_vector_free(work);
+  return why;
+}
 
 // A trial step whose run fails (the hammer stops cycling, a value leaves its
 // range) must be refused by the trust region, not end the fit: it gets a
@@ -178,6 +221,17 @@ int df_cb(const gsl_vector* x, void* params, gsl_matrix* J) {
 }
 
 }  // namespace
+
+PercussionFigures run_percussion(const ModelSpec& model, const std::vector<std::string>& overrides, const std::string& h5) {
+  ModelSpec spec = model;
+  for (const auto& o : overrides) spec.apply_override(o);
+  const ReportSettings report = report_settings(spec);
+  {
+    System sys(std::move(spec));
+    sys.run(h5, false);
+  }
+  return evaluate_percussion(h5, report);
+}
 
 const std::vector<std::pair<std::string, std::string>>& fit_figure_names() {
   static const std::vector<std::pair<std::string, std::string>> names = [] {
@@ -298,7 +352,7 @@ void check_fit_problem(const FitProblem& p) {
 
 FitResult run_fit(const FitProblem& p, const std::function<void(const std::string&)>& progress) {
   check_fit_problem(p);
-  Evaluator ev{p, {}, 0, 0, {}};
+  Evaluator ev{p, read_model(p.model_path), {}, 0, 0, {}};
   const size_t n = p.targets.size(), np = p.parameters.size();
   // The start must run: a fit from a model that does not cycle has nothing to follow.
   try {
@@ -362,7 +416,6 @@ FitResult run_fit(const FitProblem& p, const std::function<void(const std::strin
         progress(o.str());
       }
       if (status == GSL_SUCCESS) {
-        r.converged = true;
         r.stop_reason = info == 1 ? "converged: the step is below 0.01 % of every parameter"
                                   : info == 2 ? "converged: the gradient vanishes" : "converged: the cost no longer falls";
       }
@@ -376,6 +429,7 @@ FitResult run_fit(const FitProblem& p, const std::function<void(const std::strin
   }
   gsl_set_error_handler(old);
 
+  if (r.iterations > 0) r.unresolved = unresolved(gsl_multifit_nlinear_jac(w), p);
   const gsl_vector* x = gsl_multifit_nlinear_position(w);
   std::vector<double> xv(np);
   for (size_t j = 0; j < np; ++j) {
@@ -387,16 +441,9 @@ FitResult run_fit(const FitProblem& p, const std::function<void(const std::strin
 
   // The figures at the fitted values, from a run of their own (the solver's
   // last residual may belong to a difference step).
-  const std::vector<PercussionFigures> figs = ev.run_all(r.fitted);
-  r.targets_met = true;
-  for (const FitTarget& t : p.targets) {
-    size_t k = 0;
-    while (p.conditions[k].name != t.condition) ++k;
-    const double got = fit_figure(figs[k], t.figure);
-    r.simulated.push_back(got);
-    r.residual.push_back((got - t.value) / std::fabs(t.value));
-    r.targets_met = r.targets_met && std::fabs(r.residual.back()) <= p.tolerance;
-  }
+  r.simulated = ev.simulate(r.fitted);
+  r.residual = ev.relative(r.simulated);
+  r.targets_met = std::all_of(r.residual.begin(), r.residual.end(), [&](double res) { return std::fabs(res) <= p.tolerance; });
   r.runs = ev.runs;
   r.failed_runs = ev.failed_runs;
   if (ev.failed_runs > 0) r.stop_reason += "; " + std::to_string(ev.failed_runs) + " trial run(s) failed and were refused, the last: " + ev.last_failure;
@@ -422,6 +469,7 @@ std::string format_fit(const FitProblem& p, const FitResult& r) {
               << ".." << short_number(p.parameters[j].hi) << "\n";
     }
   }
+  if (!r.unresolved.empty()) notes << "NOT A DESIGN: " << r.unresolved << "\n";
   o << notes.str();
   o << "\n" << std::setw(36) << "target (SI)" << std::setw(16) << "wanted" << std::setw(16) << "got" << "residual\n";
   for (size_t i = 0; i < p.targets.size(); ++i) {

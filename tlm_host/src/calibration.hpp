@@ -63,10 +63,19 @@ struct FitResult {
   std::vector<double> simulated;            // per target, at the fitted values (SI)
   std::vector<double> residual;             // per target, relative
   int iterations = 0, runs = 0, failed_runs = 0;
-  bool converged = false;                   // the solver's own test (step, gradient or cost)
   bool targets_met = false;                 // every |residual| ≤ tolerance
-  std::string stop_reason;
+  // Non-empty when the targets do not determine every parameter (the
+  // Jacobian at the solution is rank-deficient): says which, and the fit is
+  // then no answer even with every target met.
+  std::string unresolved;
+  std::string stop_reason;  // the solver's (converged on step, gradient or cost; or why not)
+  bool succeeded() const { return targets_met && unresolved.empty(); }
 };
+
+// One run of `model` with `overrides` applied in order (as --set), its
+// results in `h5` (overwritten), and its percussion report.
+PercussionFigures run_percussion(const ModelSpec& model, const std::vector<std::string>& overrides,
+                                 const std::string& h5);
 
 // The figures a target may name, with their SI units ("frequency", "Hz"), ...
 const std::vector<std::pair<std::string, std::string>>& fit_figure_names();

@@ -37,7 +37,8 @@ int usage(std::ostream& os, int rc) {
         "Each evaluation runs every condition once; the Jacobian costs one run per parameter more.\n"
         "Exit codes: 0 every target met, 2 usage, 3 model or problem rejected, 4 a run at the start\n"
         "            values failed, 5 the fit ended without meeting every target (the table says\n"
-        "            which), 128 + N stopped by signal N.\n";
+        "            which), or the targets do not determine every parameter, 128 + N stopped by\n"
+        "            signal N.\n";
   return rc;
 }
 
@@ -145,5 +146,5 @@ int main(int argc, char** argv) {
       return 4;
     }
   }
-  return result.targets_met ? 0 : 5;
+  return result.succeeded() ? 0 : 5;
 }

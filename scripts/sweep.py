@@ -245,8 +245,16 @@ def main():
         pts = points_of(grid)
         if not 0 <= args.index < len(pts):
             raise InputError(f"--index {args.index}: the grid has points 0 to {len(pts) - 1}")
-        if not (args.out / "points.json").exists():
+        plan_file = args.out / "points.json"
+        if not plan_file.exists():
             write_plan(args.out, args.model, args.set, grid)
+        else:
+            # A task of another sweep into the same folder would put its report
+            # under this plan's labels, and collect would name it wrongly.
+            plan = json.loads(plan_file.read_text())
+            if plan["points"] != pts or plan["sets"] != args.set or plan["model"] != str(args.model):
+                raise InputError(f"{plan_file} plans another sweep (model, --set or --grid differ); "
+                                 f"use another --out")
         err = run_point(args.host, args.model, args.set, pts[args.index], args.out, args.index)
         if err:
             print(f"sweep: {err}", file=sys.stderr)

@@ -9,7 +9,9 @@ sweeps what it says.
    sweep.csv files must be identical (the runs are deterministic).
 2. A grid with one area of -1 (tlm_host refuses it): exit 4, the refusal is
    named, the valid point's report is kept.
-3. fig16 over Ø5.4/6.0 at 100/150 bar: its flows are the grid runs' flows
+3. A task of another grid into a folder that holds a plan is refused: its
+   report would be collected under the plan's labels.
+4. fig16 over Ø5.4/6.0 at 100/150 bar: its flows are the grid runs' flows
    (the same settings), and Case 11's normalised output power is 1.
 Usage: sweep_test.py TLM_HOST WORKDIR
 """
@@ -54,6 +56,9 @@ subprocess.run(sweep + ["collect", str(work / "array")], check=True, capture_out
 array = list(csv.reader(open(work / "array/sweep.csv")))
 check(array == local, "the job array's sweep.csv is the local runner's, value for value")
 
+r = subprocess.run(sweep + ["point", model, "--out", str(work / "array"), "--host", host, "--index", "0",
+                            "--grid", "relief.p_crack=120e5"], capture_output=True, text=True)
+check(r.returncode == 2 and "plans another sweep" in r.stderr, f"a task of another sweep into the folder is refused ({r.stderr.strip()})")
 r = subprocess.run(sweep + ["run", model, "--out", str(work / "bad"), "--host", host, "--grid", "restrictor.A=-1,2.827e-5",
                             "--set", "simulation.stoptime=0.45"], capture_output=True, text=True)
 check(r.returncode == 4 and "restrictor.A=-1" in r.stderr and "exit 3" in r.stderr, f"a refused point: exit 4, named ({r.stderr.strip()})")

@@ -282,6 +282,22 @@ TEST_P(Mesher, StepsShareNodesAndFacesPointOutwards) {
   }
 }
 
+// A radius whose graded stations miss it by an ulp (26.8537 mm, the rig
+// piston's rear: 0.0268537 = 3 × 0.00895123 in exact arithmetic only) is
+// still a station of its own, so the faces and the outer-surface sets of
+// every section exist and the mesh is made (it threw std::out_of_range).
+TEST(Mesher, ARadiusTheGradingMissesByAnUlpIsStillAStation) {
+  fe::RevolutionMeshOptions o;
+  o.element_size = 0.009;
+  o.axial_size = 0.01;
+  const std::vector<fe::RevolutionSection> table = {{0.13, 0.0305, 0.0}, {0.02, 0.0318278, 0.0}, {0.08536, 0.0268537, 0.0}};
+  fe::RevolutionMesh mesh;
+  ASSERT_NO_THROW(mesh = fe::mesh_axisymmetric(table, o));
+  ASSERT_EQ(mesh.faces.size(), 4u);
+  EXPECT_EQ(mesh.faces[2].r_in, 0.0268537);  // exactly: the station is the table's radius
+  EXPECT_EQ(mesh.faces[3].r_out, 0.0268537);
+}
+
 // The 2D mesh of the same piston: exact ring areas of the faces (no polygon),
 // and each section's outer surface as a node set lying on r = r_out along the
 // section's whole length (a feed force or a position monitor sits there).

@@ -298,6 +298,10 @@ std::vector<double> graded(double a, double b, double h, double growth) {
   const int n = std::max(1, static_cast<int>(std::lround((b - a) / h)));
   if (!(growth > 1.0 + 1e-12)) {
     for (int i = 1; i <= n; ++i) out.push_back(a + (b - a) * i / n);
+    // Exactly b: a + (b − a)·n/n can miss it by an ulp, and a section's
+    // radius that its own station misses has no node on it (r = 26.8537 mm
+    // did: the outer-surface set then looked past the section's nodes).
+    out.back() = b;
     return out;
   }
   double sum = 0.0, w = 1.0;

@@ -9,5 +9,5 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/install_deps.sh"
 # Only what the main job runs (about half of a full build's time; the test
 # command builds the rest).
-PCS_BUILD_TARGETS="fe_server tlm_host scene_hammer_elastic scene_hammer" "$root/scripts/build.sh"
+PCS_BUILD_TARGETS="fe_server tlm_host scene_hammer_elastic scene_hammer scene_hammer_rig" "$root/scripts/build.sh"
 "$root/scripts/run_hammer.sh" "$@"

@@ -4,13 +4,18 @@
 # monolithic reference; then the report (report.md, Table 3 quantities, the
 # physics checks, the power plot) and plots.
 #
-#   scripts/run_hammer.sh [--scene elastic|rigid] [--modes "tlm10 ..."]
+#   scripts/run_hammer.sh [--scene rig|elastic|rigid] [--modes "tlm10 ..."]
 #                         [--conditions "150:6.0 150:5.4 100:6.0 100:5.4"]
 #                         [--stop S] [--jobs N] [--out out/hammer]
 #
-# Scenes: elastic (default; scenes/hammer_elastic: the piston and the tool as
-# elastic axisymmetric bodies, the spool and the rock block rigid; TLM
-# coupling every 10 us, 32 FE steps each: mode tlm10 only) or rigid
+# Scenes: rig (default; scenes/hammer_rig: the hammer reworked against the
+# thesis' rig, its flow following the restrictor and the pressure as
+# measured; piston, tool, housing and anvil elastic axisymmetric bodies, the
+# spool rigid; TLM coupling every 10 us, 40 FE steps each: mode tlm10 only;
+# the reference is scenes/hammer_rig/model.tlm, each condition's relief
+# setting from scenes/hammer_rig/conditions.csv), elastic
+# (scenes/hammer_elastic: the same bodies in the first layout, whose flow
+# hardly follows the restrictor; 36 FE steps per coupling step) or rigid
 # (scenes/hammer: rigid piston and spool, 1D-bar tool; modes pressure, tlm,
 # tlm10, pressure10, default "pressure tlm tlm10").
 # Modes (rigid scene): pressure (the thesis' scheme, coupling step 1 us),
@@ -18,15 +23,16 @@
 # each), pressure10 (pressure coupling every 10 us, 10 FE steps each: what
 # sub-cycling costs in pressure mode).
 # Conditions: supply relief setting in bar, restrictor diameter in mm.
-# Stop: simulated seconds per run (default 0.6: start-up to 0.3 s, then at
-# least 5 whole cycles, 6 blows, at the slowest condition's 20.3 Hz).
+# Stop: simulated seconds per run (rig: default 1.6, start-up to 0.3 s, then
+# at least 20 whole cycles at the slowest condition's 16.3 Hz; elastic and
+# rigid: default 0.6, 6 blows after 0.3 s at 20.3 Hz).
 # Jobs: conditions run side by side (default 2: each co-simulation's
 # fe_server computes on one core while its tlm_host waits on the socket).
 # Each run gets its own fe_server with a fresh token on an ephemeral port.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${PCS_BUILD_DIR:-$root/build}
-scene_name=elastic
+scene_name=rig
 modes=
 conditions="150:6.0 150:5.4 100:6.0 100:5.4"
 stop=
@@ -44,12 +50,15 @@ while [ $# -gt 0 ]; do
   esac
 done
 case "$scene_name" in
+  rig) scene_dir=hammer_rig; modes=${modes:-tlm10}; stop=${stop:-1.6}
+       ref_log=(--set simulation.log_every=20)
+       host_model=$root/scenes/hammer_rig/model_elastic.tlm ref_model=$root/scenes/hammer_rig/model.tlm ;;
   elastic) scene_dir=hammer_elastic; modes=${modes:-tlm10}; stop=${stop:-0.6}
            ref_log=(--set simulation.log_every=20)  # the reference's rows every 20 us too
-           host_model=$root/scenes/hammer_elastic/model.tlm ;;
+           host_model=$root/scenes/hammer_elastic/model.tlm ref_model=$root/scenes/hammer_monolithic/model.tlm ;;
   rigid) scene_dir=hammer; modes=${modes:-"pressure tlm tlm10"}; stop=${stop:-0.6}; ref_log=()
-         host_model=$root/scenes/hammer/model.tlm ;;
-  *) echo "run_hammer.sh: --scene '$scene_name': expected elastic or rigid" >&2; exit 2 ;;
+         host_model=$root/scenes/hammer/model.tlm ref_model=$root/scenes/hammer_monolithic/model.tlm ;;
+  *) echo "run_hammer.sh: --scene '$scene_name': expected rig, elastic or rigid" >&2; exit 2 ;;
 esac
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "run_hammer.sh: --jobs '$jobs': a positive integer" >&2; exit 2; }
 scene=$build/scenes/$scene_dir
@@ -59,9 +68,9 @@ mkdir -p "$out"
 run_mode() {  # condition directory, mode, common --set arguments...
   local dir=$1 mode=$2; shift 2
   local ports fmu host_step=()
-  if [ "$scene_name" = elastic ]; then
-    [ "$mode" = tlm10 ] || { echo "run_hammer.sh: mode '$mode': the elastic scene runs tlm10 (TLM, 10 us)" >&2; return 2; }
-    ports=$root/scenes/hammer_elastic/ports.cfg; fmu=hammer_elastic.fmu
+  if [ "$scene_name" != rigid ]; then
+    [ "$mode" = tlm10 ] || { echo "run_hammer.sh: mode '$mode': the $scene_name scene runs tlm10 (TLM, 10 us)" >&2; return 2; }
+    ports=$root/scenes/$scene_dir/ports.cfg; fmu=$scene_dir.fmu
     # A row every 20 us (the impact velocity is read from the row before
     # contact: 0.02 m/s at most), keeping the whole job under 0.5 GB.
     host_step=(--set simulation.timestep=1e-5 --set simulation.log_every=2)
@@ -110,18 +119,29 @@ run_condition() {  # p:d
   dir=$out/${p}bar_${d}mm
   mkdir -p "$dir"
   echo "== $p bar, restrictor $d mm"
-  local set_args=(--set relief.p_crack=${p}e5 --set restrictor.A=${area[$d]} --set simulation.stoptime=$stop)
-  "$build/tlm_host/tlm_host" "$root/scenes/hammer_monolithic/model.tlm" --quiet "${set_args[@]}" "${ref_log[@]}" \
+  local set_args=(--set relief.p_crack=${p_crack[$c]:-${p}e5} --set restrictor.A=${area[$d]} --set simulation.stoptime=$stop)
+  "$build/tlm_host/tlm_host" "$ref_model" --quiet "${set_args[@]}" "${ref_log[@]}" \
     --out "$dir/reference.h5" --report "$dir/reference.json" > /dev/null
   for m in $modes; do run_mode "$dir" "$m" "${set_args[@]}"; done
 }
 
 declare -A area=([6.0]=2.827e-5 [5.4]=2.290e-5)
+# The rig scene's relief settings, calibrated per condition (the other
+# scenes crack at the operating pressure itself).
+declare -A p_crack=()
+if [ "$scene_name" = rig ]; then
+  while IFS=, read -r _ bar mm pc _; do
+    p_crack[$(echo "$bar:$mm" | tr -d ' ')]=$(echo "$pc" | tr -d ' ')
+  done < <(grep -v '^#' "$root/scenes/hammer_rig/conditions.csv" | tail -n +2)
+fi
 for c in $conditions; do
   d=${c##*:}
   [ -n "${area[$d]:-}" ] || { echo "run_hammer.sh: restrictor '$d': 6.0 or 5.4 mm" >&2; exit 2; }
   [[ "${c%%:*}" =~ ^[0-9]+$ ]] || { echo "run_hammer.sh: condition '$c': expected <bar>:<mm>, e.g. 150:6.0" >&2; exit 2; }
+  [ "$scene_name" != rig ] || [ -n "${p_crack[$c]:-}" ] ||
+    { echo "run_hammer.sh: condition '$c': scenes/hammer_rig/conditions.csv has no relief setting for it (150 or 100 bar, 6.0 or 5.4 mm)" >&2; exit 2; }
 done
+echo "$scene_name" > "$out/scene"  # the report reads the scene's geometry by this name
 echo "run_hammer.sh: $scene_name scene, modes: $modes, stop $stop s, conditions: $conditions ($jobs at a time)"
 t0=$(date +%s.%N)
 pids=() logs=() failed=0
@@ -141,7 +161,7 @@ done
 # The picture of the stress field at impact (elastic scene): the blow alone
 # (impact.k: piston, tool, anvil) at the impact velocity the first
 # condition's co-simulation measured, field snapshots every 20 us.
-if [ "$scene_name" = elastic ]; then
+if [ "$scene_name" != rigid ]; then
   first=$out/$(echo "$conditions" | awk '{print $1}' | sed 's/:/bar_/')mm
   v=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['impact_velocity_m_s'])" \
       "$first/${modes%% *}/host.json")

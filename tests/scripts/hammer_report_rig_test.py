@@ -1,9 +1,12 @@
 #!/usr/bin/python3
 """scripts/hammer_report.py's section against the rig (thesis Table 2): each
-flow as % of the committed measured flow, and the three flow ratios, for
-made-up figures whose answers are known: flows of exactly 0.9 x Table 2 give
-90.0 % everywhere and the measured ratios themselves; a condition missing
-gives no section rather than a half table."""
+flow as % of the committed measured flow, the three flow ratios and the
+acceptance figures, for made-up figures whose answers are known:
+- flows of exactly 0.95 x Table 2 at the set pressures and 20 Hz give
+  95.0 % everywhere, the measured ratios themselves and no failure;
+- a flat flow (the first layout's fault), an inlet pressure 2 % high and a
+  frequency of 14 Hz are each named as failing;
+- a condition missing gives no section rather than a half table."""
 import pathlib
 import sys
 
@@ -11,18 +14,45 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
 import hammer_report as h  # noqa: E402
 
 table2 = {"150bar_6.0mm": 80, "150bar_5.4mm": 66, "100bar_6.0mm": 59, "100bar_5.4mm": 50}
-results = [(pathlib.Path(n), {"reference": {"Q_in": 0.9 * q}, "tlm": {"Q_in": 0.9 * q}}) for n, q in table2.items()]
-md = "\n".join(h.rig_section(results))
+p_set = {"150bar_6.0mm": 151.013, "150bar_5.4mm": 151.013, "100bar_6.0mm": 101.013, "100bar_5.4mm": 101.013}
+
+
+def col(q, p, f=20.0):
+    return {"Q_in": q, "p_in": p, "f": f}
+
+
+results = [(pathlib.Path(n), {"reference": col(0.95 * q, p_set[n]), "tlm": col(0.95 * q, p_set[n])})
+           for n, q in table2.items()]
+md, failed = h.rig_section(results)
+md = "\n".join(md)
 failures = []
 for case, q in zip(("11", "12", "21", "22"), table2.values()):
-    row = f"| {case} | {q} | {0.9 * q:.1f} (90.0 %) | {0.9 * q:.1f} (90.0 %) |"
+    row = f"| {case} | {q} | {0.95 * q:.1f} (95.0 %) | {0.95 * q:.1f} (95.0 %) |"
     if row not in md:
         failures.append(f"missing row {row}")
-for text, ratio in (("Ø5.4 / Ø6.0 at 150 bar", 66 / 80), ("Ø5.4 / Ø6.0 at 100 bar", 50 / 59), ("100 / 150 bar at Ø6.0", 59 / 80)):
-    row = f"| {text} | {ratio:.3f} | {ratio:.3f} | {ratio:.3f} |"
+for text, a, b in (("Ø5.4 / Ø6.0 at 150 bar", 66, 80), ("Ø5.4 / Ø6.0 at 100 bar", 50, 59), ("100 / 150 bar at Ø6.0", 59, 80)):
+    ours = f"{0.95 * a / (0.95 * b):.3f}"  # the same division the report makes
+    row = f"| {text} | {a / b:.3f} | {ours} | {ours} |"
     if row not in md:
         failures.append(f"missing ratio row {row}")
-if h.rig_section(results[:3]):
+if failed:
+    failures.append(f"figures inside every band were reported failing: {failed}")
+
+# The co-simulation column wrong in three ways; the reference stays right.
+bad = [(pathlib.Path(n), {"reference": col(0.95 * q, p_set[n]),
+                          "tlm": col(60.0, 1.02 * p_set[n] if n == "150bar_5.4mm" else p_set[n],
+                                     14.0 if n == "100bar_5.4mm" else 20.0)})
+       for n, q in table2.items()]
+_, failed = h.rig_section(bad)
+print("\n".join(failed))
+for want in ("flow ratio Ø5.4 / Ø6.0 at 150 bar (TLM, 1 us): 1.000", "flow ratio Ø5.4 / Ø6.0 at 100 bar (TLM, 1 us)",
+             "flow ratio 100 / 150 bar at Ø6.0 (TLM, 1 us)", "case 12 (TLM, 1 us): p_in ±1 %",
+             "case 22 (TLM, 1 us): f 15–30 Hz", "case 11 (TLM, 1 us): Q ±10 %"):
+    if not any(f.startswith(want) for f in failed):
+        failures.append(f"not reported: {want}")
+if any("reference" in f for f in failed):
+    failures.append("the right reference column was reported failing")
+if h.rig_section(results[:3]) != ([], []):
     failures.append("three conditions gave a section")
 print(md)
 for f in failures:

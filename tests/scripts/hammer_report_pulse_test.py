@@ -1,0 +1,62 @@
+#!/usr/bin/python3
+"""scripts/hammer_report.py's primary pulse and per-blow checks on signals
+whose answers are known:
+- a 110 us plateau of -200 MPa followed, 230 us after its start, by a
+  second compressive pulse of -230 MPa (the housing landing on the tool):
+  the primary pulse ends with the first, so W is the first pulse's
+  (A·c0/E)·σ²·T within 1 % (the sampled edges), not both pulses';
+- an exponentially decaying pulse (a rigid piston on a bar) ends where it
+  falls below 2 % of its peak;
+- the per-blow checks name a blow whose W exceeds 101 % of ½mv² and a
+  plateau 12 % off the 1D estimate, and pass figures inside both bounds."""
+import pathlib
+import sys
+
+import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
+import hammer_report as h  # noqa: E402
+
+failures = []
+
+
+def check(ok, what):
+    print("ok  " if ok else "FAIL", what)
+    if not ok:
+        failures.append(what)
+
+
+h.use_scene("rig")
+dt = 0.5e-6
+t = np.arange(0.0, 1.0e-3, dt)
+s = np.zeros_like(t)
+s[(t >= 20e-6) & (t < 130e-6)] = -200e6
+s[(t >= 250e-6) & (t < 360e-6)] = -230e6
+end = h.primary_end(s)
+check(abs(t[end] - 130e-6) <= dt, f"the primary pulse ends with the first one: {t[end] * 1e6:.1f} us (130 us)")
+W = h.AREA * h.C0 / h.E * np.trapz(s[:end] ** 2, t[:end])
+W_first = h.AREA * h.C0 / h.E * (200e6) ** 2 * 110e-6
+check(abs(W / W_first - 1.0) < 0.01, f"W is the first pulse's: {W:.1f} J against {W_first:.1f} J")
+
+tau = 40e-6
+e = np.where(t >= 20e-6, -300e6 * np.exp(-(t - 20e-6) / tau), 0.0)
+end = h.primary_end(e)
+want = 20e-6 + tau * np.log(50.0)  # exp(-x) = 0.02
+check(abs(t[end] - want) <= 2 * dt, f"a decaying pulse ends at 2 % of its peak: {t[end] * 1e6:.1f} us ({want * 1e6:.1f})")
+
+v = [12.0, 12.0, 12.0]
+kin = 0.5 * h.M_PISTON * 144.0
+level = -12.0 * h.RHO * h.C0 * h.A_STRIKE / (h.A_STRIKE + h.AREA)
+pulses = {"blows": {"t": [0.1, 0.14, 0.18], "W": [0.96 * kin, 0.99 * kin, 0.97 * kin],
+                    "plateau": [0.97 * level, 1.02 * level, 0.95 * level], "length": [110e-6] * 3,
+                    "peak": [1.3 * level] * 3}}
+ok = h.blow_checks(h.blow_statistics(pulses, v))
+check(all(c[3] for c in ok), f"figures inside the bounds pass: {ok}")
+pulses["blows"]["W"][1] = 1.02 * kin
+pulses["blows"]["plateau"][2] = 0.88 * level
+bad = h.blow_checks(h.blow_statistics(pulses, v))
+check(not bad[0][3] and "1.020" in bad[0][1], f"a blow with W at 102 % of ½mv² fails: {bad[0]}")
+check(not bad[1][3] and "0.880" in bad[1][1], f"a plateau 12 % under the 1D estimate fails: {bad[1]}")
+stats = h.blow_statistics(pulses, v)
+check(abs(np.mean(stats["period"]) - 40.0) < 1e-9, "the impact period comes from the blows' times (40 ms)")
+sys.exit(1 if failures else 0)

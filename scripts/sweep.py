@@ -7,14 +7,19 @@ as a SLURM job array whose tasks run the same points with the same code.
   sweep.py slurm MODEL --grid ... [--set ...] --out DIR [--time 00:10:00]   (prints the job script)
   sweep.py point MODEL --grid ... [--set ...] --out DIR --index I            (one point: a SLURM task)
   sweep.py collect DIR                                                       (DIR/sweep.csv from the points)
-  sweep.py fig16 --out DIR [--diameters 5.0,5.4,...] [--pressures 100,150] [--jobs N] [--set ...]
+  sweep.py fig16 --out DIR [--model MODEL] [--diameters 5.0,5.4,...] [--pressures 100,150] [--jobs N] [--set ...]
 
 The grid is the product of the --grid lists, the last varying fastest; point
 I's report is DIR/point_I.json and DIR/points.json lists every point's
 settings. fig16 sweeps the hammer's restrictor diameter at each operating
 pressure (thesis Fig. 16, Andersson 2018) and plots the input power p_in*Q_in,
 the output power W*f and the efficiency, each normalised to Case 11
-(150 bar, 6.0 mm), with the rig's Table 2 input powers marked.
+(150 bar, 6.0 mm), with the rig's Table 2 input powers marked. Its model is
+scenes/hammer_rig/model.tlm unless --model names another; where a
+conditions.csv lies beside the model (scenes/hammer_rig's), each pressure's
+relief setting is the mean of that file's calibrated settings for it (the
+rig's operator set the relief for the operating pressure); else the relief
+cracks at the operating pressure itself.
 Exit codes: 0 done, 2 bad input, 4 a run failed (its message is printed; the
 other points still run and are kept).
 """
@@ -32,7 +37,7 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 DEFAULT_HOST = os.environ.get("PCS_TLM_HOST", str(ROOT / "build/tlm_host/tlm_host"))
-HAMMER = ROOT / "scenes/hammer_monolithic/model.tlm"
+HAMMER = ROOT / "scenes/hammer_rig/model.tlm"
 # Table 2 (measured on the rig): case, gauge pressure [bar], restrictor [mm], flow [l/min].
 TABLE2 = [("11", 150, 6.0, 80), ("12", 150, 5.4, 66), ("21", 100, 6.0, 59), ("22", 100, 5.4, 50)]
 
@@ -143,14 +148,35 @@ def slurm_script(args, grid):
             f"{quoted} --index \"$SLURM_ARRAY_TASK_ID\"\n")
 
 
+def relief_settings(model, pressures):
+    """Each operating pressure's relief setting [Pa]: from the calibrated
+    conditions.csv beside the model (case, bar, mm, relief.p_crack, ...: the
+    mean of the pressure's rows) or, without that file, the pressure itself."""
+    table = model.parent / "conditions.csv"
+    if not table.exists():
+        return {p: p * 1e5 for p in pressures}
+    rows = [line.split(",") for line in table.read_text().splitlines()
+            if line.strip() and not line.startswith("#") and not line.startswith("case")]
+    out = {}
+    for p in pressures:
+        vals = [float(r[3]) for r in rows if float(r[1]) == p]
+        if not vals:
+            raise InputError(f"{table}: no calibrated relief setting for {p:g} bar (its pressures: "
+                             f"{sorted({float(r[1]) for r in rows})}); sweep at those or recalibrate")
+        out[p] = sum(vals) / len(vals)
+    return out
+
+
 def fig16(args):
     diam = [float(d) for d in args.diameters.split(",")]
     pres = [float(p) for p in args.pressures.split(",")]
     if 6.0 not in diam or 150.0 not in pres:
         raise InputError("fig16 normalises to Case 11: the diameters need 6.0 and the pressures 150")
-    grid = [("relief.p_crack", [repr(p * 1e5) for p in pres]),
+    crack = relief_settings(args.model, pres)
+    grid = [("relief.p_crack", [repr(crack[p]) for p in pres]),
             ("restrictor.A", [repr(math.pi / 4 * (d * 1e-3) ** 2) for d in diam])]
-    rc = run_all(args.host, HAMMER, args.set, grid, args.out, args.jobs)
+    rc = run_all(args.host, args.model, args.set, grid, args.out, args.jobs)
+    pressure_of = {repr(crack[p]): p for p in pres}
     plan = json.loads((args.out / "points.json").read_text())
     res = {}
     for i, p in enumerate(plan["points"]):
@@ -158,7 +184,7 @@ def fig16(args):
         if rep.exists():
             f = json.loads(rep.read_text())
             d = round(math.sqrt(4 * float(p["restrictor.A"]) / math.pi) * 1e3, 3)
-            res[(float(p["relief.p_crack"]) / 1e5, d)] = f
+            res[(pressure_of[p["relief.p_crack"]], d)] = f
     ref = res.get((150.0, 6.0))
     if ref is None:
         raise InputError("Case 11 (150 bar, 6.0 mm) did not run: nothing to normalise to")
@@ -192,7 +218,7 @@ def fig16(args):
         ax.set_xlabel("restrictor Ø [mm]")
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=7, loc="center")
-    fig.suptitle("Restrictor sweep of the monolithic hammer (thesis Fig. 16 layout)", fontsize=10)
+    fig.suptitle(f"Restrictor sweep of {args.model.parent.name}/{args.model.name} (thesis Fig. 16 layout)", fontsize=10)
     fig.tight_layout()
     fig.savefig(args.out / "fig16.png", dpi=110)
     print(f"sweep: {args.out / 'fig16.png'}, {args.out / 'fig16.md'}")
@@ -219,6 +245,7 @@ def main():
     c.add_argument("out", type=pathlib.Path)
     f = sub.add_parser("fig16")
     f.add_argument("--out", type=pathlib.Path, required=True)
+    f.add_argument("--model", type=pathlib.Path, default=HAMMER)
     f.add_argument("--diameters", default="4.8,5.1,5.4,5.7,6.0,6.3,6.6")
     f.add_argument("--pressures", default="100,150")
     f.add_argument("--set", action="append", default=[])

@@ -66,7 +66,7 @@ check((work / "bad/point_1.json").exists(), "the valid point's report is kept")
 r = subprocess.run(sweep + ["run", model, "--out", str(work / "bad2"), "--grid", "restrictor.A=abc"], capture_output=True, text=True)
 check(r.returncode == 2 and "'abc' is not a finite number" in r.stderr, f"a bad grid value: exit 2 ({r.stderr.strip()})")
 
-r = subprocess.run(sweep + ["fig16", "--out", str(work / "fig16"), "--host", host, "--diameters", "5.4,6.0",
+r = subprocess.run(sweep + ["fig16", "--out", str(work / "fig16"), "--host", host, "--model", model, "--diameters", "5.4,6.0",
                             "--set", "simulation.stoptime=0.45"], capture_output=True, text=True)
 check(r.returncode == 0 and (work / "fig16/fig16.png").exists(), f"fig16 runs and plots ({r.stderr.strip()})")
 rows = [l.split("|")[1:-1] for l in (work / "fig16/fig16.md").read_text().splitlines()[2:]]
@@ -77,4 +77,23 @@ for line in local[1:]:
     check(abs(flows[(p, d)] - q) < 0.051 + 0.002 * q, f"fig16 at {p:g} bar, Ø{d:g}: {flows[(p, d)]} l/min, the grid's {q:.2f}")
 c11 = [r for r in rows if float(r[0]) == 150 and float(r[1]) == 6.0][0]
 check(abs(float(c11[4]) - 1.0) < 1e-9, "Case 11's output power is its own reference")
+
+# fig16 on the rig scene (its default) sets each pressure's relief from the
+# calibrated conditions.csv beside the model: the mean of the two settings
+# per pressure, read here from the file itself.
+sys.path.insert(0, str(root / "scripts"))
+import sweep as sweep_module  # noqa: E402
+rig = root / "scenes/hammer_rig/model.tlm"
+rows = [l.split(",") for l in (rig.parent / "conditions.csv").read_text().splitlines() if l[:1].isdigit()]
+want = {p: sum(float(r[3]) for r in rows if float(r[1]) == p) / 2 for p in (150.0, 100.0)}
+got = sweep_module.relief_settings(rig, [150.0, 100.0])
+check(all(abs(got[p] - want[p]) < 1e-6 * want[p] for p in want) and abs(got[150.0] - 150e5) > 1e4,
+      f"the rig's relief settings come from conditions.csv: {got}")
+try:
+    sweep_module.relief_settings(rig, [120.0])
+    check(False, "a pressure without a calibrated setting is refused")
+except sweep_module.InputError as e:
+    check("no calibrated relief setting for 120 bar" in str(e), f"a pressure without a calibrated setting is refused: {e}")
+check(sweep_module.relief_settings(pathlib.Path(model), [150.0]) == {150.0: 150e5},
+      "without conditions.csv the relief cracks at the operating pressure")
 sys.exit(1 if failures else 0)

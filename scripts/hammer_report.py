@@ -42,7 +42,7 @@ C0 = (E / RHO) ** 0.5
 GEOMETRY = {
     "elastic": dict(r_tool=0.0325, r_strike=0.0305, l_piston=0.64, m_piston=14.36, r_housing_bore=0.0329),
     "rigid": dict(r_tool=0.0325, r_strike=0.0305, l_piston=0.64, m_piston=14.4, r_housing_bore=0.0329),
-    "rig": dict(r_tool=0.0335, r_strike=0.0305, l_piston=0.23536, m_piston=5.0, r_housing_bore=0.0319278),
+    "rig": dict(r_tool=0.0335, r_strike=0.0305, l_piston=0.28337, m_piston=6.0, r_housing_bore=0.0320277),
 }
 
 
@@ -104,7 +104,7 @@ def piston_peak(fe, impact_times):
     return float(np.mean(peaks)) if peaks else None
 
 
-HOUSING_SECTION = "151"                 # the cylinder wall at the housing's gauge (elastic: y = 0.45 m, rig: 0.19 m)
+HOUSING_SECTION = "151"                 # the cylinder wall at the housing's gauge (elastic: y = 0.45 m, rig: 0.205 m)
 
 
 def lowpass(x, dt, cutoff=500.0):

@@ -24,7 +24,7 @@
 # sub-cycling costs in pressure mode).
 # Conditions: supply relief setting in bar, restrictor diameter in mm.
 # Stop: simulated seconds per run (rig: default 1.6, start-up to 0.3 s, then
-# at least 20 whole cycles at the slowest condition's 16.3 Hz; elastic and
+# at least 20 whole cycles at the slowest condition's 16.8 Hz; elastic and
 # rigid: default 0.6, 6 blows after 0.3 s at 20.3 Hz).
 # Jobs: conditions run side by side (default 2: each co-simulation's
 # fe_server computes on one core while its tlm_host waits on the socket).

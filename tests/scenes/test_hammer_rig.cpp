@@ -19,6 +19,7 @@
 #include "h5io/timeseries.hpp"
 #include "model.hpp"
 #include "process.hpp"
+#include "stress_pulse.hpp"
 
 namespace {
 
@@ -205,20 +206,11 @@ TEST(HammerRig, CoSimulatedFirstBlowsFollowTheMonolithicModelAndOneDimensionalWa
     std::vector<double> t, sd;
     for (size_t i = 0; i < te.size(); ++i)
       if (te[i] > tc[k] - 20e-6 && te[i] < tc[k] + 0.6e-3) t.push_back(te[i]), sd.push_back(0.5 * (fy[i] / kAt + kRho * c0 * vy[i]));
-    size_t rise = 0;
-    while (rise < sd.size() && sd[rise] > 0.5 * level) ++rise;
-    size_t fall = rise;
-    while (fall < sd.size() && !(sd[fall] > 0.5 * level && t[fall] > t[rise] + 30e-6)) ++fall;
-    ASSERT_LT(fall, sd.size()) << "the pulse must end within the record";
-    const double measured = t[fall] - t[rise];
-    double sum = 0.0, W = 0.0;
-    int n = 0;
-    for (size_t i = rise; i < fall; ++i)
-      if (t[i] > t[rise] + 0.25 * measured && t[i] < t[fall] - 0.25 * measured) sum += sd[i], ++n;
-    for (size_t i = rise; i + 1 < fall + 10 && i + 1 < sd.size(); ++i)
-      W += kAt * c0 / kE * 0.5 * (sd[i] * sd[i] + sd[i + 1] * sd[i + 1]) * (t[i + 1] - t[i]);
-    ASSERT_GT(n, 5);
-    const double plateau = sum / n, kinetic = 0.5 * 6.0 * vc[k] * vc[k];
+    const testing_support::StressPulse pulse = testing_support::primary_stress_pulse(t, sd, level, 30e-6, 10, kAt, c0, kE);
+    ASSERT_TRUE(pulse.whole) << "the pulse must end within the record";
+    ASSERT_GT(pulse.plateau_samples, 5);
+    const double measured = pulse.length, W = pulse.energy;
+    const double plateau = pulse.plateau, kinetic = 0.5 * 6.0 * vc[k] * vc[k];
     std::printf("blow %zu at %.3f m/s: plateau %.1f MPa (1D %.1f), length %.1f us (2L/c0 %.1f), W %.1f J of %.1f J\n",
                 k + 1, vc[k], plateau / 1e6, level / 1e6, 1e6 * measured, 1e6 * length, W, kinetic);
     EXPECT_NEAR(plateau, level, 0.05 * std::fabs(level));

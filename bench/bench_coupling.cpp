@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_args.hpp"
 #include "config/port_table.hpp"
 #include "fmu_importer.hpp"
 #include "process.hpp"
@@ -148,7 +149,9 @@ double fmu_step(int steps) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int steps = argc > 1 ? std::atoi(argv[1]) : 20000;
+  const char* usage = "usage: bench_coupling [ROUND_TRIPS]   loopback exchanges per kind (default 20000)";
+  bench::help_or_nothing(argc, argv, usage);
+  const int steps = static_cast<int>(bench::positive_arg(argc, argv, 1, 20000, "ROUND_TRIPS", usage));
   double a = plain_tcp(steps), b = framed(steps), c = fmu_step(steps);
   std::printf("coupling exchange on loopback, %d round trips each, one run:\n", steps);
   std::printf("  plain TCP ping-pong (blocking)   %8.2f us   1.00\n", a * 1e6);

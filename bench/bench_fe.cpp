@@ -347,6 +347,17 @@ int main(int argc, char** argv) {
       {"hammer", hammer_fe_step_cost}, {"threads", thread_scaling},      {"hex8", element_cycle_cost},
       {"bar", bar_cycle_cost},         {"axi4", axi_cycle_cost},          {"bar_impact", bar_impact_convergence},
       {"axi_bar_impact", axi_bar_impact_convergence}, {"calculix", calculix_comparison}};
+  for (int i = 1; i < argc; ++i) {
+    bool known = false;
+    for (const auto& [name, run] : all) known |= std::string(argv[i]) == name;
+    if (known) continue;
+    const bool help = std::string(argv[i]) == "-h" || std::string(argv[i]) == "--help";
+    std::fprintf(help ? stdout : stderr, "%susage: bench_fe [NAME ...]   the benchmarks named (default every one):",
+                 help ? "" : ("bench_fe: unknown benchmark '" + std::string(argv[i]) + "'\n").c_str());
+    for (const auto& [name, run] : all) std::fprintf(help ? stdout : stderr, " %s", name);
+    std::fprintf(help ? stdout : stderr, "\n");
+    return help ? 0 : 2;
+  }
   for (const auto& [name, run] : all) {
     bool wanted = argc < 2;
     for (int i = 1; i < argc; ++i) wanted |= std::string(argv[i]) == name;

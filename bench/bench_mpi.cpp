@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "bench_args.hpp"
 #include "impact_decks.hpp"
 #include "input/deck_reader.hpp"
 #include "parallel/domain.hpp"
@@ -45,10 +46,14 @@ Timing time_steps(fe::Solver& s, int steps, const fe::Domain& d) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const char* usage =
+      "usage: [mpirun -n P] bench_mpi [H_MM [STEPS]]   hex8 bar impact, element size in mm (default 1.5: 58k "
+      "hexes), timed steps (default 200)";
+  bench::help_or_nothing(argc, argv, usage);
   fe::Domain::init(&argc, &argv);
   const fe::Domain& d = fe::Domain::world();
-  const double h = (argc > 1 ? std::atof(argv[1]) : 1.5) * 1e-3;  // 1.5 mm: 58k hexes
-  const int steps = argc > 2 ? std::atoi(argv[2]) : 200;
+  const double h = bench::positive_arg(argc, argv, 1, 1.5, "H_MM (element size in mm)", usage) * 1e-3;
+  const int steps = static_cast<int>(bench::positive_arg(argc, argv, 2, 200, "STEPS (timed steps)", usage));
   // Ø20 mm piston 50 mm long on a tool 250 mm long, contact between them.
   const fe::Model m = fe::parse_deck(fe_test::bar_impact_deck(0.05, 0.25, 0.01, h, 8.0, fe_test::kE), "impact.k");
   const double dt = 0.9 * fe::Solver::stable_dt(m).dt;

@@ -6,11 +6,14 @@
 #include <cstdlib>
 #include <string>
 
+#include "bench_args.hpp"
 #include "model.hpp"
 #include "process.hpp"
 
 int main(int argc, char** argv) {
-  const double stop = argc > 1 ? std::atof(argv[1]) : 0.2;
+  const char* usage = "usage: bench_tlm [STOPTIME]   simulated seconds of the monolithic hammer (default 0.2)";
+  bench::help_or_nothing(argc, argv, usage);
+  const double stop = bench::positive_arg(argc, argv, 1, 0.2, "STOPTIME (simulated seconds)", usage);
   testing_support::TempDir dir;
   tlm::ModelSpec spec = tlm::read_model(PCS_SCENES_DIR "/hammer_monolithic/model.tlm");
   spec.apply_override("simulation.stoptime=" + std::to_string(stop));

@@ -13,11 +13,40 @@
 // piston and a stop ring).
 #include <fstream>
 #include <iostream>
+#include <string>
 
 #include "config/cli.hpp"
 #include "input/mesher.hpp"
 
+namespace {
+
+const char* kUsage =
+    "usage: fe_mesh --sections \"L,ro[,ri]/L,ro[,ri]/...\" -o mesh.k [options]\n"
+    "  --sections T        the body's sections from z0 up: length, outer radius and optional inner\n"
+    "                      radius, in metres; sections separated by '/' (or ';')\n"
+    "  -o FILE             the keyword mesh to write (*NODE, elements, face and node sets)\n"
+    "  --size H            radial (and, without --axial-size, axial) cell size (default 0.005 m)\n"
+    "  --axial-size H      axial cell size\n"
+    "  --axisymmetric      2D quads in the x-y plane, y the axis (ELFORM 15); without it hex8 solids\n"
+    "  --radial-growth G   axisymmetric: ratio of neighbouring radial cells (default 1)\n"
+    "  --radius R          axisymmetric: a radial cell boundary at R too (repeatable)\n"
+    "  --z0 Z              where the first section starts (along y when axisymmetric)\n"
+    "  --gauge Z           a gauge layer at Z (repeatable); --gauge-cut-only keeps its cross section alone\n"
+    "  --part PID          the elements' part id (default 1)\n"
+    "  --title T           the part's title in the file's comments\n"
+    "  --node-offset N, --element-offset E, --set-offset S\n"
+    "                      numbering offsets, to put several bodies in one deck\n"
+    "  -h, --help          this text\n"
+    "Exit codes: 0 written, 2 bad arguments or a mesh that cannot be made.\n";
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "-h" || std::string(argv[i]) == "--help") {
+      std::cout << kUsage;
+      return 0;
+    }
   fe::RevolutionMeshOptions opt;
   std::string sections, out;
   bool axisymmetric = false;
@@ -53,8 +82,7 @@ int main(int argc, char** argv) {
                 << (face.direction < 0 ? "-" : "+") << (axisymmetric ? "y" : "z")
                 << ", r " << face.r_in << " to " << face.r_out << "\n";
   } catch (const std::exception& e) {
-    std::cerr << "fe_mesh: " << e.what() << "\n"
-              << "usage: fe_mesh --sections \"L,ro[,ri]; ...\" [--size h] [--part PID] [--z0 Z] [--axisymmetric] -o mesh.k\n";
+    std::cerr << "fe_mesh: " << e.what() << "\n(fe_mesh --help lists the options)\n";
     return 2;
   }
   return 0;

@@ -37,12 +37,13 @@ E, RHO = 2.1e11, 7850.0
 C0 = (E / RHO) ** 0.5
 # Each scene's geometry as its deck and meshes give it (scenes/CMakeLists.txt):
 # the tool's radius, the piston's striking stem, its length and mass, and the
-# housing's wall at its gauge section. run_hammer.sh names the scene in
-# OUT_DIR/scene; runs without that file are the elastic scene's.
+# housing's wall at its gauge section. The key is the scene's folder, which
+# each fe.h5 names (its port_table attribute): the report reads the geometry
+# of the runs it evaluates, never a guess.
 GEOMETRY = {
-    "elastic": dict(r_tool=0.0325, r_strike=0.0305, l_piston=0.64, m_piston=14.36, r_housing_bore=0.0329),
-    "rigid": dict(r_tool=0.0325, r_strike=0.0305, l_piston=0.64, m_piston=14.4, r_housing_bore=0.0329),
-    "rig": dict(r_tool=0.0335, r_strike=0.0305, l_piston=0.28337, m_piston=6.0, r_housing_bore=0.0320277),
+    "hammer_elastic": dict(r_tool=0.0325, r_strike=0.0305, l_piston=0.64, m_piston=14.36, r_housing_bore=0.0329),
+    "hammer": dict(r_tool=0.0325, r_strike=0.0305, l_piston=0.64, m_piston=14.4, r_housing_bore=0.0329),
+    "hammer_rig": dict(r_tool=0.0335, r_strike=0.0305, l_piston=0.28337, m_piston=6.0, r_housing_bore=0.0320277),
 }
 
 
@@ -57,7 +58,27 @@ def use_scene(name):
     A_HOUSING = np.pi * (0.08 ** 2 - g["r_housing_bore"] ** 2)
 
 
-use_scene("elastic")
+use_scene("hammer_elastic")
+
+
+def scene_of(conds):
+    """The scene folder every co-simulation under the condition folders ran
+    (fe.h5's port_table attribute, .../scenes/NAME/ports*.cfg). Exits naming
+    the files when the runs come from different scenes or an unknown one."""
+    seen = {}
+    for cond in conds:
+        for m in MODES:
+            fe = cond / m / "fe.h5"
+            if fe.exists():
+                with h5py.File(fe) as f:
+                    table = f.attrs.get("port_table", b"")
+                table = table.decode() if isinstance(table, bytes) else str(table)
+                seen.setdefault(pathlib.Path(table).parent.name, []).append(str(fe))
+    if len(seen) != 1 or next(iter(seen)) not in GEOMETRY:
+        sys.exit("hammer_report.py: the runs' scenes (fe.h5 port_table): " +
+                 "; ".join(f"{k or '?'}: {', '.join(v)}" for k, v in seen.items()) +
+                 f"; expected one of {', '.join(GEOMETRY)}")
+    return next(iter(seen))
 # Rigid scene (scenes/hammer): the 1D-bar tool's gauge element and its nodes.
 BAR_GAUGE = "200040"
 BAR_GAUGE_NODES = ("200040", "200041")
@@ -66,7 +87,7 @@ BAR_GAUGE_NODES = ("200040", "200041")
 # (165 mm above its striking face, in the Ø61 mm stem).
 SECTION = "111"
 PISTON_SECTION = "101"
-MODES = ("tlm10", "pressure", "tlm", "pressure10")
+MODES = ("tlm10", "pressure", "tlm", "pressure10")  # the co-simulation folders under a condition
 MODE_TEXT = {"pressure": "pressure, 1 us", "tlm": "TLM, 1 us", "tlm10": "TLM, 10 us",
              "pressure10": "pressure, 10 us, k = 10"}
 
@@ -593,21 +614,17 @@ def rig_section(results):
 
 def main():
     out = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "out/hammer")
-    scene_file = out / "scene"
-    name = scene_file.read_text().strip() if scene_file.exists() else "elastic"
-    if name not in GEOMETRY:
-        sys.exit(f"hammer_report.py: {scene_file}: unknown scene '{name}' (expected one of {', '.join(GEOMETRY)})")
-    use_scene(name)
     conds = sorted((d for d in out.glob("*bar_*mm") if (d / "reference.json").exists()),
                    key=lambda d: (-int(d.name.split("bar")[0]), -float(d.name.split("_")[1][:-2])))
     if not conds:
         sys.exit(f"hammer_report.py: no runs under {out}")
+    use_scene(scene_of(conds))
     results = [(cond, evaluate(cond)) for cond in conds]
     is_elastic = any(col.get("elastic") for _, cols in results for col in cols.values())
     scene = ("the elastic piston, tool, housing and anvil (axisymmetric) on the test rig, preloaded, with the "
              "rigid spool in its bore, in fe_server" if is_elastic
              else "the rigid piston and spool, the 1D-bar tool and the rock in fe_server")
-    if SCENE == "rig":
+    if SCENE == "hammer_rig":
         scene = "the hammer reworked against the thesis' rig (scenes/hammer_rig): " + scene
     md = ["# Hydraulic hammer: co-simulation against the monolithic reference", "",
           f"Written by scripts/run_hammer.sh (scripts/hammer_report.py). Co-simulation: {scene};",

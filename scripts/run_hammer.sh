@@ -141,7 +141,6 @@ for c in $conditions; do
   [ "$scene_name" != rig ] || [ -n "${p_crack[$c]:-}" ] ||
     { echo "run_hammer.sh: condition '$c': scenes/hammer_rig/conditions.csv has no relief setting for it (150 or 100 bar, 6.0 or 5.4 mm)" >&2; exit 2; }
 done
-echo "$scene_name" > "$out/scene"  # the report reads the scene's geometry by this name
 echo "run_hammer.sh: $scene_name scene, modes: $modes, stop $stop s, conditions: $conditions ($jobs at a time)"
 t0=$(date +%s.%N)
 pids=() logs=() failed=0

@@ -8,10 +8,14 @@ whose answers are known:
 - an exponentially decaying pulse (a rigid piston on a bar) ends where it
   falls below 2 % of its peak;
 - the per-blow checks name a blow whose W exceeds 101 % of ½mv² and a
-  plateau 12 % off the 1D estimate, and pass figures inside both bounds."""
+  plateau 12 % off the 1D estimate, and pass figures inside both bounds;
+- the scene, and so the geometry, is the one the runs' fe.h5 files name; runs
+  of two scenes in one folder, or of an unknown one, are refused."""
 import pathlib
 import sys
+import tempfile
 
+import h5py
 import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
@@ -26,7 +30,7 @@ def check(ok, what):
         failures.append(what)
 
 
-h.use_scene("rig")
+h.use_scene("hammer_rig")
 dt = 0.5e-6
 t = np.arange(0.0, 1.0e-3, dt)
 s = np.zeros_like(t)
@@ -59,4 +63,21 @@ check(not bad[0][3] and "1.020" in bad[0][1], f"a blow with W at 102 % of ½mv²
 check(not bad[1][3] and "0.880" in bad[1][1], f"a plateau 12 % under the 1D estimate fails: {bad[1]}")
 stats = h.blow_statistics(pulses, v)
 check(abs(np.mean(stats["period"]) - 40.0) < 1e-9, "the impact period comes from the blows' times (40 ms)")
+
+with tempfile.TemporaryDirectory() as tmp:
+    def run_of(cond, scene):
+        d = pathlib.Path(tmp) / cond / "tlm10"
+        d.mkdir(parents=True, exist_ok=True)
+        with h5py.File(d / "fe.h5", "w") as f:
+            f.attrs["port_table"] = np.bytes_(f"/somewhere/scenes/{scene}/ports.cfg")
+        return pathlib.Path(tmp) / cond
+    a, b = run_of("150bar_6.0mm", "hammer_rig"), run_of("150bar_5.4mm", "hammer_rig")
+    check(h.scene_of([a, b]) == "hammer_rig", "the scene is the runs' own")
+    c = run_of("100bar_6.0mm", "hammer_elastic")
+    for conds, what in (([a, c], "runs of two scenes"), ([run_of("100bar_5.4mm", "my_hammer")], "an unknown scene")):
+        try:
+            h.scene_of(conds)
+            check(False, f"refused: {what}")
+        except SystemExit as e:
+            check("expected one of" in str(e), f"refused: {what}: {e}")
 sys.exit(1 if failures else 0)

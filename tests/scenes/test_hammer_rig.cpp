@@ -7,6 +7,7 @@
 // the report's 0.3 s settle), so the figures are what the scene reports.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -31,10 +32,21 @@ struct Case {
   double q_measured;    // l/min, thesis Table 2
 };
 
+// The rig's measured flows, thesis Table 2 (the committed
+// scenes/hammer_monolithic/thesis_table2.csv: "c11, 80" rows), by case.
+std::map<std::string, double> table2_flows() {
+  std::ifstream in(PCS_SCENES_DIR "/hammer_monolithic/thesis_table2.csv");
+  std::map<std::string, double> flows;
+  for (std::string line; std::getline(in, line);)
+    if (line.size() > 1 && line[0] == 'c' && std::isdigit(static_cast<unsigned char>(line[1])))
+      flows[line.substr(1, line.find(',') - 1)] = std::stod(line.substr(line.find(',') + 1));
+  return flows;
+}
+
 // The scene's conditions (scenes/hammer_rig/conditions.csv: case, bar, mm,
 // relief.p_crack, restrictor.A) with the rig's measured flows.
 std::vector<Case> read_cases() {
-  const std::map<std::string, double> measured = {{"11", 80.0}, {"12", 66.0}, {"21", 59.0}, {"22", 50.0}};
+  const std::map<std::string, double> measured = table2_flows();
   std::ifstream in(PCS_SCENES_DIR "/hammer_rig/conditions.csv");
   std::vector<Case> cases;
   for (std::string line; std::getline(in, line);) {

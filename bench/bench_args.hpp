@@ -33,4 +33,14 @@ inline double positive_arg(int argc, char** argv, int i, double fallback, const 
   return v;
 }
 
+// Argument i as a whole number of at least 1 (a count), or `fallback`.
+inline int count_arg(int argc, char** argv, int i, int fallback, const char* what, const char* usage) {
+  const double v = positive_arg(argc, argv, i, fallback, what, usage);
+  if (v != std::floor(v) || v > 1e9) {
+    std::fprintf(stderr, "%s: argument %d '%s': %s must be a whole number\n%s\n", argv[0], i, argv[i], what, usage);
+    std::exit(2);
+  }
+  return static_cast<int>(v);
+}
+
 }  // namespace bench

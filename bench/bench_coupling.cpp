@@ -151,7 +151,7 @@ double fmu_step(int steps) {
 int main(int argc, char** argv) {
   const char* usage = "usage: bench_coupling [ROUND_TRIPS]   loopback exchanges per kind (default 20000)";
   bench::help_or_nothing(argc, argv, usage);
-  const int steps = static_cast<int>(bench::positive_arg(argc, argv, 1, 20000, "ROUND_TRIPS", usage));
+  const int steps = bench::count_arg(argc, argv, 1, 20000, "ROUND_TRIPS", usage);
   double a = plain_tcp(steps), b = framed(steps), c = fmu_step(steps);
   std::printf("coupling exchange on loopback, %d round trips each, one run:\n", steps);
   std::printf("  plain TCP ping-pong (blocking)   %8.2f us   1.00\n", a * 1e6);

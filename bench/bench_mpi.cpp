@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
   fe::Domain::init(&argc, &argv);
   const fe::Domain& d = fe::Domain::world();
   const double h = bench::positive_arg(argc, argv, 1, 1.5, "H_MM (element size in mm)", usage) * 1e-3;
-  const int steps = static_cast<int>(bench::positive_arg(argc, argv, 2, 200, "STEPS (timed steps)", usage));
+  const int steps = bench::count_arg(argc, argv, 2, 200, "STEPS (timed steps)", usage);
   // Ø20 mm piston 50 mm long on a tool 250 mm long, contact between them.
   const fe::Model m = fe::parse_deck(fe_test::bar_impact_deck(0.05, 0.25, 0.01, h, 8.0, fe_test::kE), "impact.k");
   const double dt = 0.9 * fe::Solver::stable_dt(m).dt;

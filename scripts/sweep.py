@@ -155,14 +155,24 @@ def relief_settings(model, pressures):
     table = model.parent / "conditions.csv"
     if not table.exists():
         return {p: p * 1e5 for p in pressures}
-    rows = [line.split(",") for line in table.read_text().splitlines()
-            if line.strip() and not line.startswith("#") and not line.startswith("case")]
+    rows = []
+    for n, line in enumerate(table.read_text().splitlines(), 1):
+        if not line.strip() or line.startswith("#") or line.startswith("case"):
+            continue
+        cells = line.split(",")
+        try:
+            bar, crack = float(cells[1]), float(cells[3])
+        except (IndexError, ValueError):
+            raise InputError(f"{table}:{n}: expected 'case, bar, mm, relief.p_crack, restrictor.A', got '{line}'")
+        if not (math.isfinite(bar) and math.isfinite(crack) and crack > 0):
+            raise InputError(f"{table}:{n}: the pressure and the relief setting must be finite, the setting positive")
+        rows.append((bar, crack))
     out = {}
     for p in pressures:
-        vals = [float(r[3]) for r in rows if float(r[1]) == p]
+        vals = [crack for bar, crack in rows if bar == p]
         if not vals:
             raise InputError(f"{table}: no calibrated relief setting for {p:g} bar (its pressures: "
-                             f"{sorted({float(r[1]) for r in rows})}); sweep at those or recalibrate")
+                             f"{sorted({bar for bar, _ in rows})}); sweep at those or recalibrate")
         out[p] = sum(vals) / len(vals)
     return out
 

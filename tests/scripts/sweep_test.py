@@ -96,4 +96,12 @@ except sweep_module.InputError as e:
     check("no calibrated relief setting for 120 bar" in str(e), f"a pressure without a calibrated setting is refused: {e}")
 check(sweep_module.relief_settings(pathlib.Path(model), [150.0]) == {150.0: 150e5},
       "without conditions.csv the relief cracks at the operating pressure")
+bad_dir = work / "bad_conditions"
+bad_dir.mkdir(exist_ok=True)
+(bad_dir / "conditions.csv").write_text("case, bar, mm, relief.p_crack, restrictor.A\n11, 150, 6.0, abc, 2.827e-5\n")
+try:
+    sweep_module.relief_settings(bad_dir / "model.tlm", [150.0])
+    check(False, "a malformed conditions.csv is refused")
+except sweep_module.InputError as e:
+    check("conditions.csv:2:" in str(e), f"a malformed conditions.csv is refused at its line: {e}")
 sys.exit(1 if failures else 0)

@@ -16,13 +16,7 @@ cd "${PCS_BUILD_DIR:-$root/build}"
 exclude=()
 if [ "${PCS_SANITIZE:-0}" = 1 ]; then
   # Long physical runs with a shorter twin in this suite (tests/sanitizer_skip.txt says which and why).
-  names=$(grep -v '^#' "$root/tests/sanitizer_skip.txt" | awk 'NF {print $1}' | paste -sd '|')
-  if [ -n "$names" ]; then
-    exclude=(--exclude-regex "^($names)\$")
-    listed=$(echo "$names" | tr '|' '\n' | wc -l)
-    found=$(ctest -N --tests-regex "^($names)\$" | grep -c 'Test *#' || true)
-    [ "$found" = "$listed" ] ||
-      { echo "test.sh: tests/sanitizer_skip.txt names $listed tests, ctest has $found of them: correct the list" >&2; exit 1; }
-  fi
+  regex=$("$root/scripts/skip_regex.sh" "$root/tests/sanitizer_skip.txt")
+  [ -z "$regex" ] || exclude=(--exclude-regex "$regex")
 fi
 ctest --output-on-failure --parallel "$(nproc)" "${exclude[@]}"

@@ -110,6 +110,33 @@ TEST(HammerRig, FlowFollowsTheRestrictorAndThePressureAsOnTheRig) {
   EXPECT_LE(p60, 0.79);
 }
 
+// The report refuses an inlet flow read away from the inlet pressure's node:
+// the scene's first version named the return restrictor (5–7 % low, exit 0).
+TEST(HammerRig, AnInletFlowAwayFromTheInletNodeIsRefusedAtItsLine) {
+  std::ifstream in(PCS_SCENES_DIR "/hammer_rig/model.tlm");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string model = text.str();
+  const std::string right = "inlet_q,  components/fit_P/q";
+  ASSERT_NE(model.find(right), std::string::npos);
+  EXPECT_NO_THROW({
+    tlm::ModelSpec ok = tlm::read_model(PCS_SCENES_DIR "/hammer_rig/model.tlm");
+    tlm::report_settings(ok);
+  });
+  model.replace(model.find(right), right.size(), "inlet_q,  components/restrictor/q");
+  testing_support::TempDir dir;
+  std::ofstream(dir.file("model.tlm")) << model;
+  tlm::ModelSpec spec = tlm::read_model(dir.file("model.tlm"));
+  try {
+    tlm::report_settings(spec);
+    ADD_FAILURE() << "the return restrictor's flow was taken as the inlet flow";
+  } catch (const config::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("model.tlm:"), std::string::npos) << what;  // file:line
+    EXPECT_NE(what.find("not the flow at the inlet node supply_hose.P2"), std::string::npos) << what;
+  }
+}
+
 // The reworked hammer co-simulated (deck.k, model_elastic.tlm, ports.cfg of
 // scenes/hammer_rig) over its first three blows, case 11, against the
 // monolithic model of the same circuit: the start-up follows it, the blows'

@@ -695,6 +695,28 @@ ReportSettings report_settings(ModelSpec& spec) {
     else if (key == "v_blow") s.v_blow = c.real(1, "v_blow");
     else c.fail("unknown report key '" + c.fields[0] + "': expected piston, inlet_p, inlet_q, peak, settle, lowpass or v_blow");
   }
+  // The inlet flow must be the flow at the inlet pressure's node: a
+  // component with a port connected there. A flow read elsewhere (the rig
+  // scene's first version read a return restrictor's, 5–7 % below the
+  // hammer's inlet flow) gives a wrong input power with no error.
+  const std::string node_prefix = "nodes/", comp_prefix = "components/";
+  auto ends = [](const std::string& a, const std::string& b) {
+    return a.size() > b.size() && a.compare(a.size() - b.size(), b.size(), b) == 0;
+  };
+  if (s.inlet_p.rfind(node_prefix, 0) == 0 && ends(s.inlet_p, "/p") && s.inlet_q.rfind(comp_prefix, 0) == 0 &&
+      ends(s.inlet_q, "/q")) {
+    const std::string node = s.inlet_p.substr(node_prefix.size(), s.inlet_p.size() - node_prefix.size() - 2);
+    const std::string comp = s.inlet_q.substr(comp_prefix.size(), s.inlet_q.size() - comp_prefix.size() - 2) + ".";
+    bool adjacent = false;
+    for (const ConnectionSpec& c : spec.connections)
+      adjacent |= (c.a == node && c.b.rfind(comp, 0) == 0) || (c.b == node && c.a.rfind(comp, 0) == 0);
+    if (!adjacent)
+      for (const auto& c : spec.report)
+        if (config::to_lower(c.field(0, "key")) == "inlet_q")
+          throw config::InputError(c.where, "*REPORT inlet_q: " + s.inlet_q + " is not the flow at the inlet node " +
+                                                node + " (inlet_p): no port of '" + comp.substr(0, comp.size() - 1) +
+                                                "' is connected there; name the component that feeds that node");
+  }
   ComponentSpec* piston = spec.find(s.piston);
   if (!piston && !spec.report.empty())
     throw config::InputError(spec.report.front().where, "*REPORT: no component named '" + s.piston + "'");

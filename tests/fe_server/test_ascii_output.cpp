@@ -258,3 +258,44 @@ TEST(AsciiOutput, EloutWithoutHistorySolidsIsNotWrittenAndSaysWhy) {
   EXPECT_GE(te.size(), 10u) << "the bar's history still at ELOUT's DT (1e-7 s, every " << dt << " s step or two)";
   fs::remove_all(dir);
 }
+
+// BINARY on a *DATABASE_ card as LS-DYNA reads it: 1 or blank the ASCII
+// file, 2 the binary database only (LS-DYNA's binout; here the HDF5 history,
+// always written), 3 both. A scene that wants its energies at a fine DT for
+// post-processing but not 800 bytes of ASCII per row asks BINARY 2 (the rig
+// scene's glstat was 39 MB per simulated second). Any other value is refused
+// at its line: a deck meant for another solver's flags must not pass.
+TEST(AsciiOutput, BinaryTwoWritesTheHistoryOnlyAndThreeBoth) {
+  const fs::path dir = fs::temp_directory_path() / ("pcs_binary_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string bar =
+      "*KEYWORD\n*NODE\n1,0,0,0\n2,0,0,0.1\n*PART\nbar\n1,1,1\n*SECTION_BEAM\n1,3\n1e-4\n"
+      "*MAT_ELASTIC\n1,7850,2.1e11,0.0\n*ELEMENT_BEAM\n1,1,1,2\n*INITIAL_VELOCITY_NODE\n2,0,0,1\n"
+      "*DATABASE_HISTORY_NODE\n2\n";
+  const fe::Model m =
+      fe::parse_deck(bar + "*DATABASE_GLSTAT\n1e-7,2\n*DATABASE_NODOUT\n1e-7,3\n*DATABASE_RCFORC\n1e-7\n", "binary.k");
+  EXPECT_EQ(m.ascii_dt.count("glstat"), 0u) << "BINARY 2: no ASCII glstat";
+  EXPECT_EQ(m.ascii_dt.count("nodout"), 1u) << "BINARY 3: the ASCII nodout too";
+  EXPECT_EQ(m.ascii_dt.count("rcforc"), 1u) << "BINARY blank: ASCII, LS-DYNA's default";
+  EXPECT_DOUBLE_EQ(m.history_dt_global, 1e-7) << "GLSTAT's DT still sets the HDF5 history's rate";
+  const double dt = 0.5 * fe::Solver::stable_dt(m).dt;
+  {
+    fe::Solver s(m, dt);
+    fe::History h((dir / "fe.h5").string(), m, nullptr, dt, dt);
+    for (int k = 0; k < 20; ++k) {
+      s.step();
+      h.record(s, {}, {});
+    }
+  }
+  EXPECT_FALSE(fs::exists(dir / "glstat"));
+  EXPECT_TRUE(fs::exists(dir / "nodout"));
+  EXPECT_GE(h5io::read_series((dir / "fe.h5").string(), "energy/kinetic").size(), 10u)
+      << "the energies are in the HDF5 at GLSTAT's DT";
+  fs::remove_all(dir);
+  try {
+    fe::parse_deck(bar + "*DATABASE_GLSTAT\n1e-7,4\n", "binary.k");
+    ADD_FAILURE() << "BINARY 4 was accepted";
+  } catch (const config::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("binary.k:20: BINARY must be 1"), std::string::npos) << e.what();
+  }
+}

@@ -5,6 +5,7 @@
 #include <csignal>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,8 @@ int usage(std::ostream& os, int rc) {
         "  --set C.P=VALUE     override parameter P of component C (repeatable);\n"
         "                      simulation.timestep / stoptime / log_every too\n"
         "  --csv FILE          also write every logged series as CSV\n"
+        "  --log A,B,...       write only these series or groups (nodes/cavA.P2/p, components/mech),\n"
+        "                      the time and what the *REPORT reads; replaces the model's *LOG\n"
         "  --report FILE       write the percussion report (model's *REPORT block) to FILE\n"
         "                      (JSON in SI units when FILE ends in .json)\n"
         "  --checkpoint FILE   checkpoint here (default: the results file with .ckpt for .h5) at a stop\n"
@@ -48,7 +51,7 @@ int usage(std::ostream& os, int rc) {
 int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
   config::install_stop_handlers();
-  std::string model_path, fmu, server, token, out = "results.h5", report_path, csv_path;
+  std::string model_path, fmu, server, token, out = "results.h5", report_path, csv_path, log_list;
   std::vector<std::string> overrides;
   bool quiet = false;
   tlm::System::Checkpointing ck;
@@ -68,6 +71,7 @@ int main(int argc, char** argv) {
       else if (args.is("--quiet")) quiet = true;
       else if (args.is("--report")) report_path = args.value();
       else if (args.is("--csv")) csv_path = args.value();
+      else if (args.is("--log")) log_list = args.value();
       else if (args.is("--checkpoint")) ck.path = args.value();
       else if (args.is("--checkpoint-every")) ck.every_s = 60.0 * args.real(1e-3, 1e6);
       else if (args.is("--restart")) ck.restart = args.value();
@@ -113,6 +117,13 @@ int main(int argc, char** argv) {
       if (!token.empty()) c.params.set("token", token, cli);
     }
     for (const auto& o : overrides) spec.apply_override(o);
+    if (!log_list.empty()) {
+      if (hmf) throw std::invalid_argument("--log: a Hopsan model's results keep Hopsan's layout; --log is for model files");
+      spec.log_only.clear();
+      std::stringstream list(log_list);
+      for (std::string f; std::getline(list, f, ',');)
+        if (!config::trim(f).empty()) spec.log_only.emplace_back(config::trim(f), config::SourceLocation{"--log", 0});
+    }
     want_report = !spec.report.empty();
     if (want_report) report = tlm::report_settings(spec);
     system = std::make_unique<tlm::System>(std::move(spec));

@@ -115,10 +115,15 @@ ModelSpec parse_model(const std::string& text, const std::string& name) {
       }
     } else if (b.keyword == "*REPORT") {
       m.report.insert(m.report.end(), b.cards.begin(), b.cards.end());
+    } else if (b.keyword == "*LOG") {
+      // One or more series or groups per card (System::run checks each).
+      for (const auto& c : b.cards)
+        for (const std::string& f : c.fields)
+          if (!f.empty()) m.log_only.emplace_back(f, c.where);
     } else if (b.keyword == "*CONNECT") {
       for (const auto& c : b.cards) m.connections.push_back({c.field(0, "port"), c.field(1, "port"), c.where});
     } else {
-      b.fail("unknown keyword '" + b.keyword + "': expected *SIMULATION, *COMPONENT, *CONNECT or *REPORT");
+      b.fail("unknown keyword '" + b.keyword + "': expected *SIMULATION, *COMPONENT, *CONNECT, *REPORT or *LOG");
     }
   }
   m.simulation_where = config::SourceLocation{name, 1};
@@ -230,6 +235,10 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
     node_lo_.push_back(port ? lowest_port_pressure_ : -inf);
     node_hi_.push_back(n->mechanical || highest_pressure_ >= 1e300 ? inf : highest_pressure_);
   }
+  if (!spec_.log_only.empty()) {  // a *LOG entry that names nothing: refused now, not after the run began
+    const double t = 0.0;
+    logged_series(&t);
+  }
 }
 
 System::~System() = default;
@@ -299,6 +308,54 @@ std::string System::node_failure(const HydraulicNode& node, double lowest) const
          "is off by a unit (Pa, not bar)";
   }
   return s.str();
+}
+
+// Every series the model has, then those *LOG keeps (all without one); an
+// entry that names nothing is refused at its line, before any file is
+// written (the constructor checks with a placeholder time).
+std::vector<System::LoggedSeries> System::logged_series(const double* time) const {
+  std::vector<LoggedSeries> all{{"time", "s", time}};
+  for (const auto& n : nodes_) {
+    if (n->mechanical) {
+      all.push_back({"nodes/" + n->name + "/F", "N", &n->p});
+      all.push_back({"nodes/" + n->name + "/v", "m/s", &n->q});
+      all.push_back({"nodes/" + n->name + "/x", "m", &n->x});
+      continue;
+    }
+    all.push_back({"nodes/" + n->name + "/p", "Pa", &n->p});
+    all.push_back({"nodes/" + n->name + "/q", "m3/s", &n->q});
+  }
+  for (auto& c : components_) {
+    std::vector<LogVariable> vars;
+    c->log_variables(vars);
+    for (const auto& v : vars) all.push_back({"components/" + c->name() + "/" + v.name, v.unit, v.value});
+  }
+  std::vector<bool> kept(all.size(), spec_.log_only.empty());
+  kept[0] = true;  // the time
+  for (const auto& [entry, where] : spec_.log_only) {
+    bool found = false;
+    for (size_t i = 0; i < all.size(); ++i) {
+      const std::string& n = all[i].name;
+      if (n == entry || (n.size() > entry.size() && n.compare(0, entry.size(), entry) == 0 && n[entry.size()] == '/'))
+        kept[i] = found = true;
+    }
+    if (found) continue;
+    // Name the group it was meant to be in, with what that group holds.
+    std::string group = entry.substr(0, entry.rfind('/') == std::string::npos ? 0 : entry.rfind('/')), here;
+    for (const LoggedSeries& x : all)
+      if (!group.empty() && x.name.compare(0, group.size() + 1, group + "/") == 0)
+        here += (here.empty() ? "" : ", ") + x.name.substr(group.size() + 1);
+    throw config::InputError(where, "*LOG: the model has no series or group '" + entry + "' (" +
+                                        (here.empty() ? "series are nodes/<node>/<p, q or F, v, x> and "
+                                                        "components/<component>/<variable>"
+                                                      : group + " holds " + here) +
+                                        ")");
+  }
+
+  std::vector<LoggedSeries> out;
+  for (size_t i = 0; i < all.size(); ++i)
+    if (kept[i]) out.push_back(all[i]);
+  return out;
 }
 
 Component* System::find(const std::string& name) {
@@ -464,34 +521,21 @@ void System::run(const std::string& out_path, bool progress) {
     for (auto& a : answers) a.get();
   }
 
+  double time = 0.0;
+  const std::vector<LoggedSeries> logged = logged_series(&time);
   h5io::TimeSeriesWriter out(out_path, 4096, 1.0, resume);
   out.set_attribute("producer", "tlm_host");
   out.set_attribute("model", spec_.source);
   out.set_attribute("timestep", dt);
+  if (!spec_.log_only.empty()) out.set_attribute("logged", "only the series *LOG (or --log) names and the report's");
   std::vector<const double*> sources;
   std::vector<std::string> names;
-  double time = 0.0;
   auto add = [&](const std::string& name, const std::string& unit, const double* value) {
     out.add_series(name, unit);
     names.push_back(name + " [" + unit + "]");
     sources.push_back(value);
   };
-  add("time", "s", &time);
-  for (const auto& n : nodes_) {
-    if (n->mechanical) {
-      add("nodes/" + n->name + "/F", "N", &n->p);
-      add("nodes/" + n->name + "/v", "m/s", &n->q);
-      add("nodes/" + n->name + "/x", "m", &n->x);
-      continue;
-    }
-    add("nodes/" + n->name + "/p", "Pa", &n->p);
-    add("nodes/" + n->name + "/q", "m3/s", &n->q);
-  }
-  for (auto& c : components_) {
-    std::vector<LogVariable> vars;
-    c->log_variables(vars);
-    for (const auto& v : vars) add("components/" + c->name() + "/" + v.name, v.unit, v.value);
-  }
+  for (const LoggedSeries& x : logged) add(x.name, x.unit, x.value);
   // The CSV's columns: ours, or a Hopsan model's in Hopsan's layout.
   std::vector<const double*> csv_sources = sources;
   std::vector<std::string> csv_header(1);
@@ -721,6 +765,14 @@ ReportSettings report_settings(ModelSpec& spec) {
   if (!piston && !spec.report.empty())
     throw config::InputError(spec.report.front().where, "*REPORT: no component named '" + s.piston + "'");
   if (piston) s.piston_mass = piston->params.real("m", 14.4);
+  // A results file cut down by *LOG still holds what the report reads.
+  if (!spec.log_only.empty() && !spec.report.empty()) {
+    const config::SourceLocation where = spec.report.front().where;
+    for (const char* v : {"x", "v", "F_contact"}) spec.log_only.emplace_back("components/" + s.piston + "/" + v, where);
+    for (const std::string* n : {&s.inlet_p, &s.inlet_q})
+      if (!n->empty()) spec.log_only.emplace_back(*n, where);
+    for (const auto& peak : s.peaks) spec.log_only.emplace_back(peak.second, where);
+  }
   return s;
 }
 

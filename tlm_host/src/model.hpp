@@ -54,6 +54,10 @@ struct ModelSpec {
   bool hopsan_results = false;
   std::map<std::string, std::string> result_ports;  // "component.our port" → Hopsan's port name, where they differ
   std::set<std::string> unlogged_ports;             // "component.port": a Hopsan multiport's, which Hopsan does not log
+  // *LOG (or tlm_host --log): the series written to the results, each a
+  // series ("nodes/cavA.P2/p") or a group of them ("components/mech"); the
+  // time and what the *REPORT reads are always written. Empty: every series.
+  std::vector<std::pair<std::string, config::SourceLocation>> log_only;
 
   ComponentSpec* find(const std::string& name);
   const ComponentSpec* find(const std::string& name) const;
@@ -106,6 +110,11 @@ class System {
   long steps_done() const { return steps_done_; }
 
  private:
+  struct LoggedSeries {
+    std::string name, unit;
+    const double* value;
+  };
+  std::vector<LoggedSeries> logged_series(const double* time) const;
   ModelSpec spec_;
   std::vector<std::unique_ptr<Component>> components_;
   std::vector<std::unique_ptr<HydraulicNode>> nodes_;

@@ -267,7 +267,7 @@ struct Reader {
       {{"*CONTROL_HOURGLASS"}, &Reader::read_control_hourglass, "hourglass control (IHQ, QH)"},
       {{"*CONTROL_BULK_VISCOSITY"}, &Reader::read_control_bulk_viscosity, "bulk viscosity (Q1, Q2)"},
       {{"*DATABASE_BINARY_D3PLOT"}, &Reader::read_database_binary_d3plot, "field snapshots (written as XDMF/HDF5 for ParaView)"},
-      {{"*DATABASE_GLSTAT", "*DATABASE_RCFORC", "*DATABASE_NODOUT", "*DATABASE_ELOUT", "*DATABASE_SECFORC", "*DATABASE_MATSUM"}, &Reader::read_database_glstat, "ASCII outputs in LS-DYNA's formats and the history's intervals"},
+      {{"*DATABASE_GLSTAT", "*DATABASE_RCFORC", "*DATABASE_NODOUT", "*DATABASE_ELOUT", "*DATABASE_SECFORC", "*DATABASE_MATSUM"}, &Reader::read_database_glstat, "ASCII outputs in LS-DYNA's formats as BINARY asks (2: the HDF5 history only), and the history's intervals"},
       {{"*DATABASE_HISTORY_NODE"}, &Reader::read_database_history_node, "nodal histories"},
       {{"*DATABASE_HISTORY_SOLID"}, &Reader::read_database_history_solid, "solid element histories"},
       {{"*DATABASE_HISTORY_BEAM"}, &Reader::read_database_history_beam, "bar element histories"},
@@ -872,15 +872,21 @@ struct Reader {
   }
 
   void read_database_glstat(const Block& b, [[maybe_unused]] const std::string& kw) {
-    // Card 1: DT (BINARY, LCUR, IOOPT: LS-DYNA's file options, not used).
-    // The history file's rows at DT (output/history.hpp); DT at or below
-    // the FE step: every step. GLSTAT, MATSUM, RCFORC, NODOUT and ELOUT
-    // also write LS-DYNA's ASCII file of that name (output/ascii_output.hpp).
+    // Card 1: DT, BINARY (LCUR, IOOPT: not used). The history file's rows
+    // at DT (output/history.hpp); DT at or below the FE step: every step.
+    // GLSTAT, MATSUM, RCFORC, NODOUT and ELOUT also write LS-DYNA's ASCII
+    // file of that name (output/ascii_output.hpp) as BINARY asks: LS-DYNA's
+    // 1 (or blank) is the ASCII file, 2 its binary database only (binout;
+    // here the HDF5 history, which is always written), 3 both.
     if (b.cards.empty()) b.fail(kw + " needs its card with DT");
     Card c = fields_of(b.cards[0], kW10);
     const double dt = c.real(0, "DT");
     if (!(dt > 0.0)) c.fail("DT must be positive");
-    if (kw != "*DATABASE_SECFORC") {
+    const long binary = c.integer_or(1, "BINARY", 0);
+    if (binary < 0 || binary > 3)
+      c.fail("BINARY must be 1 (the ASCII file), 2 (the binary history only: fe_server's HDF5) or 3 (both), got " +
+             std::to_string(binary));
+    if (kw != "*DATABASE_SECFORC" && binary != 2) {
       double& ascii = m.ascii_dt[config::to_lower(kw.substr(10))];
       ascii = ascii > 0.0 ? std::min(ascii, dt) : dt;
     }

@@ -195,6 +195,22 @@ TEST(HammerRig, CoSimulatedFirstBlowsFollowTheMonolithicModelAndOneDimensionalWa
   EXPECT_NE(log.find("bound 1 %"), std::string::npos) << log;
   EXPECT_EQ(log.find("exceeds its bound"), std::string::npos) << log;
 
+  // The main job's output per simulated second and condition (issue 39's
+  // bound: 50 MB): fe.h5's rows at the deck's rates, and the host's series
+  // (model_elastic.tlm's *LOG and the report's) at the main job's 20 us
+  // rows (this test writes them every 10 us). 40 MB for these two leaves 10
+  // for the reference, which the main job writes at 6. Rows, not file
+  // sizes: HDF5 keeps each series' last chunk (4096 rows) whole, a fixed
+  // few MB that a run of 0.19 s would count 8 times over.
+  double fe_rows = 0.0;
+  for (const auto& [name, rows] : h5io::list_series(dir.file("fe.h5"))) fe_rows += 8.0 * static_cast<double>(rows);
+  const double host_series = static_cast<double>(h5io::list_series(dir.file("host.h5")).size());
+  const double per_second = fe_rows / kStop + host_series * 8.0 / 20e-6;
+  std::printf("output per simulated second: fe.h5 %.1f MB, host.h5 %.1f MB (%g series at 20 us)\n", fe_rows / kStop / 1e6,
+              host_series * 8.0 / 20e-6 / 1e6, host_series);
+  EXPECT_LT(per_second, 40e6);
+  EXPECT_LT(host_series, 40.0) << "model_elastic.tlm's *LOG keeps the host's results to what the main job reads";
+
   std::vector<double> tc, vc, tr, vr;
   impacts(h5io::read_series(dir.file("host.h5"), "time"), h5io::read_series(dir.file("host.h5"), "components/mech/x"),
           h5io::read_series(dir.file("host.h5"), "components/mech/v"), tc, vc);

@@ -11,6 +11,7 @@
 #include "components/HydraulicTurbulentOrificeQ.hpp"
 #include "components/rigid_body.hpp"
 #include "fmu_importer.hpp"
+#include "h5io/timeseries.hpp"
 #include "model.hpp"
 #include "process.hpp"
 
@@ -246,4 +247,68 @@ TEST(FmuImporter, ReadsTheGeneratedModelDescriptionAndCleansUp) {
     EXPECT_EQ(md.find("server.host")->type, "String");
   }
   EXPECT_FALSE(std::ifstream(dir + "/modelDescription.xml").good()) << "the temporary folder must be removed";
+}
+
+// *LOG (or --log) keeps the results to what a study reads: the rig scene's
+// host wrote 168 series at 20 us, 67 MB per simulated second, where its
+// reports and plots read a dozen. A series or a group is kept, the time and
+// the *REPORT's series always (a report on a file without them would fail
+// after the run); an entry that names nothing is refused at its line with
+// what its group holds, before the results file is created.
+TEST(ModelFile, LogKeepsTheNamedSeriesTheTimeAndTheReportsAndRefusesAnUnknownOne) {
+  testing_support::TempDir dir;
+  const std::string model =
+      "*SIMULATION\ntimestep, 1e-5\nstoptime, 1e-3\n*COMPONENT\n"
+      "src, PressureSourceC, p=1e7\norifice, HydraulicTurbulentOrificeQ, Cd=0.7, A=1e-6\n"
+      "vol, HydraulicVolumeC, V=1e-4, ports=2\nleak, LaminarOrificeQ, Kc=1e-12\ntank, PressureSourceC, p=1e5\n"
+      "*CONNECT\nsrc.P1, orifice.P1\norifice.P2, vol.P1\nvol.P2, leak.P1\nleak.P2, tank.P1\n";
+  auto series_of = [](const std::string& h5) {
+    std::vector<std::string> names;
+    for (const auto& [name, rows] : h5io::list_series(h5)) names.push_back(name);
+    return names;
+  };
+  {
+    tlm::System all(tlm::read_model(write_model(dir, model)));
+    all.run(dir.file("all.h5"), false);
+  }
+  tlm::ModelSpec spec = tlm::read_model(write_model(dir, model + "*LOG\ncomponents/vol, nodes/vol.P1/p\n"));
+  ASSERT_EQ(spec.log_only.size(), 2u);
+  EXPECT_EQ(spec.log_only[1].second.line, 16) << "each entry keeps its line";
+  {
+    tlm::System some(std::move(spec));
+    some.run(dir.file("some.h5"), false);
+  }
+  const std::vector<std::string> every = series_of(dir.file("all.h5")), kept = series_of(dir.file("some.h5"));
+  std::vector<std::string> expected;
+  for (const std::string& n : every)
+    if (n == "time" || n == "nodes/vol.P1/p" || n.rfind("components/vol/", 0) == 0) expected.push_back(n);
+  EXPECT_GT(every.size(), expected.size() + 4) << "the full file has the other nodes and components too";
+  EXPECT_GE(expected.size(), 4u);
+  EXPECT_EQ(kept, expected);
+  EXPECT_EQ(h5io::read_series(dir.file("some.h5"), "nodes/vol.P1/p"), h5io::read_series(dir.file("all.h5"), "nodes/vol.P1/p"))
+      << "a kept series is the same series";
+
+  // A report's series are kept whatever *LOG says.
+  tlm::ModelSpec reported;
+  reported.log_only.emplace_back("nodes/vol.P1/p", config::SourceLocation{"m.tlm", 3});
+  reported.report = tlm::parse_model("*REPORT\npiston, vol\ninlet_p, nodes/src.P1/p\npeak, p_v, nodes/vol.P2/p\n"
+                                     "*SIMULATION\ntimestep, 1e-5\nstoptime, 1e-3\n*COMPONENT\nvol, HydraulicVolumeC\n",
+                                     "r.tlm").report;
+  reported.components.push_back({});
+  reported.components.back().name = "vol";
+  tlm::report_settings(reported);
+  std::vector<std::string> logged;
+  for (const auto& [entry, where] : reported.log_only) logged.push_back(entry);
+  for (const char* n : {"components/vol/x", "components/vol/v", "components/vol/F_contact", "nodes/src.P1/p", "nodes/vol.P2/p"})
+    EXPECT_NE(std::find(logged.begin(), logged.end(), n), logged.end()) << n;
+
+  try {
+    tlm::System bad(tlm::read_model(write_model(dir, model + "*LOG\ncomponents/vol, components/vol/pressure\n")));
+    ADD_FAILURE() << "an unknown series was accepted";
+  } catch (const config::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("model.tlm:16: *LOG: the model has no series or group 'components/vol/pressure' (components/vol holds "),
+              std::string::npos) << what;
+    EXPECT_NE(what.find("V_void"), std::string::npos) << what;
+  }
 }

@@ -430,7 +430,7 @@ HARD_CASES = {
     "Stops.AStartPressureAboveTheSupplyIsASourceNotABlowUp": "a line starting at 500 bar in a 10 bar circuit runs (exit 0)",
     "Stops.ADeckWhoseUnitsDoNotFitTogetherIsRefusedNamingThePart": "E in MPa with RO in kg/m³; mm–t materials on a metre mesh: exit 3 naming the part",
     "Stops.APortTableWhoseScalesDoNotConvertToTheDecksUnitsIsRefused": "scale 1 for a deck in MPa: exit 3 naming the variable and 1e-6",
-    "HardCase.ATinyChamberMakingTheFluidStiffAgainstThePistonIsForetoldAndStopsWithADiagnostic": "pressure coupling at ω·T = 1.7: foretold, stopped at the port (exit 4 / 7)",
+    "HardCase.ATinyChamberMakingTheFluidStiffAgainstThePistonIsRefusedBeforeItsFirstStep": "pressure coupling at ω·T = 1.7: refused at coupling step 0 (exit 3); waived, stopped at the port (exit 4 / 7)",
     "HardCase.ATinyChamberUnderTlmCouplingIsRefusedOrStoppedAtItsPort": "TLM at ω·T = 1.7 waived: host stops at −133 bar (exit 4)",
     "HardCase.AFlatteningSolidRunsToItsEndWithTheStepFollowingItsShrinkingLimit": "a flattening hex to 67 % of its height: runs to its end, the step shrinking to 0.73 of the start's, σ = −p and ln(L/L0) = −p/E within 1 %",
     "HardCase.ANonFiniteLoadStopsTheStepNamingTheNode": "a NaN load: stop at the step, the node named",

@@ -255,6 +255,14 @@ PortTable parse_port_table(const std::string& text, const std::string& name) {
       throw InputError(p.where, "hydraulic port '" + p.label + "' in " + to_string(t.mode) +
                                     " mode must send " +
                                     (t.mode == CouplingMode::Pressure ? "pressure" : "wave and impedance"));
+    // Pressure mode may also send the host's impedance Zc: fe_server then
+    // refuses a coupling step beyond pressure coupling's stability limit
+    // before the first FE step (the port stays pressure-coupled). A wave
+    // there would be a TLM port in a pressure-mode table.
+    if (t.mode == CouplingMode::Pressure && has(t.to_fe, p.id, Quantity::Wave))
+      throw InputError(p.where, "hydraulic port '" + p.label + "' in pressure mode sends a wave: the wave and "
+                                    "impedance pair is TLM coupling (mode tlm); pressure mode sends pressure, and "
+                                    "impedance only for fe_server's stability check");
     if (!has(t.to_host, p.id, Quantity::Flow))
       throw InputError(p.where, "hydraulic port '" + p.label + "' must receive flow");
   }
@@ -280,8 +288,12 @@ std::vector<FmuVariable> fmu_variables(const PortTable& t) {
   unsigned vr = 0;
   for (size_t i = 0; i < t.to_fe.size(); ++i) {
     const auto& v = t.to_fe[i];
+    const bool check_only = t.mode == CouplingMode::Pressure && v.quantity == Quantity::Impedance;
     out.push_back({v.name(), vr++, FmuCausality::Input, FmuType::Real, "0", unit(v.quantity),
-                   std::string(long_name(v.quantity)) + " sent to the FE model at port " + v.port_label,
+                   check_only ? "the host's chamber impedance at port " + v.port_label +
+                                    " (Zc = beta*T/V), for the FE side's stability check of pressure coupling; 0: "
+                                    "not checked"
+                              : std::string(long_name(v.quantity)) + " sent to the FE model at port " + v.port_label,
                    static_cast<int>(i)});
   }
   for (size_t i = 0; i < t.to_host.size(); ++i) {

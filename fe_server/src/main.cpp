@@ -84,7 +84,9 @@ int usage(std::ostream& os, int rc) {
         "                        each listed in the log and the results' attribute approximations;\n"
         "                        without it such a deck is refused (exit 3) saying what it would become\n"
         "  --allow-coarse-coupling  run TLM ports whose omega*T exceeds 0.71 (a frequency error above\n"
-        "                        10 % by fe_server's estimate; otherwise refused at step 0, exit 3)\n"
+        "                        10 % by fe_server's estimate), and pressure ports whose table sends the\n"
+        "                        host's impedance beyond omega*T = 1 (unstable); otherwise refused at\n"
+        "                        step 0, exit 3\n"
         "Exit codes: 0 ok, 2 usage, 3 input rejected, 4 no host (every connection refused or none came),\n"
         "            6 link lost, 7 host aborted, 8 non-finite values, 9 internal error,\n"
         "            10 the host ended the session after a checkpoint (--restart continues),\n"
@@ -499,7 +501,10 @@ int run_main(int argc, char** argv) {
     }
     if (accept_energy_error) model.run_attributes["accept_energy_error"] = "yes: the energy check was waived";
     if (allow_coarse_coupling)
-      model.run_attributes["allow_coarse_coupling"] = "yes: TLM ports may exceed omega*T = " + std::to_string(fe::max_tlm_omega_t());
+      model.run_attributes["allow_coarse_coupling"] = "yes: TLM ports may exceed omega*T = " +
+                                                      std::to_string(fe::max_tlm_omega_t()) +
+                                                      ", pressure ports omega*T = " +
+                                                      std::to_string(fe::kMaxPressureOmegaT);
     if (dom.parallel()) check_for_ranks(ck);
     // In a session the host decides when to checkpoint: always ready (on one rank).
     if (!ports_paths.empty() && ck.path.empty() && !dom.parallel()) ck.path = default_checkpoint_path(out);

@@ -116,3 +116,22 @@ TEST(PortTable, ANegativeScaleIsRefusedAtItsLine) {
     EXPECT_NE(std::string(e.what()).find("is negative"), std::string::npos) << e.what();
   }
 }
+
+// Pressure mode may send the host's impedance for fe_server's stability
+// check (the port stays pressure-coupled: its FMU input says what it is for);
+// a wave there would be half a TLM port in a pressure table and is refused.
+TEST(PortTable, APressurePortMaySendItsImpedanceForTheCheckButNotAWave) {
+  const std::string t = kTable;
+  const std::string with_zc = std::string(t).replace(t.find("2, force, 0.25"), 14, "2, force, 0.25\n1, impedance");
+  auto table = parse_port_table(with_zc, "ports.cfg");
+  EXPECT_EQ(table.mode, config::CouplingMode::Pressure);
+  bool described = false;
+  for (const auto& v : config::fmu_variables(table))
+    if (v.name == "cavA.Zc")
+      described = v.causality == config::FmuCausality::Input &&
+                  v.description.find("stability check of pressure coupling") != std::string::npos;
+  EXPECT_TRUE(described) << "cavA.Zc is the FMU's input for the check";
+  const std::string with_wave = std::string(t).replace(t.find("2, force, 0.25"), 14, "2, force, 0.25\n1, wave");
+  EXPECT_NE(error_of(with_wave).find("ports.cfg:7: hydraulic port 'cavA' in pressure mode sends a wave"), std::string::npos)
+      << error_of(with_wave);
+}

@@ -123,36 +123,68 @@ TEST(HardCase, CavitationInCavityAIsHeldAtVapourPressureAndTheHammerKeepsCycling
 
 // A tiny chamber (0.01 cm³) under the one-DOF piston: ω·T = 1.7 at the
 // 10 µs coupling step, beyond what a held pressure can follow (the
-// added-mass-like case of partitioned coupling). The run must not pass
-// silently: fe_server prints before the run the smallest stable chamber
-// (0.028 cm³, above this one), and when the loop diverges it stops naming
-// the step, and the host stops naming the same step with its results kept.
-TEST(HardCase, ATinyChamberMakingTheFluidStiffAgainstThePistonIsForetoldAndStopsWithADiagnostic) {
-  testing_support::TempDir dir;
+// added-mass-like case of partitioned coupling). fe_server prints before the
+// run the smallest stable chamber (0.028 cm³, above this one). Its port
+// table with the line `1, impedance` sends the host's Zc, so fe_server
+// refuses the port at coupling step 0, before any FE step, with ω·T and the
+// fixes (exit 3), and the host stops at step 0 with its message. Waived
+// (--allow-coarse-coupling), the loop diverges and the host's port guard
+// stops it naming node and step. (The one-DOF scene's own table stays
+// without the line: the protocol tests' peers are written for its layout.)
+TEST(HardCase, ATinyChamberMakingTheFluidStiffAgainstThePistonIsRefusedBeforeItsFirstStep) {
   const std::string scene = PCS_SCENES_DIR "/one_dof";
-  testing_support::ChildProcess server({PCS_FE_SERVER_EXE, "--model", scene + "/piston.k", "--ports",
-                                        scene + "/ports.cfg", "--listen", "127.0.0.1:0", "--port-file",
-                                        dir.file("port"), "--out", dir.file("fe.h5"), "--accept-timeout", "20"});
-  const int port = testing_support::read_port_file(dir.file("port"), 10.0);
-  ASSERT_GT(port, 0) << server.output();
-  testing_support::ChildProcess host({PCS_TLM_HOST_EXE, scene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server",
-                                      "127.0.0.1:" + std::to_string(port), "--out", dir.file("host.h5"), "--quiet",
-                                      "--set", "chamber.V=1e-8", "--set", "simulation.stoptime=0.02"});
-  EXPECT_NE(host.wait(60.0), 0);
-  EXPECT_NE(server.wait(30.0), 0);
-  const std::string fe = server.output(), h = host.output();
-  EXPECT_NE(fe.find("needs a chamber of at least 0.028 cm³"), std::string::npos) << fe;
-  // The host's run-quality guard stops it at the FMU's port, whose pressure
-  // swings far below −1 bar absolute (−133 bar by the first steps), naming
-  // node and step; fe_server is told and ends. (Before the guard fe_server
-  // found the state non-finite some steps later.)
-  EXPECT_NE(h.find("the pressure at the FMU's port node chamber.P2 is "), std::string::npos) << h;
-  EXPECT_NE(h.find("at step "), std::string::npos) << h;
-  EXPECT_NE(fe.find("host aborted at step "), std::string::npos) << fe;
-  // What was written is kept, and it is finite.
-  const auto x = h5io::read_series(dir.file("host.h5"), "time");
-  EXPECT_GE(x.size(), 2u);  // the start and the steps before the stop
-  for (double v : h5io::read_series(dir.file("host.h5"), "nodes/chamber.P2/p")) ASSERT_TRUE(std::isfinite(v));
+  for (const bool waived : {false, true}) {
+    SCOPED_TRACE(waived ? "--allow-coarse-coupling" : "default");
+    testing_support::TempDir dir;
+    std::ifstream in(scene + "/ports.cfg");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string table = text.str();
+    const std::string send = "1,         pressure, 1.0\n";
+    ASSERT_NE(table.find(send), std::string::npos) << "the one-DOF port table's pressure line moved";
+    table.replace(table.find(send), send.size(), send + "1,         impedance\n");
+    std::ofstream(dir.file("ports.cfg")) << table;
+    testing_support::ChildProcess gen({PCS_FMUGEN_EXE, dir.file("ports.cfg"), "-o", dir.file("zc.fmu")});
+    ASSERT_EQ(gen.wait(30.0), 0) << gen.output();
+    std::vector<std::string> server_args{PCS_FE_SERVER_EXE, "--model", scene + "/piston.k", "--ports",
+                                         dir.file("ports.cfg"), "--listen", "127.0.0.1:0", "--port-file",
+                                         dir.file("port"), "--out", dir.file("fe.h5"), "--accept-timeout", "20"};
+    if (waived) server_args.push_back("--allow-coarse-coupling");
+    testing_support::ChildProcess server(server_args);
+    const int port = testing_support::read_port_file(dir.file("port"), 10.0);
+    ASSERT_GT(port, 0) << server.output();
+    testing_support::ChildProcess host({PCS_TLM_HOST_EXE, scene + "/model.tlm", "--fmu", dir.file("zc.fmu"), "--server",
+                                        "127.0.0.1:" + std::to_string(port), "--out", dir.file("host.h5"), "--quiet",
+                                        "--set", "chamber.V=1e-8", "--set", "simulation.stoptime=0.02"});
+    EXPECT_NE(host.wait(60.0), 0);
+    const int server_rc = server.wait(30.0);
+    const std::string fe = server.output(), h = host.output();
+    EXPECT_NE(fe.find("needs a chamber of at least 0.028 cm³"), std::string::npos) << fe;
+    if (!waived) {
+      EXPECT_EQ(server_rc, 3) << fe;
+      for (const std::string& out : {fe, h}) {
+        EXPECT_NE(out.find("at coupling step 0: pressure-coupled port cavity is beyond the stability limit of "
+                           "pressure coupling"),
+                  std::string::npos)
+            << out;
+        EXPECT_NE(out.find("ω·T = 1.67 at the coupling step 1e-05 s, above 1"), std::string::npos) << out;
+        EXPECT_NE(out.find("lower the coupling step to at most 5.98e-06 s"), std::string::npos) << out;
+      }
+      EXPECT_NE(h.find("at step 0 (t = 0 s)"), std::string::npos) << h;
+      EXPECT_EQ(h5io::read_series(dir.file("host.h5"), "time").size(), 1u) << "the start's row only: no step ran";
+      continue;
+    }
+    // Waived: the host's run-quality guard stops it at the FMU's port, whose
+    // pressure swings far below −1 bar absolute (−133 bar by the first
+    // steps), naming node and step; fe_server is told and ends.
+    EXPECT_NE(h.find("the pressure at the FMU's port node chamber.P2 is "), std::string::npos) << h;
+    EXPECT_NE(h.find("at step "), std::string::npos) << h;
+    EXPECT_NE(fe.find("host aborted at step "), std::string::npos) << fe;
+    // What was written is kept, and it is finite.
+    const auto x = h5io::read_series(dir.file("host.h5"), "time");
+    EXPECT_GE(x.size(), 2u);  // the start and the steps before the stop
+    for (double v : h5io::read_series(dir.file("host.h5"), "nodes/chamber.P2/p")) ASSERT_TRUE(std::isfinite(v));
+  }
 }
 
 // The same tiny chamber under TLM coupling (issue 16): the FE side solves

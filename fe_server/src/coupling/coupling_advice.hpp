@@ -44,6 +44,12 @@ constexpr double kTlmErrorPerOmegaT2 = 0.2;
 // to −66 mm against a 1 µm amplitude, exit 0, before this guard).
 constexpr double kMaxTlmFrequencyError = 0.10;
 inline double max_tlm_omega_t() { return std::sqrt(kMaxTlmFrequencyError / kTlmErrorPerOmegaT2); }
+// The largest ω·T a pressure-coupled port may run at without
+// --allow-coarse-coupling, when its table sends the host's Zc: the
+// estimate's ω·T ≤ 1, a margin of 1.33–1.46 on the limit the stability map
+// measured (the held pressure diverges beyond it: the one-DOF piston on
+// 0.01 cm³ at 10 µs, ω·T = 1.7, swung to −133 bar within steps).
+constexpr double kMaxPressureOmegaT = 1.0;
 
 // Per hydraulic port of the table, at bulk modulus beta.
 std::vector<PortStability> coupling_stability(const Model& model, const config::PortTable& table, double beta);

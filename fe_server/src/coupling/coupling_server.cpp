@@ -68,6 +68,9 @@ PortMap::PortMap(const config::PortTable& table, CavityPressureLoad& load, Mecha
   wave_.assign(slots, 0.0);
   impedance_.assign(slots, 0.0);
   tlm_.assign(slots, 0);
+  zc_sent_.assign(slots, 0);
+  for (size_t i = 0; i < table.to_fe.size(); ++i)
+    if (!in_mech_[i] && table.to_fe[i].quantity == Quantity::Impedance) zc_sent_[static_cast<size_t>(in_slot_[i])] = 1;
   flow_sum_.assign(slots, 0.0);
   pressure_sum_.assign(slots, 0.0);
 }
@@ -83,7 +86,10 @@ void PortMap::apply_inputs(const std::vector<double>& in) {
     switch (table_.to_fe[i].quantity) {
       case Quantity::Pressure: load_.set_pressure(in_slot_[i], in[i]); break;
       case Quantity::Wave: wave_[slot] = in[i], tlm_[slot] = 1; break;
-      case Quantity::Impedance: impedance_[slot] = in[i], tlm_[slot] = 1; break;
+      case Quantity::Impedance:  // TLM: with the wave; pressure mode: the stability check's only
+        impedance_[slot] = in[i];
+        if (table_.mode == config::CouplingMode::Tlm) tlm_[slot] = 1;
+        break;
       default: break;
     }
   }
@@ -106,12 +112,30 @@ void PortMap::set_coupling_guard(const std::vector<PortStability>& ports, double
 }
 
 std::string PortMap::check_coupling() {
+  const bool pressure = table_.mode == config::CouplingMode::Pressure;
   for (size_t slot = 0; slot < guard_.size(); ++slot) {
     Guard& g = guard_[slot];
-    if (!tlm_[slot] || g.mass == 0.0 || impedance_[slot] == g.checked_zc) continue;
+    // A pressure port is checked when the table sends the host's Zc and the
+    // host gave one (an importer without chambers, FMPy, leaves it 0).
+    if (!(pressure ? zc_sent_[slot] && impedance_[slot] > 0.0 : tlm_[slot]) || g.mass == 0.0 ||
+        impedance_[slot] == g.checked_zc)
+      continue;
     g.checked_zc = impedance_[slot];
     const double zc = impedance_[slot], T = guard_T_;
     const double omega_t = g.area * std::sqrt(std::max(zc, 0.0) * T / g.mass);
+    if (pressure) {
+      if (omega_t <= kMaxPressureOmegaT) continue;
+      char msg[900];
+      std::snprintf(msg, sizeof msg,
+                    "pressure-coupled port %s is beyond the stability limit of pressure coupling: Zc = %.4g Pa·s/m³ "
+                    "from the host on %.4g kg behind %.4g cm² gives ω·T = %.3g at the coupling step %g s, above %g "
+                    "(the held pressure diverges from ω·T = 1.33–1.46 on the stability map). Couple it in TLM mode "
+                    "(mode tlm, stable for any chamber), or lower the coupling step to at most %.3g s, or enlarge the "
+                    "chamber %.3g times (Zc = β·T/V); fe_server --allow-coarse-coupling runs it anyway",
+                    g.label.c_str(), zc, g.mass, g.area * 1e4, omega_t, T, kMaxPressureOmegaT,
+                    T * kMaxPressureOmegaT / omega_t, omega_t * omega_t / (kMaxPressureOmegaT * kMaxPressureOmegaT));
+      return msg;
+    }
     if (omega_t <= max_tlm_omega_t()) continue;
     // A chamber's Zc = β·T/V grows with T, so ω·T is proportional to T: the
     // largest step that passes, and the chamber that would at this step.

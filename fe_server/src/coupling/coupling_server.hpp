@@ -57,11 +57,13 @@ class PortMap {
   void apply_inputs(const std::vector<double>& in);
   void accumulate(const Solver& s);
   void measure_outputs(const Solver& s, std::vector<double>& out);
-  // The TLM ports' accuracy guard: at coupling step T the FE side sees the
-  // host's chamber as the stiffness A²·Zc/T on the port's mass m, so
+  // The coupling guard: at coupling step T the FE side sees the host's
+  // chamber as the stiffness A²·Zc/T on the port's mass m, so
   // ω·T = A·sqrt(Zc·T/m) (coupling_advice.hpp). check_coupling() returns why
-  // the impedances just applied put a port beyond kMaxTlmOmegaT ("" if none
-  // does, or if `allow`), looking again only when a port's Zc changed.
+  // the impedances just applied put a port beyond its limit ("" if none
+  // does, or if `allow`), looking again only when a port's Zc changed: a TLM
+  // port beyond max_tlm_omega_t() (accuracy), a pressure port whose table
+  // sends the host's Zc beyond kMaxPressureOmegaT (stability).
   void set_coupling_guard(const std::vector<PortStability>& ports, double T, bool allow);
   std::string check_coupling();
 
@@ -73,6 +75,7 @@ class PortMap {
   std::vector<char> in_mech_, out_mech_;
   std::vector<double> wave_, impedance_;         // per slot, TLM mode
   std::vector<char> tlm_;                        // per slot: wave/impedance given this step
+  std::vector<char> zc_sent_;                    // per slot: the table sends the host's Zc (pressure mode: checked)
   std::vector<double> flow_sum_, pressure_sum_;  // per slot, over the sub-steps
   double substeps_ = 0.0;  // the FE steps of this coupling step, each weighted by its share of the start's step
   struct Guard {

@@ -47,6 +47,7 @@ void FmuQ::configure(ParameterSet& prm) {
       hp.vr_Zc = zc->value_reference;
     } else if (p && p->causality == "input") {
       hp.vr_p = p->value_reference;
+      if (zc && zc->causality == "input") hp.zc_check = true, hp.vr_Zc = zc->value_reference;
     } else {
       throw config::InputError(prm.where(), name_ + ": FMU output " + v.name + " has neither the input " + label +
                                                 ".p nor the inputs " + label + ".c and " + label + ".Zc");
@@ -187,6 +188,7 @@ void FmuQ::send_inputs() {
       fmu_->set_real(hp.vr_Zc, n.Zc);
     } else {
       fmu_->set_real(hp.vr_p, n.c + n.Zc * hp.q);  // the last step's flow: one step delay
+      if (hp.zc_check) fmu_->set_real(hp.vr_Zc, n.Zc);  // the chamber's stiffness, for the server's check
     }
   }
 }

@@ -51,6 +51,7 @@ class FmuQ : public Component {
   struct HydraulicPort {
     size_t port = 0;  // index into ports_
     bool tlm = false;
+    bool zc_check = false;  // pressure mode with an input L.Zc: the node's Zc for fe_server's stability check
     unsigned vr_p = 0, vr_c = 0, vr_Zc = 0, vr_q = 0;
     double q = 0.0;
     double p_node = 0.0;  // the node's pressure after the step (signal "<label>.p_node")

@@ -9,15 +9,24 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "config/version.hpp"
+
 namespace bench {
 
-// The usage line is printed for --help and after a bad argument.
+// The usage line is printed for --help and after a bad argument; --version
+// prints the version line every executable of the project prints.
 inline void help_or_nothing(int argc, char** argv, const char* usage) {
-  for (int i = 1; i < argc; ++i)
+  for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "-h") == 0 || std::strcmp(argv[i], "--help") == 0) {
       std::printf("%s\n", usage);
       std::exit(0);
     }
+    if (std::strcmp(argv[i], "--version") == 0) {
+      const char* slash = std::strrchr(argv[0], '/');
+      std::printf("%s\n", config::version_line(slash ? slash + 1 : argv[0]).c_str());
+      std::exit(0);
+    }
+  }
 }
 
 // Argument i (1-based) as a positive finite number, or `fallback` if absent.

@@ -30,6 +30,7 @@
 #include "input/deck_reader.hpp"
 #include "input/mesher.hpp"
 #include "config/port_table.hpp"
+#include "config/version.hpp"
 #include "solver/solver.hpp"
 
 namespace {
@@ -351,6 +352,7 @@ int main(int argc, char** argv) {
     bool known = false;
     for (const auto& [name, run] : all) known |= std::string(argv[i]) == name;
     if (known) continue;
+    if (std::string(argv[i]) == "--version") return std::printf("%s\n", config::version_line("bench_fe").c_str()), 0;
     const bool help = std::string(argv[i]) == "-h" || std::string(argv[i]) == "--help";
     std::fprintf(help ? stdout : stderr, "%susage: bench_fe [NAME ...]   the benchmarks named (default every one):",
                  help ? "" : ("bench_fe: unknown benchmark '" + std::string(argv[i]) + "'\n").c_str());

@@ -17,6 +17,7 @@ import argparse
 import json
 import os
 import re
+import shutil
 import statistics
 import subprocess
 import tempfile
@@ -48,6 +49,35 @@ def tlm_cost(bench):
     return float(re.search(r"csv:tlm_cost,\d+,([0-9.]+)", out).group(1))
 
 
+# The guards' own functions, by the name perf reports (not inlined: each is
+# out of the hot loops by design). Their share of one run's samples is a
+# cost measured within one run, which the machine's noise between runs does
+# not blur; the per-element limit (one multiply in the kernel) and the batch
+# minimum are inside the kernels and not separable this way.
+GUARD_FUNCTIONS = {
+    "fe": ["fe::Solver::check_state", "fe::Solver::energy_account", "fe::Solver::first_non_finite"],
+    "tlm": ["tlm::System::check_nodes", "tlm::System::check_fmu_nodes", "tlm::System::node_failure"],
+}
+
+
+def attribution(cmd, functions):
+    """Share [%] of the samples of `cmd` in each guard function (perf
+    record), or None without perf."""
+    if shutil.which("perf") is None:
+        return None
+    with tempfile.TemporaryDirectory(prefix="pcs_perf_") as d:
+        data = Path(d) / "perf.data"
+        rec = subprocess.run(["perf", "record", "-q", "-o", str(data), *cmd], capture_output=True, text=True)
+        if rec.returncode != 0:
+            return None
+        rep = subprocess.run(["perf", "report", "-i", str(data), "--no-children", "--percent-limit", "0",
+                              "--stdio"], capture_output=True, text=True).stdout
+    shares = {}
+    for f in functions:
+        shares[f] = sum(float(m) for m in re.findall(r"^\s+([0-9.]+)%.*\] " + re.escape(f) + r"\b", rep, re.M))
+    return shares
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--pairs", type=int, default=8)
@@ -73,12 +103,22 @@ def main():
                      "after_median": statistics.median(f), "ratio_min": min(f) / min(b),
                      "ratio_median": statistics.median(f) / statistics.median(b)})
     load = Path("/proc/loadavg").read_text().split()[:3]
-    result = {"before": a.before, "pairs": a.pairs, "loadavg": load, "rows": rows}
+    shares = {}
+    for name, cmd, kind in (("axi4 (bench_fe axi4)", [str(now / "bench_fe"), "axi4"], "fe"),
+                            ("hex8 (bench_fe hex8)", [str(now / "bench_fe"), "hex8"], "fe"),
+                            ("tlm host (bench_tlm)", [str(now / "bench_tlm"), "2.0"], "tlm")):
+        got = attribution(cmd, GUARD_FUNCTIONS[kind])
+        if got is not None:
+            shares[name] = got
+    result = {"before": a.before, "pairs": a.pairs, "loadavg": load, "rows": rows, "attribution": shares}
     (ROOT / "bench/results").mkdir(exist_ok=True)
     (ROOT / "bench/results/guard_cost.json").write_text(json.dumps(result, indent=1))
     for r in rows:
         print(f"{r['case']:12s} min {r['before_min']:8.2f} -> {r['after_min']:8.2f} ({100 * (r['ratio_min'] - 1):+.1f} %), "
               f"median {100 * (r['ratio_median'] - 1):+.1f} %")
+    for name, got in shares.items():
+        print(f"{name}: guards {sum(got.values()):.2f} % of the samples (" +
+              ", ".join(f"{f.split('::')[-1]} {v:.2f} %" for f, v in got.items()) + ")")
 
 
 if __name__ == "__main__":

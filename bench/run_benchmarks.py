@@ -479,10 +479,17 @@ def hard_cases_section():
         split = [r["case"] for r in c["rows"] if (r["ratio_min"] - 1) * (r["ratio_median"] - 1) < 0]
         if split:
             L.append(f"\nIn {len(split)} of {len(c['rows'])} cases ({', '.join(split)}) the minima and the medians "
-                     "disagree in sign: this machine's noise between runs is larger than the guards' cost, which "
-                     "this run therefore does not resolve against the 2 % target; the guards' work per step is one "
-                     "multiply and a batch minimum per element batch, and a node check before each results row "
-                     "(and every 16 host steps).")
+                     "disagree in sign: the noise between runs is of the order of the differences. The comparison "
+                     "also holds every other change since that revision (the step that follows the model among "
+                     "them), not the guards alone.")
+        if c.get("attribution"):
+            L.append("\nThe guards' own functions within one run of this build (perf's share of the samples, which "
+                     "the noise between runs does not blur; the per-element limit, one multiply in each kernel, "
+                     "and its batch minimum are inside the kernels and not counted here), against the 2 % target:\n")
+            L.append("| run | guards' share | of which |\n|---|---|---|")
+            for name, got in c["attribution"].items():
+                parts = ", ".join(f"`{f.split('::')[-1]}` {v:.2f} %" for f, v in got.items())
+                L.append(f"| {name} | {sum(got.values()):.2f} % | {parts} |")
     return L
 
 

@@ -23,6 +23,7 @@
 #include "config/port_table.hpp"
 #include "config/stop_signal.hpp"
 #include "config/token.hpp"
+#include "config/version.hpp"
 #include "coupling/coupling_advice.hpp"
 #include "coupling/coupling_server.hpp"
 #include "input/deck_reader.hpp"
@@ -87,6 +88,7 @@ int usage(std::ostream& os, int rc) {
         "                        10 % by fe_server's estimate), and pressure ports whose table sends the\n"
         "                        host's impedance beyond omega*T = 1 (unstable); otherwise refused at\n"
         "                        step 0, exit 3\n"
+        "  -h, --help, --version  this text; the version\n"
         "Exit codes: 0 ok, 2 usage, 3 input rejected, 4 no host (every connection refused or none came),\n"
         "            6 link lost, 7 host aborted, 8 non-finite values, 9 internal error,\n"
         "            10 the host ended the session after a checkpoint (--restart continues),\n"
@@ -450,6 +452,7 @@ int run_main(int argc, char** argv) {
         if (threads < 1 || threads > 1024) throw std::invalid_argument("--threads must be 1..1024, got " + std::to_string(threads));
       }
       else if (args.is("-h") || args.is("--help")) return usage(std::cout, fe::kExitOk);
+      else if (args.is("--version")) return std::cout << config::version_line("fe_server") << "\n", fe::kExitOk;
       else if (args.is("--keywords")) {
         std::cout << fe::deck_keyword_coverage();
         return fe::kExitOk;

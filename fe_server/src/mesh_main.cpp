@@ -16,6 +16,7 @@
 #include <string>
 
 #include "config/cli.hpp"
+#include "config/version.hpp"
 #include "input/mesher.hpp"
 
 namespace {
@@ -36,17 +37,22 @@ const char* kUsage =
     "  --title T           the part's title in the file's comments\n"
     "  --node-offset N, --element-offset E, --set-offset S\n"
     "                      numbering offsets, to put several bodies in one deck\n"
-    "  -h, --help          this text\n"
+    "  -h, --help          this text; --version its version\n"
     "Exit codes: 0 written, 2 bad arguments or a mesh that cannot be made.\n";
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i)
+  for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]) == "-h" || std::string(argv[i]) == "--help") {
       std::cout << kUsage;
       return 0;
     }
+    if (std::string(argv[i]) == "--version") {
+      std::cout << config::version_line("fe_mesh") << "\n";
+      return 0;
+    }
+  }
   fe::RevolutionMeshOptions opt;
   std::string sections, out;
   bool axisymmetric = false;

@@ -17,6 +17,7 @@
 
 #include "config/cli.hpp"
 #include "config/port_table.hpp"
+#include "config/version.hpp"
 #include "model_description.hpp"
 
 namespace {
@@ -36,7 +37,8 @@ void add_entry(zip_t* z, const std::string& name, const std::string& data, const
 
 int usage(std::ostream& os, int rc) {
   os << "usage: fmugen PORTS.cfg -o OUT.fmu [--binary FMU_LIBRARY.so] [--description TEXT]\n"
-        "Generates an FMI 2.0 co-simulation FMU that couples to fe_server.\n";
+        "Generates an FMI 2.0 co-simulation FMU that couples to fe_server.\n"
+        "  -h, --help, --version  this text; the version\n";
   return rc;
 }
 
@@ -52,6 +54,7 @@ int main(int argc, char** argv) {
       else if (args.is("--binary")) binary = args.value();
       else if (args.is("--description")) description = args.value();
       else if (args.is("-h") || args.is("--help")) return usage(std::cout, 0);
+      else if (args.is("--version")) return std::cout << config::version_line("fmugen") << "\n", 0;
       else if (args.is_option()) args.unknown();
       else if (ports.empty()) ports = args.current();
       else return usage(std::cerr, 2);

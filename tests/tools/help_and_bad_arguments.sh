@@ -2,8 +2,10 @@
 # Each benchmark and fe_mesh: --help prints its usage and exits 0 (they
 # crashed with an uncaught exception, or said "unknown argument"); a bad
 # argument exits 2 naming it (they ran with 0 or printed "inf us -nan"; 0.5
-# round trips was 0 of them).
-# Usage: help_and_bad_arguments.sh FE_MESH BENCH_TLM BENCH_COUPLING BENCH_FE [BENCH_MPI]
+# round trips was 0 of them). Every executable: --version prints its name,
+# the project's version and the coupling protocol, and exits 0.
+# Usage: help_and_bad_arguments.sh FE_SERVER TLM_HOST TLM_FIT FMUGEN FE_MESH BENCH_TLM BENCH_COUPLING BENCH_FE [BENCH_MPI]
+FE_SERVER=$1 TLM_HOST=$2 TLM_FIT=$3 FMUGEN=$4 FE_MESH=$5 BENCH_TLM=$6 BENCH_COUPLING=$7 BENCH_FE=$8 BENCH_MPI=$9
 fail=0
 expect() {  # rc pattern command...
   want=$1 pattern=$2; shift 2
@@ -14,18 +16,22 @@ expect() {  # rc pattern command...
     echo "ok   $* -> exit $rc"
   fi
 }
-expect 0 "usage: fe_mesh" "$1" --help
-expect 0 "--radial-growth" "$1" -h
-expect 2 "unknown argument --bogus" "$1" --bogus
-expect 0 "usage: bench_tlm" "$2" --help
-expect 2 "argument 1 'abc'" "$2" abc
-expect 0 "usage: bench_coupling" "$3" --help
-expect 2 "argument 1 '-5'" "$3" -5
-expect 2 "must be a whole number" "$3" 0.5
-expect 0 "hammer threads hex8" "$4" --help
-expect 2 "unknown benchmark 'nope'" "$4" nope
-if [ -n "$5" ]; then
-  expect 0 "usage: \[mpirun" "$5" --help
-  expect 2 "argument 2 'x'" "$5" 1.5 x
+expect 0 "usage: fe_mesh" "$FE_MESH" --help
+expect 0 "--radial-growth" "$FE_MESH" -h
+expect 2 "unknown argument --bogus" "$FE_MESH" --bogus
+expect 0 "usage: bench_tlm" "$BENCH_TLM" --help
+expect 2 "argument 1 'abc'" "$BENCH_TLM" abc
+expect 0 "usage: bench_coupling" "$BENCH_COUPLING" --help
+expect 2 "argument 1 '-5'" "$BENCH_COUPLING" -5
+expect 2 "must be a whole number" "$BENCH_COUPLING" 0.5
+expect 0 "hammer threads hex8" "$BENCH_FE" --help
+expect 2 "unknown benchmark 'nope'" "$BENCH_FE" nope
+if [ -n "$BENCH_MPI" ]; then
+  expect 0 "usage: \[mpirun" "$BENCH_MPI" --help
+  expect 2 "argument 2 'x'" "$BENCH_MPI" 1.5 x
 fi
+for exe in "$FE_SERVER" "$TLM_HOST" "$TLM_FIT" "$FMUGEN" "$FE_MESH" "$BENCH_TLM" "$BENCH_COUPLING" "$BENCH_FE" "$BENCH_MPI"; do
+  [ -n "$exe" ] || continue
+  expect 0 "^$(basename "$exe") [0-9][0-9.]* (percussion co-simulation; coupling protocol [0-9][0-9]*)$" "$exe" --version
+done
 exit $fail

@@ -12,6 +12,7 @@
 #include "calibration.hpp"
 #include "config/cli.hpp"
 #include "config/stop_signal.hpp"
+#include "config/version.hpp"
 
 namespace {
 
@@ -35,6 +36,7 @@ int usage(std::ostream& os, int rc) {
         "  --report FILE          also write the fit's table to FILE\n"
         "  --quiet                no line per iteration\n"
         "Each evaluation runs every condition once; the Jacobian costs one run per parameter more.\n"
+        "  -h, --help, --version  this text; the version\n"
         "Exit codes: 0 every target met, 2 usage, 3 model or problem rejected, 4 a run at the start\n"
         "            values failed, 5 the fit ended without meeting every target (the table says\n"
         "            which), or the targets do not determine every parameter, 128 + N stopped by\n"
@@ -80,6 +82,7 @@ int main(int argc, char** argv) {
       else if (args.is("--report")) report_path = args.value();
       else if (args.is("--quiet")) quiet = true;
       else if (args.is("-h") || args.is("--help")) return usage(std::cout, 0);
+      else if (args.is("--version")) return std::cout << config::version_line("tlm_fit") << "\n", 0;
       else if (args.is_option()) args.unknown();
       else if (problem.model_path.empty()) problem.model_path = args.current();
       else throw std::invalid_argument("more than one model given");

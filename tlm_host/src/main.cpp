@@ -13,6 +13,7 @@
 #include "config/stop_signal.hpp"
 #include "socketlib/socketlib.h"
 #include "config/token.hpp"
+#include "config/version.hpp"
 #include "hopsan_loader.hpp"
 #include "model.hpp"
 
@@ -40,6 +41,7 @@ int usage(std::ostream& os, int rc) {
         "  --restart FILE      continue from a checkpoint (fe_server restarted with --restart and its\n"
         "                      checkpoint of the same step); the results file continues after its row\n"
         "  --quiet             no progress line\n"
+        "  -h, --help, --version  this text; the version\n"
         "Exit codes: 0 ok, 2 usage, 3 model rejected (or a checkpoint that does not fit it), 4 simulation\n"
         "            failed, 10 stopped after a checkpoint fe_server asked for (it got a stop signal),\n"
         "            128 + N stopped by signal N (130 Ctrl-C, 143 SIGTERM) with results flushed.\n";
@@ -76,6 +78,7 @@ int main(int argc, char** argv) {
       else if (args.is("--checkpoint-every")) ck.every_s = 60.0 * args.real(1e-3, 1e6);
       else if (args.is("--restart")) ck.restart = args.value();
       else if (args.is("-h") || args.is("--help")) return usage(std::cout, 0);
+      else if (args.is("--version")) return std::cout << config::version_line("tlm_host") << "\n", 0;
       else if (args.is_option()) args.unknown();
       else if (model_path.empty()) model_path = args.current();
       else throw std::invalid_argument("more than one model given");

@@ -465,6 +465,11 @@ def hard_cases_section():
         ok, wall = results.get(name, (None, ""))
         outcome = "as expected" if ok else ("**not as expected**" if ok is False else "not run")
         L.append(f"| `{name.split('.', 1)[1]}` | {expected} | {outcome} | {wall} |")
+    # The bar-impact energy table: measured with the tests that assert it,
+    # kept beside the other results (its runs take minutes, not this script's).
+    table = ROOT / "bench/results/bar_impact_energy.md"
+    if table.exists():
+        L.append("\n" + table.read_text().rstrip())
     cost = ROOT / "bench/results/guard_cost.json"
     if cost.exists():
         c = json.loads(cost.read_text())

@@ -485,8 +485,9 @@ int run_main(int argc, char** argv) {
                                   "token (or $PCS_TOKEN); --insecure-no-token serves without one on loopback");
     }
   } catch (const std::exception& e) {
-    std::cerr << "fe_server: " << e.what() << "\n";
-    return usage(std::cerr, fe::kExitUsage);
+    // The error alone, so that it does not scroll away behind the usage.
+    std::cerr << "fe_server: " << e.what() << "\n(fe_server --help lists the options)\n";
+    return fe::kExitUsage;
   }
 
   fe::Model model;

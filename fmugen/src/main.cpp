@@ -38,7 +38,9 @@ void add_entry(zip_t* z, const std::string& name, const std::string& data, const
 int usage(std::ostream& os, int rc) {
   os << "usage: fmugen PORTS.cfg -o OUT.fmu [--binary FMU_LIBRARY.so] [--description TEXT]\n"
         "Generates an FMI 2.0 co-simulation FMU that couples to fe_server.\n"
-        "  -h, --help, --version  this text; the version\n";
+        "  -h, --help, --version  this text; the version\n"
+        "Exit codes: 0 written, 2 usage, 3 input rejected (the port configuration or the binary), 1 the FMU\n"
+        "            could not be written.\n";
   return rc;
 }
 
@@ -57,16 +59,24 @@ int main(int argc, char** argv) {
       else if (args.is("--version")) return std::cout << config::version_line("fmugen") << "\n", 0;
       else if (args.is_option()) args.unknown();
       else if (ports.empty()) ports = args.current();
-      else return usage(std::cerr, 2);
+      else throw std::invalid_argument("unexpected argument '" + args.current() + "'");
     }
+    if (ports.empty()) throw std::invalid_argument("no port configuration given");
+    if (out.empty()) throw std::invalid_argument("no output given (-o OUT.fmu)");
+  } catch (const std::exception& e) {
+    std::cerr << "fmugen: " << e.what() << "\n(fmugen --help lists the options)\n";
+    return 2;
+  }
+  config::PortTable table;
+  std::string so;
+  try {  // what it reads: a fault there is the input's (exit 3, as the other tools)
+    table = config::read_port_table(ports);
+    so = config::read_text_file(binary, "FMU binary");
   } catch (const std::exception& e) {
     std::cerr << "fmugen: " << e.what() << "\n";
-    return usage(std::cerr, 2);
+    return 3;
   }
-  if (ports.empty() || out.empty()) return usage(std::cerr, 2);
   try {
-    config::PortTable table = config::read_port_table(ports);
-    std::string so = config::read_text_file(binary, "FMU binary");
     std::remove(out.c_str());
     int err = 0;
     zip_t* z = zip_open(out.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);

@@ -30,6 +30,15 @@ if [ -n "$BENCH_MPI" ]; then
   expect 0 "usage: \[mpirun" "$BENCH_MPI" --help
   expect 2 "argument 2 'x'" "$BENCH_MPI" 1.5 x
 fi
+# A mistake: the error and a pointer to --help, not 30 lines of usage that
+# scroll it away; fmugen exits 3 for an input it cannot use (it exited 1).
+for exe in "$FE_SERVER" "$TLM_HOST" "$FMUGEN"; do
+  name=$(basename "$exe")
+  expect 2 "($name --help lists the options)" "$exe" --bogus
+  out=$("$exe" --bogus 2>&1)
+  if printf '%s' "$out" | grep -q "usage:"; then echo "FAIL: $name --bogus printed the usage: $out"; fail=1; fi
+done
+expect 3 "cannot open port configuration '/nonexistent/ports.cfg': No such file or directory" "$FMUGEN" /nonexistent/ports.cfg -o /tmp/never.fmu
 for exe in "$FE_SERVER" "$TLM_HOST" "$TLM_FIT" "$FMUGEN" "$FE_MESH" "$BENCH_TLM" "$BENCH_COUPLING" "$BENCH_FE" "$BENCH_MPI"; do
   [ -n "$exe" ] || continue
   expect 0 "^$(basename "$exe") [0-9][0-9.]* (percussion co-simulation; coupling protocol [0-9][0-9]*)$" "$exe" --version

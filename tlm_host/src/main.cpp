@@ -89,8 +89,9 @@ int main(int argc, char** argv) {
       ck.path = (h5 ? out.substr(0, out.size() - 3) : out) + ".ckpt";
     }
   } catch (const std::exception& e) {
-    std::cerr << "tlm_host: " << e.what() << "\n";
-    return usage(std::cerr, 2);
+    // The error alone, so that it does not scroll away behind the usage.
+    std::cerr << "tlm_host: " << e.what() << "\n(tlm_host --help lists the options)\n";
+    return 2;
   }
 
   // With checkpoints a stop signal asks for one of both sides, which needs

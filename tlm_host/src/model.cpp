@@ -116,7 +116,7 @@ ModelSpec parse_model(const std::string& text, const std::string& name) {
     } else if (b.keyword == "*REPORT") {
       m.report.insert(m.report.end(), b.cards.begin(), b.cards.end());
     } else if (b.keyword == "*LOG") {
-      // One or more series or groups per card (System::run checks each).
+      // One or more series or groups per card (System checks each against its series).
       for (const auto& c : b.cards)
         for (const std::string& f : c.fields)
           if (!f.empty()) m.log_only.emplace_back(f, c.where);

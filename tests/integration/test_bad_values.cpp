@@ -129,7 +129,7 @@ TEST(BadValues, AServerPortOfZeroAndAnUnwritablePortFileAreRefused) {
 
 // --threads: 1..1024, else refused naming the option; the session line says
 // how many threads the FE uses; without the option a co-simulation on
-// loopback leaves one core to tlm_host (README, "Threads").
+// loopback leaves one core to tlm_host (docs/fe_server.md, "Threads").
 TEST(BadValues, ThreadCountsAreCheckedAndTheDefaultLeavesACoreToTheHostOnLoopback) {
   TempDir dir;
   for (const char* n : {"0", "2000", "two"}) {

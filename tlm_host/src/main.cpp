@@ -34,6 +34,7 @@ int usage(std::ostream& os, int rc) {
         "                      the time and what the *REPORT reads; replaces the model's *LOG\n"
         "  --report FILE       write the percussion report (model's *REPORT block) to FILE\n"
         "                      (JSON in SI units when FILE ends in .json)\n"
+        "  --no-report         do not evaluate the model's *REPORT (a run too short for its blows)\n"
         "  --checkpoint FILE   checkpoint here (default: the results file with .ckpt for .h5) at a stop\n"
         "                      signal (SIGTERM, SIGINT, SIGHUP) and every --checkpoint-every minutes;\n"
         "                      each FMU's fe_server writes its own checkpoint of the same step first\n"
@@ -54,6 +55,7 @@ int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
   config::install_stop_handlers();
   std::string model_path, fmu, server, token, out = "results.h5", report_path, csv_path, log_list;
+  bool no_report = false;
   std::vector<std::string> overrides;
   bool quiet = false;
   tlm::System::Checkpointing ck;
@@ -72,6 +74,7 @@ int main(int argc, char** argv) {
       }
       else if (args.is("--quiet")) quiet = true;
       else if (args.is("--report")) report_path = args.value();
+      else if (args.is("--no-report")) no_report = true;
       else if (args.is("--csv")) csv_path = args.value();
       else if (args.is("--log")) log_list = args.value();
       else if (args.is("--checkpoint")) ck.path = args.value();
@@ -128,7 +131,8 @@ int main(int argc, char** argv) {
       for (std::string f; std::getline(list, f, ',');)
         if (!config::trim(f).empty()) spec.log_only.emplace_back(config::trim(f), config::SourceLocation{"--log", 0});
     }
-    want_report = !spec.report.empty();
+    want_report = !spec.report.empty() && !no_report;
+    if (no_report && !report_path.empty()) throw config::InputError({"--report", 0}, "--report and --no-report together");
     if (want_report) report = tlm::report_settings(spec);
     system = std::make_unique<tlm::System>(std::move(spec));
     if (!csv_path.empty()) system->set_csv(csv_path);

@@ -173,7 +173,14 @@ void TimeSeriesWriter::append(const double* row, size_t stream) {
   if (++st.buffered == chunk_) write_buffer(st);
   if (++rows_since_check_ >= 64) {  // the clock is read every 64 rows only
     rows_since_check_ = 0;
-    if (static_cast<double>(now_ns() - last_flush_ns_) >= flush_interval_ * 1e9) flush();
+    // The first 64 rows at once: a reader watching the file (or a test
+    // waiting for a run to be under way) sees rows within a fraction of a
+    // second, not only after the first interval; a short co-simulation had
+    // ended before its first flush.
+    if (!first_rows_flushed_ || static_cast<double>(now_ns() - last_flush_ns_) >= flush_interval_ * 1e9) {
+      flush();
+      first_rows_flushed_ = true;
+    }
   }
 }
 

@@ -226,6 +226,19 @@ TEST(AsciiOutput, NodoutAndEloutCarryTheHistorysNodeAndSolidAtTheirTimes) {
   EXPECT_GT(peak, 50e6) << "the pulse passed the solid: the comparison covers it";
 }
 
+// 20 steps at half the stable step, every one a history row, into dir/fe.h5
+// and the ASCII files the deck asks for; returns the step.
+static double run_twenty_steps(const fe::Model& m, const fs::path& dir) {
+  const double dt = 0.5 * fe::Solver::stable_dt(m).dt;
+  fe::Solver s(m, dt);
+  fe::History h((dir / "fe.h5").string(), m, nullptr, dt, dt);
+  for (int k = 0; k < 20; ++k) {
+    s.step();
+    h.record(s, {}, {});
+  }
+  return dt;
+}
+
 // elout lists history solids only: a deck whose *DATABASE_ELOUT serves a bar
 // history (the hammer scene's stress gauge) would get a header every DT and
 // nothing else (15 MB in 0.08 s there). It is not written, the deck reader
@@ -243,15 +256,7 @@ TEST(AsciiOutput, EloutWithoutHistorySolidsIsNotWrittenAndSaysWhy) {
   bool said = false;
   for (const auto& w : warnings.messages) said = said || w.rfind("gauge.k:19: warning: *DATABASE_ELOUT", 0) == 0;
   EXPECT_TRUE(said) << (warnings.messages.empty() ? std::string("no warning") : warnings.messages.front());
-  const double dt = 0.5 * fe::Solver::stable_dt(m).dt;
-  {
-    fe::Solver s(m, dt);
-    fe::History h((dir / "fe.h5").string(), m, nullptr, dt, dt);
-    for (int k = 0; k < 20; ++k) {
-      s.step();
-      h.record(s, {}, {});
-    }
-  }
+  const double dt = run_twenty_steps(m, dir);
   EXPECT_TRUE(fs::exists(dir / "glstat"));
   EXPECT_FALSE(fs::exists(dir / "elout"));
   const auto te = h5io::read_series((dir / "fe.h5").string(), "time_elements");
@@ -278,15 +283,7 @@ TEST(AsciiOutput, BinaryTwoWritesTheHistoryOnlyAndThreeBoth) {
   EXPECT_EQ(m.ascii_dt.count("nodout"), 1u) << "BINARY 3: the ASCII nodout too";
   EXPECT_EQ(m.ascii_dt.count("rcforc"), 1u) << "BINARY blank: ASCII, LS-DYNA's default";
   EXPECT_DOUBLE_EQ(m.history_dt_global, 1e-7) << "GLSTAT's DT still sets the HDF5 history's rate";
-  const double dt = 0.5 * fe::Solver::stable_dt(m).dt;
-  {
-    fe::Solver s(m, dt);
-    fe::History h((dir / "fe.h5").string(), m, nullptr, dt, dt);
-    for (int k = 0; k < 20; ++k) {
-      s.step();
-      h.record(s, {}, {});
-    }
-  }
+  run_twenty_steps(m, dir);
   EXPECT_FALSE(fs::exists(dir / "glstat"));
   EXPECT_TRUE(fs::exists(dir / "nodout"));
   EXPECT_GE(h5io::read_series((dir / "fe.h5").string(), "energy/kinetic").size(), 10u)

@@ -4,8 +4,8 @@
 // run that stops on an error keeps what it had computed.
 //
 // The file is written in HDF5's single-writer/multiple-reader (SWMR) mode
-// from the first row on, and flushed at least every flush_interval seconds
-// (default 1 s, checked every 64 rows). Then:
+// from the first row on, flushed after its first 64 rows and then at least
+// every flush_interval seconds (default 1 s, checked every 64 rows). Then:
 //  - a reader may watch the file while it grows (h5py: File(path, "r",
 //    swmr=True), dataset.refresh());
 //  - after kill -9 or a power loss the file still opens with every row up
@@ -81,6 +81,7 @@ class TimeSeriesWriter {
   double flush_interval_;
   int64_t last_flush_ns_ = 0;
   unsigned rows_since_check_ = 0;
+  bool first_rows_flushed_ = false;
   bool live_ = false;
   bool resume_ = false;
   hid_t file_ = -1;

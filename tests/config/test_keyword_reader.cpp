@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "config/cli.hpp"
 #include "config/keyword_reader.hpp"
+#include "config/nearest.hpp"
 
 using config::InputError;
 using config::parse_keyword_text;
@@ -200,4 +202,28 @@ TEST(KeywordReader, AnIncludeIsLookedForBesideTheIncludingFileThenBesideTheMaste
         << m;
   }
   fs::remove_all(dir);
+}
+
+// "Did you mean": the nearest candidate within a third of the word's edits,
+// and an unknown option told the nearest of the options the program tested
+// for (it tests them all before it calls unknown()).
+TEST(Nearest, ACloseMisspellingIsNamedAndAFarOneIsNot) {
+  EXPECT_EQ(config::edit_distance("--modle", "--model"), 2u);
+  EXPECT_EQ(config::nearest("--modle", {"--out", "--model", "--ports"}), "--model");
+  EXPECT_EQ(config::nearest("HydraulicVolumC", {"HydraulicVolumeC", "PressureSourceC"}), "HydraulicVolumeC");
+  EXPECT_EQ(config::nearest("--xyz", {"--out", "--model"}), "") << "3 edits of 5 letters is not a misspelling";
+  std::vector<std::string> words{"prog", "--ouT"};
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  config::Args args(static_cast<int>(argv.size()), argv.data());
+  try {
+    while (args.next()) {
+      if (args.is("--out")) continue;
+      if (args.is("--model")) continue;
+      if (args.is_option()) args.unknown();
+    }
+    ADD_FAILURE() << "--ouT was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "unknown argument --ouT (did you mean --out?)");
+  }
 }

@@ -138,8 +138,14 @@ TEST(ModelReader, ErrorsNameTheLineAndTheFix) {
   const std::string head = "*SIMULATION\ntimestep, 1e-6\nstoptime, 1e-3\n*COMPONENT\n";
   std::string e = error_of(head + "v, HydraulicVolumeC, V=1e-3, Vee=3\n");
   EXPECT_NE(e.find("model.tlm:5: component v has no parameter 'Vee'"), std::string::npos) << e;
+  EXPECT_NE(e.find("its parameters: V [m³], V_min [m³], alpha, beta [Pa], dVdx, p0 [Pa]"), std::string::npos)
+      << "what the component reads, with the units its plausibility ranges know: " << e;
+  e = error_of(head + "v, HydraulicVolumeC, bta=1.4e9\n");
+  EXPECT_NE(e.find("no parameter 'bta' (did you mean 'beta'?)"), std::string::npos) << e;
   e = error_of(head + "v, NoSuchThing\n");
   EXPECT_NE(e.find("unknown component type 'NoSuchThing'"), std::string::npos) << e;
+  e = error_of(head + "v, HydraulicVolumC\n");
+  EXPECT_NE(e.find("unknown component type 'HydraulicVolumC' (did you mean HydraulicVolumeC?)"), std::string::npos) << e;
   e = error_of(head + "a, HydraulicVolumeC, ports=1\nb, HydraulicVolumeC, ports=1\n*CONNECT\na.P1, b.P1\n");
   EXPECT_NE(e.find("model.tlm:8: 'a.P1' and 'b.P1' are both C-type"), std::string::npos) << e;
   e = error_of(head + "a, HydraulicVolumeC, ports=1\n");

@@ -1,5 +1,7 @@
 #include "component.hpp"
 
+#include "config/nearest.hpp"
+
 #include <initializer_list>
 #include <sstream>
 
@@ -52,6 +54,7 @@ const Plausible kPlausible[] = {
 }  // namespace
 
 double ParameterSet::real(const std::string& key, double fallback) {
+  asked_.insert(key);
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
   it->second.used = true;
@@ -94,6 +97,7 @@ int ParameterSet::integer(const std::string& key, int fallback, int lo, int hi) 
 }
 
 std::string ParameterSet::text(const std::string& key, const std::string& fallback) {
+  asked_.insert(key);
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
   it->second.used = true;
@@ -101,8 +105,25 @@ std::string ParameterSet::text(const std::string& key, const std::string& fallba
 }
 
 void ParameterSet::check_all_used(const std::string& component) const {
-  for (const auto& [key, e] : values_)
-    if (!e.used) throw config::InputError(e.where, "component " + component + " has no parameter '" + key + "'");
+  for (const auto& [key, e] : values_) {
+    if (e.used) continue;
+    // Say what it has: the nearest name, and every parameter it read, with
+    // its unit where the plausibility table knows it.
+    std::vector<std::string> names(asked_.begin(), asked_.end());
+    const std::string near = config::nearest(key, names);
+    std::string list;
+    for (const std::string& n : names) {
+      if (values_.count(n) && !values_.at(n).used) continue;  // given, not read: not one of its parameters
+      std::string unit;  // the table's unit, its first word ("Pa", "m³", "kg")
+      for (const auto& r : kPlausible)
+        for (const char* k : r.keys)
+          if (n == k) unit = " [" + std::string(r.unit).substr(0, std::string(r.unit).find(' ')) + "]";
+      list += (list.empty() ? "" : ", ") + n + unit;
+    }
+    throw config::InputError(e.where, "component " + component + " has no parameter '" + key + "'" +
+                                          (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                          (list.empty() ? "" : "; its parameters: " + list));
+  }
 }
 
 Port* Component::port(const std::string& port_name) {

@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <map>
+#include <set>
 #include <memory>
 #include <string>
 #include <vector>
@@ -49,7 +50,10 @@ struct LogVariable {
 class ParameterSet {
  public:
   void set(const std::string& key, const std::string& value, const config::SourceLocation& where);
-  bool has(const std::string& key) const { return values_.count(key) != 0; }
+  bool has(const std::string& key) const {
+    asked_.insert(key);
+    return values_.count(key) != 0;
+  }
   double real(const std::string& key, double fallback);
   double real(const std::string& key);  // required
   double positive(const std::string& key, double fallback);
@@ -68,6 +72,9 @@ class ParameterSet {
   };
   std::map<std::string, Entry> values_;
   config::SourceLocation where_;
+  // Every key the component asked for while it configured itself: its
+  // parameters, listed when one given is not among them.
+  mutable std::set<std::string> asked_;
 };
 
 class Component {

@@ -1,5 +1,6 @@
 #include "model.hpp"
 
+#include "config/nearest.hpp"
 #include "config/stop_signal.hpp"
 
 #include <algorithm>
@@ -97,8 +98,11 @@ ModelSpec parse_model(const std::string& text, const std::string& name) {
         if (m.find(s.name)) c.fail("component '" + s.name + "' is defined twice");
         if (!component_types().count(s.type)) {
           std::string known;
-          for (const auto& [t, f] : component_types()) known += (known.empty() ? "" : ", ") + t;
-          c.fail("unknown component type '" + s.type + "'; known types: " + known);
+          std::vector<std::string> types;
+          for (const auto& [t, f] : component_types()) known += (known.empty() ? "" : ", ") + t, types.push_back(t);
+          const std::string near = config::nearest(s.type, types);
+          c.fail("unknown component type '" + s.type + "'" + (near.empty() ? "" : " (did you mean " + near + "?)") +
+                 "; known types: " + known);
         }
         s.params.set_where(c.where);
         for (size_t i = 2; i < c.fields.size(); ++i) {

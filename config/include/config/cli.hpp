@@ -8,6 +8,9 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+#include "config/nearest.hpp"
 
 namespace config {
 
@@ -20,7 +23,12 @@ class Args {
     return true;
   }
   const std::string& current() const { return current_; }
-  bool is(const char* option) const { return current_ == option; }
+  // Every option the program tests for is remembered, so that an unknown
+  // one, tested against all of them first, can be told the nearest.
+  bool is(const char* option) {
+    if (option[0] == '-') asked_.push_back(option);
+    return current_ == option;
+  }
   bool is_option() const { return !current_.empty() && current_[0] == '-'; }
   std::string value() {
     if (i_ + 1 >= argc_) throw std::invalid_argument(current_ + " needs a value");
@@ -54,13 +62,17 @@ class Args {
     }
     throw std::invalid_argument(option + ": expected an integer, got '" + v + "'");
   }
-  [[noreturn]] void unknown() const { throw std::invalid_argument("unknown argument " + current_); }
+  [[noreturn]] void unknown() const {
+    const std::string near = nearest(current_, asked_);
+    throw std::invalid_argument("unknown argument " + current_ + (near.empty() ? "" : " (did you mean " + near + "?)"));
+  }
 
  private:
   int argc_;
   char** argv_;
   int i_ = 0;
   std::string current_;
+  std::vector<std::string> asked_;
 };
 
 }  // namespace config

@@ -3,6 +3,7 @@
 
 #include "elements/element_axi4.hpp"
 #include "elements/element_hex8.hpp"
+#include "config/nearest.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -970,23 +971,7 @@ struct Reader {
   }
   // The known keyword fewest edits away, if it is within a third of the name.
   static std::string nearest_database_keyword(const std::string& kw) {
-    std::string best;
-    size_t best_d = kw.size() / 3 + 1;
-    for (const auto& k : database_keywords()) {
-      std::vector<size_t> row(k.size() + 1);
-      for (size_t j = 0; j <= k.size(); ++j) row[j] = j;
-      for (size_t i = 1; i <= kw.size(); ++i) {
-        size_t diag = row[0];
-        row[0] = i;
-        for (size_t j = 1; j <= k.size(); ++j) {
-          const size_t up = row[j];
-          row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (kw[i - 1] == k[j - 1] ? 0 : 1)});
-          diag = up;
-        }
-      }
-      if (row[k.size()] < best_d) best_d = row[k.size()], best = k;
-    }
-    return best;
+    return config::nearest(kw, database_keywords());
   }
 
   // A keyword this reader does not read is ignored only where that provably

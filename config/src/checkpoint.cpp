@@ -25,6 +25,17 @@ uint64_t get_u64(const uint8_t* p) {
 }
 }  // namespace
 
+namespace {
+std::string sha256_hex(const uint8_t* data, size_t size) {
+  uint8_t sum[PCS_SHA256_SIZE];
+  pcs_sha256(data, size, sum);
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (uint8_t b : sum) out += hex[b >> 4], out += hex[b & 15];
+  return out;
+}
+}  // namespace
+
 std::string file_sha256(const std::string& path) {
   std::vector<uint8_t> bytes;
   try {
@@ -32,12 +43,11 @@ std::string file_sha256(const std::string& path) {
   } catch (const std::runtime_error& e) {
     throw CheckpointError(e.what());
   }
-  uint8_t sum[PCS_SHA256_SIZE];
-  pcs_sha256(bytes.data(), bytes.size(), sum);
-  static const char* hex = "0123456789abcdef";
-  std::string out;
-  for (uint8_t b : sum) out += hex[b >> 4], out += hex[b & 15];
-  return out;
+  return sha256_hex(bytes.data(), bytes.size());
+}
+
+std::string text_sha256(const std::string& text) {
+  return sha256_hex(reinterpret_cast<const uint8_t*>(text.data()), text.size());
 }
 
 void StateIO::mismatch(const char* name, uint64_t in_file, size_t in_run) {

@@ -401,6 +401,8 @@ TEST(Restart, ACoSimulationKilledMinus9ContinuesFromItsLastPeriodicCheckpointsBi
   config::StateReader host(host_ckpt);
   host.expect("kind", std::string("tlm_host"), "program");
   host.expect("model digest", config::file_sha256(kHammer + "/model.tlm"), "model");
+  std::string logged;
+  host.text("logged series", logged);  // which series: another test checks it is compared
   uint64_t fs = 0;
   host.value("timestep", fs);
   long step = 0;
@@ -492,6 +494,14 @@ TEST(Restart, CheckpointsOfAnotherStepDeckPortTableOrModelAreRefusedSayingWhat) 
                     "127.0.0.1:1", "--out", dir.file("a_host.h5"), "--restart", dir.file("a_host.ckpt")});
     EXPECT_EQ(h.wait(kRunTimeout), 3) << h.output();
     EXPECT_NE(h.output().find("the model file's contents (SHA-256)"), std::string::npos) << h.output();
+  }
+  {  // the same model writing other series (--log): the results file would
+     // keep the dropped series cut at the checkpoint while the rest grow
+    ChildProcess h({PCS_TLM_HOST_EXE, kHammer + "/model.tlm", "--fmu", kHammerBuilt + "/hammer.fmu", "--server",
+                    "127.0.0.1:1", "--out", dir.file("a_host.h5"), "--restart", dir.file("a_host.ckpt"), "--log",
+                    "components/mech"});
+    EXPECT_EQ(h.wait(kRunTimeout), 3) << h.output();
+    EXPECT_NE(h.output().find("the series written (*LOG, --log; SHA-256)"), std::string::npos) << h.output();
   }
   {  // a damaged file
     std::fstream f(dir.file("a_host.ckpt"), std::ios::in | std::ios::out | std::ios::binary);

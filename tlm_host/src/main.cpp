@@ -130,6 +130,8 @@ int main(int argc, char** argv) {
       std::stringstream list(log_list);
       for (std::string f; std::getline(list, f, ',');)
         if (!config::trim(f).empty()) spec.log_only.emplace_back(config::trim(f), config::SourceLocation{"--log", 0});
+      // An empty list would write every series: not what a --log asks for.
+      if (spec.log_only.empty()) throw config::InputError({"--log", 0}, "names no series: '" + log_list + "'");
     }
     want_report = !spec.report.empty() && !no_report;
     if (no_report && !report_path.empty()) throw config::InputError({"--report", 0}, "--report and --no-report together");

@@ -476,9 +476,18 @@ void System::run(const std::string& out_path, bool progress) {
   std::unique_ptr<config::StateReader> restart;
   long first = 0;
   uint64_t resumed_rows = 0, csv_bytes = 0;
+  // The series written are part of what a restart must match: a results
+  // file continued with fewer (another --log) would keep the dropped ones
+  // cut at the checkpoint while the rest grow, with no word.
+  std::string series_names;
+  {
+    const double placeholder = 0.0;
+    for (const LoggedSeries& x : logged_series(&placeholder)) series_names += x.name + "\n";
+  }
   auto identity = [&](config::StateIO& io, long& step) {
     io.expect("kind", std::string("tlm_host"), "the checkpoint's program");
     io.expect("model digest", config::file_sha256(spec_.source), "the model file's contents (SHA-256)");
+    io.expect("logged series", config::text_sha256(series_names), "the series written (*LOG, --log; SHA-256)");
     io.expect("timestep", static_cast<uint64_t>(std::llround(dt * 1e15)), "the time step in fs");
     io.value("step", step);
   };

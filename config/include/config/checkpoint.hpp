@@ -32,6 +32,8 @@ class CheckpointError : public std::runtime_error {
 // Hex SHA-256 of a file's bytes (a deck's or model's identity in a
 // checkpoint); throws CheckpointError if unreadable.
 std::string file_sha256(const std::string& path);
+// The same of a text (what a run was given beside its files).
+std::string text_sha256(const std::string& text);
 
 class StateIO {
  public:

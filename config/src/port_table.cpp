@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -166,6 +167,12 @@ static bool has(const std::vector<Variable>& vs, int port, Quantity q) {
   return false;
 }
 
+std::string shortest(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
 PortTable parse_port_table(const std::string& text, const std::string& name) {
   PortTable t;
   t.source = name;
@@ -178,6 +185,10 @@ PortTable parse_port_table(const std::string& text, const std::string& name) {
         const std::string& val = c.field(1, "value");
         if (key == "model") {
           t.model_name = val;
+        } else if (key == "description") {
+          // Free text: the rest of the card, commas included (fields were split on them).
+          t.description = val;
+          for (size_t f = 2; f < c.fields.size(); ++f) t.description += ", " + c.fields[f];
         } else if (key == "server") {
           t.server = val;
         } else if (key == "timestep") {
@@ -210,7 +221,7 @@ PortTable parse_port_table(const std::string& text, const std::string& name) {
             c.fail("timeout must be from 0 to 1e6 seconds (deadlines are kept in milliseconds)");
         } else {
           c.fail("unknown setting '" + c.fields[0] +
-                 "': expected model, server, timestep, mode, subcycles, timeout, host_convention, "
+                 "': expected model, description, server, timestep, mode, subcycles, timeout, host_convention, "
                  "hopsan_temperature or hopsan_start_pressure");
         }
       }
@@ -317,7 +328,7 @@ std::vector<FmuVariable> fmu_variables(const PortTable& t) {
     for (const auto& p : t.ports) {
       if (p.type != PortType::Hydraulic) continue;
       if (wire(t.to_host, p.id, Quantity::Pressure) < 0) {
-        std::snprintf(num, sizeof num, "%.17g", t.hopsan_start_pressure);
+        std::snprintf(num, sizeof num, "%s", shortest(t.hopsan_start_pressure).c_str());
         FmuVariable pv{p.label + ".p", vr++, FmuCausality::Output, FmuType::Real, num, "Pa",
                        "pressure at port " + p.label + ", p = c + Zc*q (Hopsan's node pressure); before the first "
                        "step its start value",
@@ -328,7 +339,7 @@ std::vector<FmuVariable> fmu_variables(const PortTable& t) {
         pv.wire_q = wire(t.to_host, p.id, Quantity::Flow);
         out.push_back(pv);
       }
-      std::snprintf(num, sizeof num, "%.17g", t.hopsan_temperature);
+      std::snprintf(num, sizeof num, "%s", shortest(t.hopsan_temperature).c_str());
       FmuVariable T{p.label + ".T", vr++, FmuCausality::Output, FmuType::Real, num, "K",
                     "oil temperature at port " + p.label + " (isothermal: constant)", -1};
       T.derived = FmuVariable::Derived::Constant, T.constant = t.hopsan_temperature, T.initial = "exact";
@@ -345,9 +356,7 @@ std::vector<FmuVariable> fmu_variables(const PortTable& t) {
                  "fe_server port; 0: $PCS_SERVER_PORT, else the port configuration", -1});
   out.push_back({"server.token", kVrServerToken, FmuCausality::Parameter, FmuType::String, "", "",
                  "session token; empty: $PCS_TOKEN, else the file named by $PCS_TOKEN_FILE", -1});
-  char num[64];
-  std::snprintf(num, sizeof num, "%.17g", t.timeout);
-  out.push_back({"server.timeout", kVrTimeout, FmuCausality::Parameter, FmuType::Real, num, "s",
+  out.push_back({"server.timeout", kVrTimeout, FmuCausality::Parameter, FmuType::Real, shortest(t.timeout), "s",
                  "deadline for connect, handshake and each step's result", -1});
   return out;
 }

@@ -9,4 +9,6 @@ std::string version_line(const std::string& tool) {
          std::to_string(PCS_PROTOCOL_VERSION) + ")";
 }
 
+const char* project_version() { return PCS_PROJECT_VERSION; }
+
 }  // namespace config

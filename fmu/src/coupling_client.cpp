@@ -1,7 +1,9 @@
 #include "coupling_client.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <ctime>
 
 #include "config/token.hpp"
 
@@ -42,6 +44,7 @@ void CouplingClient::receive_handshake_frame(pcs_header& h, uint16_t want, const
     pcs_abort a{};
     pcs_decode_abort(buf_.data(), h.payload_size, &a);
     sl_close(&sock_);
+    if (a.code == static_cast<uint32_t>(-SL_EBUSY)) throw LinkError(SL_EBUSY, where + " is " + a.reason);
     throw LinkError(SL_EREFUSED_BY_PEER, where + " refused the session: " + a.reason);
   }
   if (rc == SL_EVERSION)  // fail() tells the server, in an ABORT it can read whatever its version
@@ -54,8 +57,52 @@ void CouplingClient::receive_handshake_frame(pcs_header& h, uint16_t want, const
 void CouplingClient::connect(const std::string& host, int port, const std::string& token,
                              double timeout_s) {
   timeout_s_ = timeout_s;
-  const int64_t deadline = deadline_after(timeout_s);
-  std::string where = "fe_server at " + host + ":" + std::to_string(port);
+  const int64_t start = sl_now_ms(), deadline = deadline_after(timeout_s);
+  const std::string where = "fe_server at " + host + ":" + std::to_string(port);
+  auto tell = [&](bool warning, const std::string& what) {
+    if (progress_) progress_(warning, what);
+  };
+  char until[96];
+  std::snprintf(until, sizeof until, " (server.timeout: %g s)", timeout_s);
+  tell(false, "connecting to " + where + until);
+  // In slices of kProgressMs, so a long wait is never silent: a server not
+  // (yet) listening, or one busy with another session, is retried until the
+  // deadline and said to be so every few seconds.
+  int64_t next_note = start + kProgressMs;
+  bool told_busy = false;
+  for (;;) {
+    try {
+      connect_once(host, port, token, std::min(deadline, sl_now_ms() + kProgressMs), deadline);
+      return;
+    } catch (const LinkError& e) {
+      const bool waiting = e.code() == SL_EREFUSED || e.code() == SL_EBUSY ||
+                           (e.code() == SL_ETIMEDOUT && !connected_once_);
+      const int64_t now = sl_now_ms();
+      if (!waiting || now >= deadline) throw;
+      const bool first_busy = e.code() == SL_EBUSY && !told_busy;  // said at once: the user can act on it
+      told_busy = told_busy || e.code() == SL_EBUSY;
+      if (now >= next_note || first_busy) {
+        char waited[160];
+        std::snprintf(waited, sizeof waited, "; retrying until %g s have passed (%.0f s so far)", timeout_s,
+                      (now - start) / 1000.0);
+        tell(true, (e.code() == SL_EBUSY ? std::string(e.what()) : "no answer from " + where +
+                                                                         " (is fe_server started, on this host and port?)") +
+                       waited);
+        next_note = now + kProgressMs;
+      }
+      if (e.code() == SL_EBUSY) {  // the session ends when it ends: try again now and then, not in a tight loop
+        const int64_t pause = std::min<int64_t>(kBusyRetryMs, deadline - now);
+        struct timespec ts = {static_cast<time_t>(pause / 1000), static_cast<long>(pause % 1000) * 1000000L};
+        nanosleep(&ts, nullptr);
+      }
+    }
+  }
+}
+
+void CouplingClient::connect_once(const std::string& host, int port, const std::string& token,
+                                  int64_t connect_deadline, int64_t deadline) {
+  connected_once_ = false;
+  const std::string where = "fe_server at " + host + ":" + std::to_string(port);
   // A token we cannot use is refused before anything goes out (an ABORT
   // saying why would tell a peer, maybe not the real server, its length).
   if (!token.empty()) {  // empty: a server started with --insecure-no-token
@@ -65,8 +112,13 @@ void CouplingClient::connect(const std::string& host, int port, const std::strin
       throw LinkError(SL_EINVAL, e.what());
     }
   }
-  int rc = sl_connect(host.c_str(), port, deadline, &sock_);
-  if (rc != SL_OK) fail(rc, "cannot connect to " + where);
+  int rc = sl_connect(host.c_str(), port, connect_deadline, &sock_);
+  if (rc != SL_OK) {
+    const std::string why = "cannot connect to " + where + ": " + describe_link_error(rc, sock_);
+    sl_close(&sock_);
+    throw LinkError(rc, why);
+  }
+  connected_once_ = true;
   if (pcs_auth_init() != SL_OK) fail(SL_ESYSTEM, "cannot initialise libsodium");
   pcs_hello hello{};
   hello.protocol_version = PCS_PROTOCOL_VERSION;

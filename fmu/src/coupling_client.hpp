@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -30,9 +31,16 @@ class CouplingClient {
   CouplingClient(const CouplingClient&) = delete;
   CouplingClient& operator=(const CouplingClient&) = delete;
 
-  // Connect (retrying while refused) and shake hands, all before
-  // now + timeout_s. Throws LinkError, e.g. when the server refuses the token.
+  // Connect (retrying while refused, or while the server is busy with another
+  // session) and shake hands, all before now + timeout_s. Throws LinkError,
+  // e.g. when the server refuses the token. The wait is told to the progress
+  // callback when it starts and every kProgressMs while it lasts (warning
+  // set: the importer's user should see it).
   void connect(const std::string& host, int port, const std::string& token, double timeout_s);
+  using Progress = std::function<void(bool warning, const std::string& message)>;
+  void set_progress(Progress p) { progress_ = std::move(p); }
+  static constexpr int64_t kProgressMs = 5000;
+  static constexpr int64_t kBusyRetryMs = 1000;
   // Send STEP k with `inputs` and wait up to timeout_s for RESULT k.
   // Throws LinkError (timed out, peer closed, ABORT with its reason, ...).
   void step(uint64_t k, double time, double dt, const std::vector<double>& inputs,
@@ -59,6 +67,9 @@ class CouplingClient {
 
  private:
   [[noreturn]] void fail(int code, const std::string& what);
+  // One attempt: connect by connect_deadline, shake hands by deadline.
+  void connect_once(const std::string& host, int port, const std::string& token, int64_t connect_deadline,
+                    int64_t deadline);
   // Receive one handshake frame of type `want`; an ABORT, another version or
   // another type ends the connection with a LinkError naming the cause.
   // Send a frame of `type` for step k (empty payload); wait for the server's
@@ -72,6 +83,8 @@ class CouplingClient {
   double timeout_s_ = 60.0;
   std::vector<uint8_t> buf_;
   bool stop_requested_ = false;
+  bool connected_once_ = false;  // the last attempt got a connection (a time-out after it is the handshake's)
+  Progress progress_;
   bool resume_pending_ = false;  // RESUME sent, its answer not yet read
   uint64_t resume_step_ = 0;
 };

@@ -46,7 +46,7 @@ std::string path_from_file_uri(const std::string& uri) {
 
 Instance::Instance(std::string name, const std::string& guid, const std::string& resource_location,
                    const fmi2CallbackFunctions* callbacks, bool logging_on)
-    : name_(std::move(name)), logging_on_(logging_on) {
+    : name_(std::move(name)), logging_on_(logging_on), logging_at_instantiation_(logging_on) {
   if (callbacks) {
     logger_ = callbacks->logger;
     env_ = callbacks->componentEnvironment;
@@ -182,6 +182,9 @@ void Instance::exit_initialization() {
   int port = 0;
   resolve_endpoint(host, port, token);
   client_ = std::make_unique<CouplingClient>(table_);
+  client_->set_progress([this](bool warning, const std::string& m) {
+    log(warning ? fmi2Warning : fmi2OK, "logCoupling", m);
+  });
   try {
     client_->connect(host, port, token, timeout_);
   } catch (const LinkError& e) {
@@ -306,6 +309,19 @@ void Instance::reset() {
   step_ = 0;
   time_ = 0.0;
   resume_ = false;
+  resume_step_ = 0;
+  // FMI 2.0 (4.2.2, fmi2Reset): "the same state as if fmi2Instantiate would
+  // have been called": every variable back to its start value, the
+  // parameters too (server.*), and the experiment and logging forgotten.
+  host_.clear();
+  std::fill(token_.begin(), token_.end(), '\0');  // the token leaves no copy behind
+  token_.clear();
+  port_ = 0;
+  timeout_ = table_.timeout;
+  stop_time_defined_ = false;
+  stop_time_ = 0.0;
+  importer_asks_ = stop_warned_ = false;
+  logging_on_ = logging_at_instantiation_;
   state_ = State::Instantiated;
 }
 

@@ -100,6 +100,7 @@ class Instance {
   fmi2CallbackLogger logger_ = nullptr;
   fmi2ComponentEnvironment env_ = nullptr;
   bool logging_on_ = false;
+  bool logging_at_instantiation_ = false;  // fmi2Reset returns to it
   State state_ = State::Instantiated;
 
   config::PortTable table_;

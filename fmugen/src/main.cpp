@@ -3,16 +3,19 @@
 //   fmugen ports.cfg -o scene.fmu [--binary pcs_fmu.so] [--description TEXT]
 //
 // The .fmu holds modelDescription.xml, binaries/linux64/<model>.so (the
-// generic coupling FMU), resources/ports.cfg and documentation/.
+// generic coupling FMU), resources/ports.cfg and documentation/ (index.html,
+// externalDependencies.txt, licenses/).
 #include <zip.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "config/cli.hpp"
@@ -22,17 +25,60 @@
 
 namespace {
 
-void add_entry(zip_t* z, const std::string& name, const std::string& data, const std::string& out) {
+// Entries are 0644 (a world-writable .so after unzip otherwise) and carry
+// the generation time, so SOURCE_DATE_EPOCH gives a byte-identical FMU.
+void add_entry(zip_t* z, const std::string& name, const std::string& data, const std::string& out,
+               std::time_t mtime) {
   // libzip copies the buffer only at zip_close; `data` must outlive it, so the
   // source is told to free a heap copy.
   void* copy = std::malloc(data.size() ? data.size() : 1);
   if (!copy) throw std::runtime_error("out of memory");
   std::memcpy(copy, data.data(), data.size());
   zip_source_t* src = zip_source_buffer(z, copy, data.size(), 1);
-  if (!src || zip_file_add(z, name.c_str(), src, ZIP_FL_OVERWRITE | ZIP_FL_ENC_UTF_8) < 0) {
+  zip_int64_t index = -1;
+  if (!src || (index = zip_file_add(z, name.c_str(), src, ZIP_FL_OVERWRITE | ZIP_FL_ENC_UTF_8)) < 0) {
     if (src) zip_source_free(src);
     throw std::runtime_error("cannot add " + name + " to " + out + ": " + zip_strerror(z));
   }
+  const auto i = static_cast<zip_uint64_t>(index);
+  if (zip_file_set_external_attributes(z, i, 0, ZIP_OPSYS_UNIX, (0100644u) << 16) < 0 ||
+      zip_file_set_mtime(z, i, mtime, 0) < 0)
+    throw std::runtime_error("cannot set the mode of " + name + " in " + out + ": " + zip_strerror(z));
+}
+
+// The generation time: SOURCE_DATE_EPOCH (reproducible builds) if set, else now.
+std::time_t generation_time() {
+  if (const char* e = std::getenv("SOURCE_DATE_EPOCH")) {
+    char* end = nullptr;
+    const long long v = std::strtoll(e, &end, 10);
+    if (end == e || *end != '\0' || v < 0)
+      throw std::invalid_argument(std::string("SOURCE_DATE_EPOCH '") + e + "' is not a number of seconds");
+    return static_cast<std::time_t>(v);
+  }
+  return std::time(nullptr);
+}
+
+std::string iso8601_utc(std::time_t t) {
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+// The licences of what the binary links in statically, found at configure
+// time (CMake's PCS_FMU_LICENSES: "entry=path|..."): documentation/licenses/.
+std::vector<std::pair<std::string, std::string>> licence_files() {
+  std::vector<std::pair<std::string, std::string>> out;
+  const std::string all = PCS_FMU_LICENSES;
+  std::stringstream list(all);
+  std::string item;
+  while (std::getline(list, item, '|')) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == item.size()) continue;
+    out.emplace_back(item.substr(0, eq), item.substr(eq + 1));
+  }
+  return out;
 }
 
 int usage(std::ostream& os, int rc) {
@@ -47,7 +93,7 @@ int usage(std::ostream& os, int rc) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string ports, out, description = "Co-simulation of a hydraulic percussion unit with fe_server";
+  std::string ports, out, description;  // empty: the table's, else one from its ports
   std::string binary = PCS_FMU_BINARY;  // the pcs_fmu module of this build
   try {
     config::Args args(argc, argv);
@@ -69,9 +115,14 @@ int main(int argc, char** argv) {
   }
   config::PortTable table;
   std::string so;
+  std::time_t when = 0;
+  std::vector<std::pair<std::string, std::string>> licences;
   try {  // what it reads: a fault there is the input's (exit 3, as the other tools)
     table = config::read_port_table(ports);
     so = config::read_text_file(binary, "FMU binary");
+    when = generation_time();
+    for (const auto& [entry, path] : licence_files())
+      licences.emplace_back(entry, config::read_text_file(path, "licence text"));
   } catch (const std::exception& e) {
     std::cerr << "fmugen: " << e.what() << "\n";
     return 3;
@@ -88,11 +139,14 @@ int main(int argc, char** argv) {
       throw std::runtime_error("cannot create " + out + ": " + why);
     }
     try {
-      add_entry(z, "modelDescription.xml", fmugen::model_description_xml(table, description), out);
-      add_entry(z, "binaries/linux64/" + table.model_name + ".so", so, out);
-      add_entry(z, "resources/ports.cfg", config::read_text_file(ports, "port configuration"), out);
+      const fmugen::Generation gen{config::version_line("fmugen"), iso8601_utc(when)};
+      add_entry(z, "modelDescription.xml", fmugen::model_description_xml(table, description, gen), out, when);
+      add_entry(z, "binaries/linux64/" + table.model_name + ".so", so, out, when);
+      add_entry(z, "resources/ports.cfg", config::read_text_file(ports, "port configuration"), out, when);
+      add_entry(z, "documentation/index.html", fmugen::documentation_html(table, description, gen), out, when);
       add_entry(z, "documentation/externalDependencies.txt",
-                fmugen::external_dependencies_text(table), out);
+                fmugen::external_dependencies_text(table), out, when);
+      for (const auto& [entry, text] : licences) add_entry(z, "documentation/licenses/" + entry, text, out, when);
     } catch (...) {
       zip_discard(z);
       throw;

@@ -1,5 +1,8 @@
 #include "model_description.hpp"
 
+#include "config/version.hpp"
+
+#include <cctype>
 #include <cstdio>
 #include <sstream>
 
@@ -44,16 +47,37 @@ const char* causality_name(config::FmuCausality c) {
 
 }  // namespace
 
-std::string model_description_xml(const config::PortTable& t, const std::string& description) {
+std::string default_description(const config::PortTable& t) {
+  std::ostringstream d;
+  d << t.model_name << ": fe_server co-simulation";
+  const char* sep = ", ";
+  for (const auto& p : t.ports) {
+    std::string type = config::to_string(p.type);
+    for (auto& c : type) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    d << sep << type << " port " << p.label;
+  }
+  d << " (" << config::to_string(t.mode) << " coupling, " << config::shortest(t.dt) << " s)";
+  return d.str();
+}
+
+static std::string description_of(const config::PortTable& t, const std::string& description) {
+  if (!description.empty()) return description;
+  if (!t.description.empty()) return t.description;
+  return default_description(t);
+}
+
+std::string model_description_xml(const config::PortTable& t, const std::string& description,
+                                  const Generation& generation) {
   const auto vars = config::fmu_variables(t);
   std::ostringstream x;
-  char num[64];
-  std::snprintf(num, sizeof num, "%.17g", t.dt);
+  const std::string num = config::shortest(t.dt);
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
     << "<fmiModelDescription fmiVersion=\"2.0\" modelName=\"" << xml_escape(t.model_name)
-    << "\" guid=\"" << config::fmu_guid(t) << "\"\n  description=\"" << xml_escape(description)
-    << "\"\n  generationTool=\"pcs fmugen\" variableNamingConvention=\"structured\" "
-       "numberOfEventIndicators=\"0\">\n";
+    << "\" guid=\"" << config::fmu_guid(t) << "\"\n  description=\"" << xml_escape(description_of(t, description))
+    << "\"\n  version=\"" << xml_escape(config::project_version()) << "\" generationTool=\""
+    << xml_escape(generation.tool) << "\"";
+  if (!generation.date.empty()) x << " generationDateAndTime=\"" << xml_escape(generation.date) << "\"";
+  x << "\n  variableNamingConvention=\"structured\" numberOfEventIndicators=\"0\">\n";
   // needsExecutionTool: the FMU couples to a running fe_server.
   x << "  <CoSimulation modelIdentifier=\"" << xml_escape(t.model_name)
     << "\" needsExecutionTool=\"true\" canHandleVariableCommunicationStepSize=\"false\"\n"
@@ -81,8 +105,7 @@ std::string model_description_xml(const config::PortTable& t, const std::string&
        "  </LogCategories>\n";
   // A stop time of 1000 coupling steps: a short run for an importer's
   // defaults (FMPy's simulate_fmu without arguments), to be set by the user.
-  char stop[64];
-  std::snprintf(stop, sizeof stop, "%.17g", 1000.0 * t.dt);
+  const std::string stop = config::shortest(1000.0 * t.dt);
   x << "  <DefaultExperiment startTime=\"0\" stopTime=\"" << stop << "\" stepSize=\"" << num << "\"/>\n";
   x << "  <ModelVariables>\n";
   for (size_t i = 0; i < vars.size(); ++i) {
@@ -146,6 +169,56 @@ std::string external_dependencies_text(const config::PortTable& t) {
          "node), p = c + Zc*q, T (the oil's temperature, constant: the model is isothermal),\n"
          "c and Zc (Hopsan's wave variable and impedance, in), Qdot (heat flow, 0).\n";
   return s.str();
+}
+
+}  // namespace fmugen
+
+namespace fmugen {
+
+std::string documentation_html(const config::PortTable& t, const std::string& description,
+                               const Generation& generation) {
+  const auto vars = config::fmu_variables(t);
+  std::ostringstream h;
+  const std::string name = xml_escape(t.model_name);
+  h << "<!DOCTYPE html>\n<html lang=\"en\">\n<head><meta charset=\"utf-8\"><title>" << name
+    << " (FMI 2.0 co-simulation FMU)</title>\n"
+       "<style>body{font-family:sans-serif;max-width:60em;margin:2em auto;line-height:1.4}"
+       "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:.2em .5em;text-align:left}"
+       "code,pre{background:#f4f4f4}</style></head>\n<body>\n";
+  h << "<h1>" << name << "</h1>\n<p>" << xml_escape(description_of(t, description)) << "</p>\n";
+  h << "<p>FMI 2.0 co-simulation, GUID <code>" << config::fmu_guid(t) << "</code>, made by "
+    << xml_escape(generation.tool);
+  if (!generation.date.empty()) h << " on " << xml_escape(generation.date);
+  h << ".</p>\n";
+  h << "<h2>Coupling</h2>\n<ul>\n<li>" << xml_escape(config::to_string(t.mode))
+    << " mode, coupling step " << config::shortest(t.dt) << " s, " << t.subcycles
+    << " FE step(s) per coupling step.</li>\n"
+       "<li>A communication step must be a whole number of coupling steps; the FMU refuses any other.</li>\n"
+       "<li>The start time must be 0: the FE model starts from its initial state.</li>\n</ul>\n";
+  h << "<h2>Before you run it: the server and the token</h2>\n"
+       "<p>The structural model runs in fe_server, which must be listening before the importer ends "
+       "initialization (<code>fmi2ExitInitializationMode</code> connects). The address comes from the "
+       "parameters <code>server.host</code> and <code>server.port</code>, else from "
+       "<code>$PCS_SERVER_HOST</code> and <code>$PCS_SERVER_PORT</code>, else from the <code>server</code> "
+       "line of <code>resources/ports.cfg</code>.</p>\n"
+       "<p>The session token is never stored in the FMU. Give it in <code>server.token</code> (write-only: "
+       "reading it back gives an empty string), or in <code>$PCS_TOKEN</code>, or in a file named by "
+       "<code>$PCS_TOKEN_FILE</code> (readable by you only). fe_server must be started with the same token; "
+       "without it the handshake is refused and the FMU says so.</p>\n"
+       "<pre>"
+    << xml_escape(external_dependencies_text(t)) << "</pre>\n";
+  h << "<h2>Variables</h2>\n<table>\n<tr><th>name</th><th>causality</th><th>type</th><th>unit</th>"
+       "<th>start</th><th>meaning</th></tr>\n";
+  for (const auto& v : vars) {
+    const char* type = v.type == config::FmuType::Real ? "Real" : v.type == config::FmuType::Integer ? "Integer" : "String";
+    h << "<tr><td><code>" << xml_escape(v.name) << "</code></td><td>" << causality_name(v.causality) << "</td><td>"
+      << type << "</td><td>" << xml_escape(v.unit.empty() ? "-" : v.unit) << "</td><td>"
+      << xml_escape(v.start.empty() ? "-" : v.start) << "</td><td>" << xml_escape(v.description) << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  h << "<h2>Licences</h2>\n<p>The binary links libsodium and the GCC runtime (libstdc++, libgcc) statically; "
+       "their licences are in <code>documentation/licenses/</code>.</p>\n</body>\n</html>\n";
+  return h.str();
 }
 
 }  // namespace fmugen

@@ -375,3 +375,75 @@ TEST_F(FmuTest, TerminatingBeforeTheAnnouncedStopTimeIsWarned) {
     if (c.warned) EXPECT_NE(log.all().find("3 coupling steps early"), std::string::npos) << log.all();
   }
 }
+
+// FMI 2.0, fmi2Reset: "the same state as if fmi2Instantiate would have been
+// called" - every variable at its start value, the server.* parameters too.
+// Before, a reset kept the host, port, token and time-out that were set, so a
+// second run silently went to the first run's server.
+TEST_F(FmuTest, ResetReturnsEveryParameterToItsStartValueAndRunsAgain) {
+  // The first run's server knows another token than $PCS_TOKEN; the second
+  // run's knows $PCS_TOKEN only, so a token kept over the reset fails its handshake.
+  const std::string first_token = "fedcba9876543210fedcba9876543210";
+  TestPeer first(table, TestPeer::Behaviour::Echo, first_token), second(table);
+  Log log;
+  fmi2Component c = instantiate("reset", log);
+  ASSERT_NE(c, nullptr);
+  point_at(c, first.port(), 7.5);
+  fmi2ValueReference vr_token = config::kVrServerToken;
+  fmi2String token = first_token.c_str();
+  ASSERT_EQ(api->fmi2SetString(c, &vr_token, 1, &token), fmi2OK);
+  ASSERT_EQ(api->fmi2EnterInitializationMode(c), fmi2OK);
+  ASSERT_EQ(api->fmi2ExitInitializationMode(c), fmi2OK) << log.all();
+  fmi2ValueReference in = 0;
+  double p = 3.0e6;
+  ASSERT_EQ(api->fmi2SetReal(c, &in, 1, &p), fmi2OK);
+  ASSERT_EQ(api->fmi2DoStep(c, 0.0, table.dt, fmi2True), fmi2OK) << log.all();
+  ASSERT_EQ(api->fmi2Reset(c), fmi2OK) << log.all();
+  // Values may be read from initialization mode on (FMI 2.0, 4.2.4).
+  ASSERT_EQ(api->fmi2EnterInitializationMode(c), fmi2OK);
+  fmi2ValueReference vr_host = config::kVrServerHost, vr_port = config::kVrServerPort, vr_to = config::kVrTimeout;
+  fmi2String host = "x";
+  fmi2Integer port = -1;
+  fmi2Real timeout = -1, p_back = -1;
+  ASSERT_EQ(api->fmi2GetString(c, &vr_host, 1, &host), fmi2OK);
+  ASSERT_EQ(api->fmi2GetInteger(c, &vr_port, 1, &port), fmi2OK);
+  ASSERT_EQ(api->fmi2GetReal(c, &vr_to, 1, &timeout), fmi2OK);
+  ASSERT_EQ(api->fmi2GetReal(c, &in, 1, &p_back), fmi2OK);
+  EXPECT_STREQ(host, "") << "server.host's start value is empty";
+  EXPECT_EQ(port, 0) << "server.port's start value is 0";
+  EXPECT_DOUBLE_EQ(timeout, table.timeout) << "server.timeout's start value is the table's";
+  EXPECT_DOUBLE_EQ(p_back, 0.0) << "an input's start value is 0";
+  // The instance runs again, as a new one would: pointed at a server anew,
+  // with the token from the environment.
+  point_at(c, second.port());
+  ASSERT_EQ(api->fmi2ExitInitializationMode(c), fmi2OK) << log.all();
+  ASSERT_EQ(api->fmi2DoStep(c, 0.0, table.dt, fmi2True), fmi2OK) << log.all();
+  EXPECT_EQ(api->fmi2Terminate(c), fmi2OK);
+  api->fmi2FreeInstance(c);
+  first.join();
+  second.join();
+  EXPECT_EQ(first.steps(), 1);
+  EXPECT_EQ(second.steps(), 1);
+}
+
+// The wait for a server that is not there is never silent: the start is
+// logged (category logCoupling, shown with logging on), and every 5 s the
+// importer's user is warned, with host, port and deadline.
+TEST_F(FmuTest, AWaitForAServerSaysSoWhenItStartsAndEveryFiveSeconds) {
+  sl_socket probe = SL_SOCKET_INIT;  // bind and close: a port nobody listens on
+  ASSERT_EQ(sl_listen("127.0.0.1", 0, &probe), SL_OK);
+  const int port = sl_local_port(&probe);
+  sl_close(&probe);
+  Log log;
+  fmi2Component c = instantiate("waiting", log);
+  ASSERT_EQ(api->fmi2SetDebugLogging(c, fmi2True, 0, nullptr), fmi2OK);
+  point_at(c, port, 5.5);  // one 5 s note, then the deadline
+  ASSERT_EQ(api->fmi2EnterInitializationMode(c), fmi2OK);
+  EXPECT_EQ(api->fmi2ExitInitializationMode(c), fmi2Error);
+  const std::string where = "fe_server at 127.0.0.1:" + std::to_string(port);
+  EXPECT_NE(log.all().find("connecting to " + where + " (server.timeout: 5.5 s)"), std::string::npos) << log.all();
+  EXPECT_NE(log.all().find("no answer from " + where), std::string::npos) << log.all();
+  EXPECT_NE(log.all().find("retrying until 5.5 s have passed (5 s so far)"), std::string::npos) << log.all();
+  EXPECT_NE(log.all().find("SL_EREFUSED"), std::string::npos) << "and at the end, why it failed\n" << log.all();
+  api->fmi2FreeInstance(c);
+}

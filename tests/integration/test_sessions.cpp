@@ -154,3 +154,29 @@ TEST(Sessions, AnFmuSteppedBy1x16xOr128xTheCouplingStepGivesTheSameStatesAtCommo
   EXPECT_NE(one.front(), one.back()) << "the face moved: the comparison means something";
   EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output();
 }
+
+// A host that comes while another session runs is told at once that the
+// server is busy (ABORT SL_EBUSY), says so, and retries until its deadline:
+// it is served when the first session ends. Before, it sat in the listen
+// backlog in silence, and with a shorter deadline than the first run timed
+// out with "no answer" and no hint why.
+TEST(Sessions, AHostWhileAnotherSessionRunsIsToldTheServerIsBusyAndServedAfter) {
+  TempDir dir;
+  Server server(dir, {"--sessions", "2", "--out", dir.file("fe_{session}.h5")});
+  ASSERT_GT(server.port, 0) << server.child->output();
+  const std::string at = "127.0.0.1:" + std::to_string(server.port);
+  ChildProcess first({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server", at, "--out",
+                      dir.file("h1.h5"), "--quiet", "--set", "simulation.stoptime=0.4"});  // about 3 s of wall
+  for (int i = 0; i < 1000 && server.child->output().find("session accepted") == std::string::npos; ++i) usleep(10000);
+  ASSERT_NE(server.child->output().find("session accepted"), std::string::npos) << server.child->output();
+  ChildProcess second({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server", at, "--out",
+                       dir.file("h2.h5"), "--quiet", "--set", "simulation.stoptime=0.01"});
+  EXPECT_EQ(second.wait(kHardTimeout), 0) << second.output();
+  EXPECT_EQ(first.wait(kHardTimeout), 0) << first.output();
+  EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output();
+  EXPECT_NE(second.output().find("is busy: running another session"), std::string::npos) << second.output();
+  EXPECT_NE(server.child->output().find("turned away: busy"), std::string::npos) << server.child->output();
+  EXPECT_NE(server.child->output().find("session 2: session ended by the host after 1000 coupling steps"),
+            std::string::npos)
+      << server.child->output();
+}

@@ -3,8 +3,8 @@
 // the FMU's variables and value references (fmu_variables), the HELLO hash
 // and the FE server's port map all derive from it.
 //
-//   $FMU_SETTINGS        key, value   (model, server, timestep, mode, subcycles, timeout,
-//                                      host_convention)
+//   $FMU_SETTINGS        key, value   (model, description, server, timestep, mode, subcycles,
+//                                      timeout, host_convention)
 //   $FMU_HOPSAN_PORTS    id, label, type          (Hydraulic | Mechanic | Signal)
 //   $FMU_HOPSAN_SEND     port id, quantity, scale (host → FE)
 //   $FMU_HOPSAN_RECEIVE  port id, quantity, scale (FE → host)
@@ -50,6 +50,9 @@ struct Variable {
 struct PortTable {
   std::string source;  // file it was read from
   std::string model_name;
+  // What the FMU is, for its modelDescription.xml (not part of the hash);
+  // empty: fmugen writes one from the ports.
+  std::string description;
   std::string server;  // default HOST:PORT of fe_server
   double dt = 0.0;     // coupling time step, s
   CouplingMode mode = CouplingMode::Pressure;
@@ -116,6 +119,10 @@ constexpr unsigned kVrServerToken = 1000002;
 constexpr unsigned kVrTimeout = 1000003;
 
 std::vector<FmuVariable> fmu_variables(const PortTable& table);
+
+// The shortest decimal text that reads back as exactly v (std::to_chars):
+// 1e-05, where %.17g gives 1.0000000000000001e-05.
+std::string shortest(double v);
 
 // Hopsan's NodeHydraulic in its data order (Flow, Pressure, Temperature,
 // WaveVariable, CharImpedance, HeatFlow): the variable of each slot, after

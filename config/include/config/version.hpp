@@ -11,4 +11,7 @@ namespace config {
 // "fe_server 0.1.0 (percussion co-simulation; coupling protocol 5)"
 std::string version_line(const std::string& tool);
 
+// "0.1.0": the project's version alone (an FMU's version attribute).
+const char* project_version();
+
 }  // namespace config

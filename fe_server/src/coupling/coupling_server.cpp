@@ -643,6 +643,26 @@ ExitCode follow_session(const Domain& domain, Solver& solver, PortMap& ports, Fo
   }
 }
 
+void CouplingServer::turn_away_while_busy() {
+  if (listener_.fd < 0) return;
+  const int64_t now = sl_now_ms();
+  if (now < next_busy_check_) return;
+  next_busy_check_ = now + kBusyCheckMs;
+  sl_socket conn = SL_SOCKET_INIT;
+  if (sl_accept(&listener_, now, &conn) != SL_OK) return;  // none pending (a deadline of now: no wait)
+  char peer[96];
+  sl_peer_name(&conn, peer, sizeof peer);
+  uint8_t hello[256];
+  pcs_header h{};
+  (void)pcs_recv_frame(&conn, &h, hello, sizeof hello, sl_now_ms() + kBusyDrainMs);
+  pcs_send_abort(&conn, 0, static_cast<uint32_t>(-SL_EBUSY),
+                 "busy: running another session, one at a time (with --sessions the next one starts when "
+                 "this one ends)",
+                 sl_now_ms() + 100);
+  sl_close(&conn);
+  if (!opt_.quiet) std::cerr << "fe_server: " << peer << " turned away: busy with this session" << std::endl;
+}
+
 ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHistory& open_history,
                                    std::string& message) {
   stopping_ = false;
@@ -677,6 +697,7 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHis
     auto no_checkpoint = [&] { return here() + "; the host did not checkpoint within " + std::to_string(opt_.stop_grace) + " s"; };
     if (config::stop_signal() && !stopping_ && !ask_for_checkpoint(expected)) return stop(expected, here(), message);
     if (stopping_ && sl_now_ms() >= stop_deadline_) return stop(expected, no_checkpoint(), message);
+    turn_away_while_busy();
     size_t byes = 0, checkpoints = 0;
     for (Client& c : clients_) {
       pcs_header h{};

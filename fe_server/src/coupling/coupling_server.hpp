@@ -177,6 +177,17 @@ class CouplingServer {
   // table stopped accepting until the strangers' 5 s deadlines ran out: 100
   // connections/s kept the real host out for good.)
   ExitCode accept_clients(std::string& message);
+  // While a session runs, a new connection (the next session's host, come
+  // early; a second importer) is answered at once with ABORT SL_EBUSY and
+  // closed, instead of sitting in the listen backlog until its deadline runs
+  // out in silence; the FMU retries until its deadline and says so. One
+  // connection per kBusyCheckMs, its HELLO awaited at most kBusyDrainMs (so
+  // the close does not reset the connection before the client reads the
+  // ABORT): a flood of strangers costs the session at most a few per cent.
+  void turn_away_while_busy();
+  int64_t next_busy_check_ = 0;
+  static constexpr int64_t kBusyCheckMs = 200;
+  static constexpr int64_t kBusyDrainMs = 5;
   static constexpr size_t kMaxPending = 128;
   static constexpr size_t kMaxPendingPerPeer = 64;
   // Makes room for one more connection from `address` (see accept_clients):

@@ -41,7 +41,8 @@ extern "C" {
   X(NOMEM, -12, "out of memory")                                                     \
   X(UNEXPECTED, -13, "unexpected message type or step index")                        \
   X(REFUSED_BY_PEER, -14, "peer refused the session (ABORT received)")           \
-  X(INTERRUPTED, -15, "interrupted: the program was asked to stop (signal)")
+  X(INTERRUPTED, -15, "interrupted: the program was asked to stop (signal)")          \
+  X(BUSY, -16, "the server is busy with another session")
 
 typedef enum {
   SL_OK = 0,

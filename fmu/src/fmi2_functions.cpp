@@ -1,13 +1,15 @@
-// The exported FMI 2.0 functions. Each is a shell: it checks that the call is
-// legal in the instance's current state (naming the call that was out of
-// sequence), runs the work, and turns every failure into an fmi2Status with a
-// message through the importer's logger. No exception crosses this boundary;
-// nothing here exits or prints.
+// The exported FMI 2.0 functions. Each is a shell (guarded.hpp): it checks
+// that the call is legal in the instance's current state, runs the work, and
+// turns every failure into an fmi2Status with a message through the
+// importer's logger. No exception crosses this boundary; nothing here exits
+// or prints.
 #include <csignal>
 #include <cstring>
 #include <new>
+#include <utility>
 
 #include "fmi2/fmi2.h"
+#include "guarded.hpp"
 #include "instance.hpp"
 #include "socketlib/socketlib.h"
 
@@ -17,60 +19,15 @@ using pcs_fmu::State;
 
 namespace {
 
-constexpr unsigned bit(State s) { return static_cast<unsigned>(s); }
-constexpr unsigned kAnyButFatal = bit(State::Instantiated) | bit(State::InitializationMode) |
-                                  bit(State::StepComplete) | bit(State::StepFailed) |
-                                  bit(State::Terminated) | bit(State::Error);
-// Which states each call is legal in (FMI 2.0 co-simulation state table, spec. 4.2.4).
-constexpr unsigned kSetupExperiment = bit(State::Instantiated);
-constexpr unsigned kEnterInit = bit(State::Instantiated);
-constexpr unsigned kExitInit = bit(State::InitializationMode);
-constexpr unsigned kTerminate = bit(State::StepComplete) | bit(State::StepFailed);
-constexpr unsigned kGet = bit(State::InitializationMode) | bit(State::StepComplete) |
-                          bit(State::StepFailed) | bit(State::Terminated) | bit(State::Error);
-constexpr unsigned kSet = bit(State::Instantiated) | bit(State::InitializationMode) |
-                          bit(State::StepComplete);
-constexpr unsigned kDoStep = bit(State::StepComplete);
-constexpr unsigned kStatus = bit(State::StepComplete) | bit(State::StepFailed) |
-                             bit(State::Terminated);
+using namespace pcs_fmu;
 
-// Run `work` on instance c if `allowed` contains its state.
 template <class F>
 fmi2Status guarded(fmi2Component c, const char* fn, unsigned allowed, F&& work) {
-  if (!c) return fmi2Error;
-  auto* inst = static_cast<Instance*>(c);
-  if (!(bit(inst->state()) & allowed)) {
-    inst->log(fmi2Error, "logStatusError",
-              std::string(fn) + " is not allowed in state " + pcs_fmu::to_string(inst->state()));
-    return fmi2Error;
-  }
-  try {
-    work(*inst);
-    return fmi2OK;
-  } catch (const FmuError& e) {
-    inst->log(e.status(), "logStatusError", std::string(fn) + ": " + e.what());
-    if (e.status() == fmi2Error) {
-      inst->abort_link(std::string(fn) + " failed: " + e.what());
-      inst->set_state(State::Error);
-    }
-    if (e.status() == fmi2Fatal) inst->set_state(State::Fatal);
-    return e.status();
-  } catch (const std::bad_alloc&) {
-    inst->log(fmi2Fatal, "logStatusFatal", std::string(fn) + ": out of memory");
-    inst->set_state(State::Fatal);
-    return fmi2Fatal;
-  } catch (const std::exception& e) {
-    inst->log(fmi2Error, "logStatusError", std::string(fn) + ": " + e.what());
-    inst->set_state(State::Error);
-    return fmi2Error;
-  }
+  return pcs_fmu::guarded<fmi2Status>(c, fn, allowed, std::forward<F>(work));
 }
 
 fmi2Status unsupported(fmi2Component c, const char* fn, const char* capability) {
-  return guarded(c, fn, kAnyButFatal, [&](Instance&) {
-    throw FmuError(fmi2Error, std::string("not supported (") + capability +
-                                  " is false in modelDescription.xml)");
-  });
+  return pcs_fmu::unsupported<fmi2Status>(c, fn, capability);
 }
 
 }  // namespace

@@ -44,15 +44,30 @@ std::string path_from_file_uri(const std::string& uri) {
   return out;
 }
 
+namespace {
+
+Instance::LogSink fmi2_sink(const fmi2CallbackFunctions* callbacks, const std::string& name) {
+  if (!callbacks || !callbacks->logger) return nullptr;
+  const fmi2CallbackLogger logger = callbacks->logger;
+  const fmi2ComponentEnvironment env = callbacks->componentEnvironment;
+  // The message is passed as an argument, never as the format string.
+  return [logger, env, name](fmi2Status status, const char* category, const std::string& message) {
+    logger(env, name.c_str(), status, category, "%s", message.c_str());
+  };
+}
+
+}  // namespace
+
 Instance::Instance(std::string name, const std::string& guid, const std::string& resource_location,
                    const fmi2CallbackFunctions* callbacks, bool logging_on)
-    : name_(std::move(name)), logging_on_(logging_on), logging_at_instantiation_(logging_on) {
-  if (callbacks) {
-    logger_ = callbacks->logger;
-    env_ = callbacks->componentEnvironment;
-  }
+    : Instance(name, guid, path_from_file_uri(resource_location), fmi2_sink(callbacks, name), logging_on) {}
+
+Instance::Instance(std::string name, const std::string& guid, const std::string& resource_dir, LogSink sink,
+                   bool logging_on)
+    : name_(std::move(name)), sink_(std::move(sink)), logging_on_(logging_on), logging_at_instantiation_(logging_on) {
   // The configuration comes from the FMU's own resources, never the working directory.
-  std::string dir = path_from_file_uri(resource_location);
+  std::string dir = resource_dir;
+  while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
   try {
     table_ = config::read_port_table(dir + "/ports.cfg");
   } catch (const std::exception& e) {
@@ -70,9 +85,8 @@ Instance::Instance(std::string name, const std::string& guid, const std::string&
 
 void Instance::log(fmi2Status status, const char* category, const std::string& message) const {
   bool always = status == fmi2Error || status == fmi2Fatal || status == fmi2Warning;
-  if (!logger_ || !(always || logging_on_)) return;
-  // The message is passed as an argument, never as the format string.
-  logger_(env_, name_.c_str(), status, category, "%s", message.c_str());
+  if (!sink_ || !(always || logging_on_)) return;
+  sink_(status, category, message);
 }
 
 const config::FmuVariable& Instance::variable(fmi2ValueReference vr) const {

@@ -3,6 +3,7 @@
 // any number of instances live in one process.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -40,8 +41,15 @@ class FmuError : public std::runtime_error {
 
 class Instance {
  public:
+  // Where the instance's messages go: (status, category, message). FMI 2.0
+  // and 3.0 differ only in the callback's shape (fmi3Status has fmi2's values).
+  using LogSink = std::function<void(fmi2Status, const char*, const std::string&)>;
+  // FMI 2.0: the resources as a file: URI, the importer's callbacks.
   Instance(std::string name, const std::string& guid, const std::string& resource_location,
            const fmi2CallbackFunctions* callbacks, bool logging_on);
+  // Any version: the resources folder as a path, a sink for the messages.
+  Instance(std::string name, const std::string& token, const std::string& resource_dir, LogSink sink,
+           bool logging_on);
 
   const std::string& name() const { return name_; }
   State state() const { return state_; }
@@ -97,8 +105,7 @@ class Instance {
   void resolve_endpoint(std::string& host, int& port, std::string& token) const;
 
   std::string name_;
-  fmi2CallbackLogger logger_ = nullptr;
-  fmi2ComponentEnvironment env_ = nullptr;
+  LogSink sink_;
   bool logging_on_ = false;
   bool logging_at_instantiation_ = false;  // fmi2Reset returns to it
   State state_ = State::Instantiated;

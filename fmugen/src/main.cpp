@@ -1,6 +1,6 @@
-// fmugen: port configuration → FMI 2.0 co-simulation FMU.
+// fmugen: port configuration → FMI 2.0 or 3.0 co-simulation FMU.
 //
-//   fmugen ports.cfg -o scene.fmu [--binary pcs_fmu.so] [--description TEXT]
+//   fmugen ports.cfg -o scene.fmu [--fmi 2|3] [--binary pcs_fmu.so] [--description TEXT]
 //
 // The .fmu holds modelDescription.xml, binaries/linux64/<model>.so (the
 // generic coupling FMU), resources/ports.cfg and documentation/ (index.html,
@@ -82,8 +82,9 @@ std::vector<std::pair<std::string, std::string>> licence_files() {
 }
 
 int usage(std::ostream& os, int rc) {
-  os << "usage: fmugen PORTS.cfg -o OUT.fmu [--binary FMU_LIBRARY.so] [--description TEXT]\n"
-        "Generates an FMI 2.0 co-simulation FMU that couples to fe_server.\n"
+  os << "usage: fmugen PORTS.cfg -o OUT.fmu [--fmi 2|3] [--binary FMU_LIBRARY.so] [--description TEXT]\n"
+        "Generates an FMI 2.0 (or, with --fmi 3, FMI 3.0) co-simulation FMU that couples to fe_server.\n"
+        "  --description TEXT     the FMU's description (default: the port table's, else one from its ports)\n"
         "  -h, --help, --version  this text; the version\n"
         "Exit codes: 0 written, 2 usage, 3 input rejected (the port configuration or the binary), 1 the FMU\n"
         "            could not be written.\n";
@@ -94,13 +95,19 @@ int usage(std::ostream& os, int rc) {
 
 int main(int argc, char** argv) {
   std::string ports, out, description;  // empty: the table's, else one from its ports
-  std::string binary = PCS_FMU_BINARY;  // the pcs_fmu module of this build
+  std::string binary = PCS_FMU_BINARY;  // the pcs_fmu module of this build (FMI 2.0 and 3.0)
+  int fmi = 2;
   try {
     config::Args args(argc, argv);
     while (args.next()) {
       if (args.is("-o") || args.is("--output")) out = args.value();
       else if (args.is("--binary")) binary = args.value();
       else if (args.is("--description")) description = args.value();
+      else if (args.is("--fmi")) {
+        const std::string v = args.value();
+        if (v != "2" && v != "3") throw std::invalid_argument("--fmi " + v + ": expected 2 (FMI 2.0, the default) or 3 (FMI 3.0)");
+        fmi = v[0] - '0';
+      }
       else if (args.is("-h") || args.is("--help")) return usage(std::cout, 0);
       else if (args.is("--version")) return std::cout << config::version_line("fmugen") << "\n", 0;
       else if (args.is_option()) args.unknown();
@@ -140,8 +147,13 @@ int main(int argc, char** argv) {
     }
     try {
       const fmugen::Generation gen{config::version_line("fmugen"), iso8601_utc(when)};
-      add_entry(z, "modelDescription.xml", fmugen::model_description_xml(table, description, gen), out, when);
-      add_entry(z, "binaries/linux64/" + table.model_name + ".so", so, out, when);
+      // FMI 3.0 names the platform folder by architecture and OS (2.10.1).
+      add_entry(z, "modelDescription.xml",
+                fmi == 3 ? fmugen::model_description_xml3(table, description, gen)
+                         : fmugen::model_description_xml(table, description, gen),
+                out, when);
+      add_entry(z, std::string(fmi == 3 ? "binaries/x86_64-linux/" : "binaries/linux64/") + table.model_name + ".so", so,
+                out, when);
       add_entry(z, "resources/ports.cfg", config::read_text_file(ports, "port configuration"), out, when);
       add_entry(z, "documentation/index.html", fmugen::documentation_html(table, description, gen), out, when);
       add_entry(z, "documentation/externalDependencies.txt",
@@ -152,7 +164,7 @@ int main(int argc, char** argv) {
       throw;
     }
     if (zip_close(z) < 0) throw std::runtime_error("cannot write " + out + ": " + zip_strerror(z));
-    std::cout << "fmugen: wrote " << out << " (model " << table.model_name << ", "
+    std::cout << "fmugen: wrote " << out << " (FMI " << (fmi == 3 ? "3.0" : "2.0") << ", model " << table.model_name << ", "
               << table.to_fe.size() << " inputs, " << table.to_host.size() << " outputs, guid "
               << config::fmu_guid(table) << ")\n";
     if (table.hopsan)  // what a Hopsan user pastes into FMIWrapperQ (also in documentation/externalDependencies.txt)

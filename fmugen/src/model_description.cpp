@@ -45,6 +45,30 @@ const char* causality_name(config::FmuCausality c) {
   return "local";
 }
 
+// UnitDefinitions, LogCategories and DefaultExperiment: the same in FMI 2.0 and 3.0.
+void units_categories_experiment(std::ostringstream& x, const config::PortTable& t) {
+  x << "  <UnitDefinitions>\n";
+  for (const auto& u : kUnits) {
+    x << "    <Unit name=\"" << u.name << "\"><BaseUnit";
+    if (u.kg) x << " kg=\"" << u.kg << "\"";
+    if (u.m) x << " m=\"" << u.m << "\"";
+    if (u.s) x << " s=\"" << u.s << "\"";
+    if (u.K) x << " K=\"" << u.K << "\"";
+    x << "/></Unit>\n";
+  }
+  x << "  </UnitDefinitions>\n";
+  x << "  <LogCategories>\n"
+       "    <Category name=\"logStatusError\" description=\"errors\"/>\n"
+       "    <Category name=\"logStatusWarning\" description=\"warnings\"/>\n"
+       "    <Category name=\"logStatusFatal\" description=\"fatal errors\"/>\n"
+       "    <Category name=\"logCoupling\" description=\"connection and handshake\"/>\n"
+       "  </LogCategories>\n";
+  // A stop time of 1000 coupling steps: a short run for an importer's
+  // defaults (FMPy's simulate_fmu without arguments), to be set by the user.
+  x << "  <DefaultExperiment startTime=\"0\" stopTime=\"" << config::shortest(1000.0 * t.dt) << "\" stepSize=\""
+    << config::shortest(t.dt) << "\"/>\n";
+}
+
 }  // namespace
 
 std::string default_description(const config::PortTable& t) {
@@ -70,7 +94,6 @@ std::string model_description_xml(const config::PortTable& t, const std::string&
                                   const Generation& generation) {
   const auto vars = config::fmu_variables(t);
   std::ostringstream x;
-  const std::string num = config::shortest(t.dt);
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
     << "<fmiModelDescription fmiVersion=\"2.0\" modelName=\"" << xml_escape(t.model_name)
     << "\" guid=\"" << config::fmu_guid(t) << "\"\n  description=\"" << xml_escape(description_of(t, description))
@@ -87,26 +110,7 @@ std::string model_description_xml(const config::PortTable& t, const std::string&
        "canNotUseMemoryManagementFunctions=\"true\"\n"
        "    canGetAndSetFMUstate=\"false\" canSerializeFMUstate=\"false\" "
        "providesDirectionalDerivative=\"false\"/>\n";
-  x << "  <UnitDefinitions>\n";
-  for (const auto& u : kUnits) {
-    x << "    <Unit name=\"" << u.name << "\"><BaseUnit";
-    if (u.kg) x << " kg=\"" << u.kg << "\"";
-    if (u.m) x << " m=\"" << u.m << "\"";
-    if (u.s) x << " s=\"" << u.s << "\"";
-    if (u.K) x << " K=\"" << u.K << "\"";
-    x << "/></Unit>\n";
-  }
-  x << "  </UnitDefinitions>\n";
-  x << "  <LogCategories>\n"
-       "    <Category name=\"logStatusError\" description=\"errors\"/>\n"
-       "    <Category name=\"logStatusWarning\" description=\"warnings\"/>\n"
-       "    <Category name=\"logStatusFatal\" description=\"fatal errors\"/>\n"
-       "    <Category name=\"logCoupling\" description=\"connection and handshake\"/>\n"
-       "  </LogCategories>\n";
-  // A stop time of 1000 coupling steps: a short run for an importer's
-  // defaults (FMPy's simulate_fmu without arguments), to be set by the user.
-  const std::string stop = config::shortest(1000.0 * t.dt);
-  x << "  <DefaultExperiment startTime=\"0\" stopTime=\"" << stop << "\" stepSize=\"" << num << "\"/>\n";
+  units_categories_experiment(x, t);
   x << "  <ModelVariables>\n";
   for (size_t i = 0; i < vars.size(); ++i) {
     const auto& v = vars[i];
@@ -219,6 +223,60 @@ std::string documentation_html(const config::PortTable& t, const std::string& de
   h << "<h2>Licences</h2>\n<p>The binary links libsodium and the GCC runtime (libstdc++, libgcc) statically; "
        "their licences are in <code>documentation/licenses/</code>.</p>\n</body>\n</html>\n";
   return h.str();
+}
+
+}  // namespace fmugen
+
+namespace fmugen {
+
+std::string model_description_xml3(const config::PortTable& t, const std::string& description,
+                                   const Generation& generation) {
+  const auto vars = config::fmu_variables(t);
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+    << "<fmiModelDescription fmiVersion=\"3.0\" modelName=\"" << xml_escape(t.model_name)
+    << "\" instantiationToken=\"" << config::fmu_guid(t) << "\"\n  description=\""
+    << xml_escape(description_of(t, description)) << "\"\n  version=\"" << xml_escape(config::project_version())
+    << "\" generationTool=\"" << xml_escape(generation.tool) << "\"";
+  if (!generation.date.empty()) x << " generationDateAndTime=\"" << xml_escape(generation.date) << "\"";
+  x << "\n  variableNamingConvention=\"structured\">\n";
+  // Co-simulation without event mode, intermediate update or early return:
+  // each communication step is a whole number of coupling steps of the
+  // table's, which fixedInternalStepSize tells the importer.
+  x << "  <CoSimulation modelIdentifier=\"" << xml_escape(t.model_name)
+    << "\" needsExecutionTool=\"true\" canBeInstantiatedOnlyOncePerProcess=\"false\"\n"
+       "    canGetAndSetFMUState=\"false\" canSerializeFMUState=\"false\" "
+       "canHandleVariableCommunicationStepSize=\"false\"\n    fixedInternalStepSize=\""
+    << config::shortest(t.dt) << "\" hasEventMode=\"false\"/>\n";
+  units_categories_experiment(x, t);
+  x << "  <ModelVariables>\n"
+    << "    <Float64 name=\"time\" valueReference=\"" << config::kVrTime
+    << "\" causality=\"independent\" variability=\"continuous\" unit=\"s\"\n"
+       "      description=\"simulation time: the FE model starts at 0\"/>\n";
+  for (const auto& v : vars) {
+    const bool parameter = v.causality == config::FmuCausality::Parameter;
+    const char* element = v.type == config::FmuType::Real ? "Float64" : v.type == config::FmuType::Integer ? "Int32" : "String";
+    x << "    <" << element << " name=\"" << xml_escape(v.name) << "\" valueReference=\"" << v.value_reference
+      << "\" causality=\"" << causality_name(v.causality) << "\" variability=\""
+      << (parameter ? "fixed" : v.type == config::FmuType::Real ? "continuous" : "discrete") << "\""
+      << (v.initial.empty() ? "" : " initial=\"" + v.initial + "\"");
+    if (v.type == config::FmuType::Real && !v.unit.empty() && v.unit != "1") x << " unit=\"" << xml_escape(v.unit) << "\"";
+    const bool has_start = v.causality != config::FmuCausality::Output || !v.initial.empty();
+    if (has_start && v.type != config::FmuType::String) x << " start=\"" << xml_escape(v.start) << "\"";
+    x << "\n      description=\"" << xml_escape(v.description) << "\"";
+    if (v.type == config::FmuType::String)
+      x << ">\n      <Start value=\"" << xml_escape(v.start) << "\"/>\n    </String>\n";
+    else
+      x << "/>\n";
+  }
+  x << "  </ModelVariables>\n  <ModelStructure>\n";
+  for (const auto& v : vars)
+    if (v.causality == config::FmuCausality::Output) x << "    <Output valueReference=\"" << v.value_reference << "\"/>\n";
+  for (const auto& v : vars)
+    if (v.causality == config::FmuCausality::Output && v.initial.empty())
+      x << "    <InitialUnknown valueReference=\"" << v.value_reference << "\"/>\n";
+  x << "  </ModelStructure>\n</fmiModelDescription>\n";
+  return x.str();
 }
 
 }  // namespace fmugen

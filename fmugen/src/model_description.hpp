@@ -18,6 +18,10 @@ struct Generation {
 std::string model_description_xml(const config::PortTable& table, const std::string& description,
                                   const Generation& generation = {});
 
+// The same FMU as FMI 3.0 co-simulation (fmugen --fmi 3).
+std::string model_description_xml3(const config::PortTable& table, const std::string& description,
+                                   const Generation& generation = {});
+
 // What the FMU couples, from its ports: "one_dof: fe_server co-simulation,
 // hydraulic port chamber_A, mechanic port piston (pressure coupling, 1e-05 s)".
 std::string default_description(const config::PortTable& table);

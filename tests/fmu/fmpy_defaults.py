@@ -10,7 +10,11 @@ $PCS_FMPY_SRC (the folder that holds the `fmpy` package), and lxml and attrs
 (exit 77). Every wait is bounded; the server listens on an ephemeral
 loopback port that the FMU learns from $PCS_SERVER_PORT.
 
-usage: fmpy_defaults.py FE_SERVER SCENE_DIR FMU
+With FMU3, the FMI 3.0 twin of FMU (fmugen --fmi 3): simulate_fmu() runs it
+and the 2.0 FMU against one --sessions 2 server, and both give the same
+results, bit for bit.
+
+usage: fmpy_defaults.py FE_SERVER SCENE_DIR FMU [FMU3]
 """
 import os
 import secrets
@@ -33,6 +37,7 @@ def start_server(fe_server, scene, d, tag, extra, env):
 
 def main():
     fe_server, scene, fmu = sys.argv[1], Path(sys.argv[2]), sys.argv[3]
+    fmu3 = sys.argv[4] if len(sys.argv) > 4 else None
     src = os.environ.get("PCS_FMPY_SRC")
     if not src or not (Path(src) / "fmpy").is_dir():
         print("skipped: set PCS_FMPY_SRC to FMPy's source folder (the one holding fmpy/) to run this test")
@@ -103,6 +108,31 @@ def main():
         finally:
             if server.poll() is None:
                 server.kill()
+        if fmu3:
+            server, run_env = start_server(fe_server, scene, d, "fmi3",
+                                           ["--out", str(d / "fe3_{session}.h5"), "--sessions", "2"], env)
+            try:
+                code = ("import fmpy, numpy\n"
+                        f"a = fmpy.simulate_fmu({fmu3!r})\n"
+                        f"b = fmpy.simulate_fmu({fmu!r})\n"
+                        "print(fmpy.read_model_description("
+                        f"{fmu3!r}).fmiVersion, len(a), len(b), a.dtype.names == b.dtype.names and "
+                        "all(numpy.array_equal(a[n], b[n]) for n in a.dtype.names))\n")
+                run = subprocess.run([sys.executable, "-c", code], env=run_env, capture_output=True, text=True,
+                                     timeout=120)
+                server_code = server.wait(timeout=30)
+                lines = run.stdout.strip().splitlines()
+                words = lines[-1].split() if lines else []
+                ok = run.returncode == 0 and len(words) == 4 and words[0] == "3.0" and words[3] == "True" \
+                    and int(words[1]) > 10
+                if not ok or server_code != 0:
+                    failures.append(f"the FMI 3.0 FMU in FMPy: exit {run.returncode}, fe_server exit {server_code}\n"
+                                    f"{run.stdout[-2000:]}{run.stderr[-2000:]}\n{server.stdout.read()[-2000:]}")
+                else:
+                    print(f"the FMI 3.0 FMU in FMPy: {words[1]} rows, the same bits as the FMI 2.0 FMU's")
+            finally:
+                if server.poll() is None:
+                    server.kill()
     for f in failures:
         print("FAILED " + f)
     return 1 if failures else 0

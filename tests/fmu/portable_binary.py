@@ -47,7 +47,16 @@ def main():
                 failures.append(f"{info.filename}: not stored as a regular file")
         md = ET.fromstring(z.read("modelDescription.xml"))
         ident = md.find("CoSimulation").get("modelIdentifier")
-        so_name = f"binaries/linux64/{ident}.so"
+        fmi3 = md.get("fmiVersion") == "3.0"
+        so_name = f"binaries/{'x86_64-linux' if fmi3 else 'linux64'}/{ident}.so"
+        # (name, unit, start) of every variable, in either version's layout.
+        if fmi3:
+            variables = [(v.get("name"), v.get("unit"), v.get("start") if v.tag == "Float64" else None)
+                         for v in md.find("ModelVariables")]
+        else:
+            variables = [(v.get("name"), (v.find("Real").get("unit") if v.find("Real") is not None else None),
+                          (v.find("Real").get("start") if v.find("Real") is not None else None))
+                         for v in md.iter("ScalarVariable")]
         if so_name not in names:
             print(f"FAIL: {so_name} not in {fmu}")
             return 1
@@ -82,13 +91,13 @@ def main():
             failures.append("no documentation/index.html")
         else:
             html = z.read("documentation/index.html").decode()
-            for v in md.iter("ScalarVariable"):
-                name = v.get("name")
+            for name, unit, _ in variables:
+                if name == "time" and fmi3:
+                    continue  # the independent variable
                 if f"<code>{name}</code>" not in html:
                     failures.append(f"documentation/index.html does not list {name}")
-                real = v.find("Real")
-                if real is not None and real.get("unit") and f"<td>{real.get('unit')}</td>" not in html:
-                    failures.append(f"documentation/index.html lacks the unit {real.get('unit')} of {name}")
+                if unit and f"<td>{unit}</td>" not in html:
+                    failures.append(f"documentation/index.html lacks the unit {unit} of {name}")
             for needed_text in ("server.token", "PCS_TOKEN", "fe_server"):
                 if needed_text not in html:
                     failures.append(f"documentation/index.html does not say how to use {needed_text}")
@@ -98,8 +107,7 @@ def main():
                 failures.append(f"no licence text for {want} in documentation/licenses/ ({licences})")
         # Shortest round-trip numbers (Python's repr is the shortest too).
         numbers = [(k, md.find("DefaultExperiment").get(k)) for k in ("stepSize", "stopTime")]
-        numbers += [(v.get("name"), v.find("Real").get("start")) for v in md.iter("ScalarVariable")
-                    if v.find("Real") is not None and v.find("Real").get("start")]
+        numbers += [(name, start) for name, _, start in variables if start]
         for what, text in numbers:
             if repr(float(text)) != text and repr(float(text)) != text + ".0":
                 failures.append(f"{what}='{text}' is not the shortest form ({repr(float(text))})")

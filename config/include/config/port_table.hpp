@@ -117,6 +117,8 @@ constexpr unsigned kVrServerHost = 1000000;
 constexpr unsigned kVrServerPort = 1000001;
 constexpr unsigned kVrServerToken = 1000002;
 constexpr unsigned kVrTimeout = 1000003;
+// FMI 3.0's independent variable, time (its model description only).
+constexpr unsigned kVrTime = 1000004;
 
 std::vector<FmuVariable> fmu_variables(const PortTable& table);
 

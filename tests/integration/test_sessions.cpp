@@ -180,3 +180,40 @@ TEST(Sessions, AHostWhileAnotherSessionRunsIsToldTheServerIsBusyAndServedAfter) 
             std::string::npos)
       << server.child->output();
 }
+
+// The thesis' split (piston and valve as two FMUs of one session) under an
+// importer that steps its FMUs one after another (FMPy, fmusim and Hopsan
+// do): the first FMU's step waits for a result that needs the second's
+// inputs of the same step, which the importer sends only after. Before,
+// both sides timed out with "no RESULT at step 0 ... SL_ETIMEDOUT" and no
+// hint; now the server tells the waiting FMU why, before its own deadline,
+// and what to change.
+TEST(Sessions, TwoFmusSteppedOneAfterTheOtherAreToldWhyTheyDeadlockBeforeTheirDeadline) {
+  TempDir dir;
+  const std::string hammer = PCS_SCENES_DIR "/hammer", built = PCS_BUILD_SCENES_DIR "/hammer";
+  ChildProcess server({PCS_FE_SERVER_EXE, "--model", built + "/deck.k", "--ports", hammer + "/two_fmus/piston.cfg",
+                       "--ports", hammer + "/two_fmus/valve.cfg", "--listen", "127.0.0.1:0", "--port-file",
+                       dir.file("port"), "--out", dir.file("fe.h5"), "--step-timeout", "2", "--accept-timeout", "20"});
+  const int port = testing_support::read_port_file(dir.file("port"), kHardTimeout);
+  ASSERT_GT(port, 0) << server.output();
+  const config::PortTable piston = config::read_port_table(hammer + "/two_fmus/piston.cfg");
+  const config::PortTable valve = config::read_port_table(hammer + "/two_fmus/valve.cfg");
+  pcs_fmu::CouplingClient a(piston), b(valve);
+  a.connect("127.0.0.1", port, testing_support::session_token(), 10.0);  // its own deadline: 10 s
+  b.connect("127.0.0.1", port, testing_support::session_token(), 10.0);
+  std::vector<double> in(piston.to_fe.size(), 0.0), out;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string why;
+  try {
+    a.step(0, 0.0, piston.dt, in, out);  // the sequential master: the valve's step would come after
+  } catch (const pcs_fmu::LinkError& e) {
+    why = e.what();
+  }
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_NE(why.find("steps its FMUs one after another"), std::string::npos) << why;
+  EXPECT_NE(why.find("FMU '" + valve.model_name + "' sent no STEP 0"), std::string::npos) << why;
+  EXPECT_NE(why.find("Use one FMU for the whole model"), std::string::npos) << why;
+  EXPECT_LT(waited, 5.0) << "told at 0.8 of the server's 2 s step time-out, long before the FMU's own 10 s";
+  EXPECT_EQ(server.wait(kHardTimeout), 6) << server.output();
+  EXPECT_NE(server.output().find("steps its FMUs one after another"), std::string::npos) << server.output();
+}

@@ -643,6 +643,29 @@ ExitCode follow_session(const Domain& domain, Solver& solver, PortMap& ports, Fo
   }
 }
 
+std::string CouplingServer::split_master_hint(const Client& late, uint64_t step, size_t received) {
+  // Another FMU's STEP of this round came (it was read, or it waits unread
+  // in its socket): the importer is inside that FMU's step and will not step
+  // this one until it returns, which it cannot before this one's inputs.
+  std::string others;
+  for (Client& c : clients_) {
+    if (&c == &late) continue;
+    sl_socket* s = &c.conn;
+    int ready = 0;
+    const bool in = (&c < &late && received > 0) || sl_wait_any(&s, 1, sl_now_ms(), &ready) > 0;
+    if (in) others += (others.empty() ? "" : ", ") + std::string("'") + c.table->model_name + "'";
+  }
+  if (others.empty()) return "";
+  std::ostringstream m;
+  m << "FMU '" << late.table->model_name << "' sent no STEP " << step << " within " << kSplitRoundShare * timeout_
+    << " s, while the STEP " << step << " of " << others
+    << " came: an importer that steps its FMUs one after another (FMPy, fmusim, Hopsan) waits inside the first "
+       "FMU's step for a result that needs every FMU's inputs of the same step, so a session split into several FMUs "
+       "deadlocks there. Use one FMU for the whole model (one port table), or an importer that steps its FMUs in "
+       "parallel (tlm_host does)";
+  return m.str();
+}
+
 void CouplingServer::turn_away_while_busy() {
   if (listener_.fd < 0) return;
   const int64_t now = sl_now_ms();
@@ -699,10 +722,23 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHis
     if (stopping_ && sl_now_ms() >= stop_deadline_) return stop(expected, no_checkpoint(), message);
     turn_away_while_busy();
     size_t byes = 0, checkpoints = 0;
+    // Several FMUs: the round's deadline comes before the FMUs' own (a fifth
+    // of the step time-out earlier), so that a round one FMU never joins can
+    // be told to the others while they still listen (split_master_hint).
+    const bool split = clients_.size() > 1;
+    const int64_t round_deadline = deadline_after(split ? kSplitRoundShare * timeout_ : timeout_);
+    size_t received = 0;
     for (Client& c : clients_) {
       pcs_header h{};
-      int rc = receive(c, h, expected, deadline_after(timeout_));
+      int rc = receive(c, h, expected, split ? round_deadline : deadline_after(timeout_));
       if (rc == SL_ETIMEDOUT && stopping_ && sl_now_ms() >= stop_deadline_) return stop(expected, no_checkpoint(), message);
+      if (rc == SL_ETIMEDOUT && split)
+        if (const std::string hint = split_master_hint(c, expected, received); !hint.empty()) {
+          message = hint;
+          abort_all(expected, static_cast<uint32_t>(-SL_ETIMEDOUT), message);
+          return kExitLinkLost;
+        }
+      if (rc == SL_OK && h.type == PCS_MSG_STEP) ++received;
       if (rc == SL_EINTERRUPTED)
         return stop(expected, "waiting for STEP " + std::to_string(expected) + name_of(c), message);
       if (rc != SL_OK) {

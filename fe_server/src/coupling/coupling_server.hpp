@@ -185,6 +185,15 @@ class CouplingServer {
   // the close does not reset the connection before the client reads the
   // ABORT): a flood of strangers costs the session at most a few per cent.
   void turn_away_while_busy();
+  // A session of several FMUs whose round `step` one FMU (`late`) never
+  // joined by the round's deadline, while another's STEP came: the reason a
+  // sequential importer deadlocks there, and what to change; "" when no
+  // other FMU's STEP came either (a plain time-out). `received`: the STEPs
+  // read so far this round, in clients_ order.
+  std::string split_master_hint(const Client& late, uint64_t step, size_t received);
+  // The share of the step time-out a round of several FMUs may take: the
+  // FMUs wait the whole time-out, so they are still listening when told.
+  static constexpr double kSplitRoundShare = 0.8;
   int64_t next_busy_check_ = 0;
   static constexpr int64_t kBusyCheckMs = 200;
   static constexpr int64_t kBusyDrainMs = 5;

@@ -70,21 +70,12 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
   }
 }
 
-void fmi2FreeInstance(fmi2Component c) {
-  if (!c) return;
-  auto* inst = static_cast<Instance*>(c);
-  try {
-    inst->abort_link("the importer freed the FMU instance before fmi2Terminate (it stopped; its log says why)");
-  } catch (...) {
-  }
-  delete inst;
-}
+void fmi2FreeInstance(fmi2Component c) { free_instance(c, "fmi2Terminate"); }
 
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean, fmi2Real, fmi2Real startTime,
                                fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
   return guarded(c, "fmi2SetupExperiment", kSetupExperiment, [&](Instance& i) {
-    if (startTime != 0.0)
-      throw FmuError(fmi2Error, "startTime must be 0: the FE model starts from its initial state");
+    check_start_time(startTime);
     i.set_stop_time(stopTimeDefined == fmi2True, stopTime);
   });
 }

@@ -117,20 +117,12 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
   }
 }
 
-void fmi3FreeInstance(fmi3Instance c) {
-  if (!c) return;
-  auto* inst = static_cast<Instance*>(c);
-  try {
-    inst->abort_link("the importer freed the FMU instance before fmi3Terminate (it stopped; its log says why)");
-  } catch (...) {
-  }
-  delete inst;
-}
+void fmi3FreeInstance(fmi3Instance c) { free_instance(c, "fmi3Terminate"); }
 
 fmi3Status fmi3EnterInitializationMode(fmi3Instance c, fmi3Boolean, fmi3Float64, fmi3Float64 startTime,
                                        fmi3Boolean stopTimeDefined, fmi3Float64 stopTime) {
   return guarded(c, "fmi3EnterInitializationMode", kEnterInit, [&](Instance& i) {
-    if (startTime != 0.0) throw FmuError(fmi2Error, "startTime must be 0: the FE model starts from its initial state");
+    check_start_time(startTime);
     i.set_stop_time(stopTimeDefined, stopTime);
     i.enter_initialization();
   });

@@ -71,4 +71,22 @@ Status unsupported(void* c, const char* fn, const char* capability) {
   });
 }
 
+// fmi2FreeInstance / fmi3FreeInstance: the link is told why if the session
+// is still open (the importer stopped before terminating), then the instance goes.
+inline void free_instance(void* c, const char* terminate) {
+  if (!c) return;
+  auto* inst = static_cast<Instance*>(c);
+  try {
+    inst->abort_link(std::string("the importer freed the FMU instance before ") + terminate +
+                     " (it stopped; its log says why)");
+  } catch (...) {
+  }
+  delete inst;
+}
+
+// The experiment's start time: the FE model starts from its initial state.
+inline void check_start_time(double start) {
+  if (start != 0.0) throw FmuError(fmi2Error, "startTime must be 0: the FE model starts from its initial state");
+}
+
 }  // namespace pcs_fmu

@@ -9,6 +9,7 @@ packages=(
   libopenmpi-dev openmpi-bin libmetis-dev
   libxml2-utils unzip hdf5-tools
   python3 python3-h5py python3-matplotlib python3-numpy python3-scipy
+  g++-mingw-w64-x86-64-posix wine wine64
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -3,6 +3,12 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#ifdef _WIN32  // the FMU's win64 DLL: no FIFOs to block on; binary mode, not text
+#include <io.h>
+#define PCS_READ_FLAGS (O_RDONLY | O_BINARY)
+#else
+#define PCS_READ_FLAGS (O_RDONLY | O_NONBLOCK | O_CLOEXEC)
+#endif
 
 #include <cctype>
 #include <cerrno>
@@ -40,7 +46,7 @@ Bytes read_regular_file(const std::string& path, const std::string& what, uint64
   auto fail = [&](const std::string& why) -> Bytes {
     throw std::runtime_error("cannot open " + what + " '" + path + "': " + why);
   };
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  const int fd = ::open(path.c_str(), PCS_READ_FLAGS);
   if (fd < 0) return fail(std::strerror(errno));
   struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {

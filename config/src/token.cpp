@@ -17,6 +17,9 @@ std::string read_token_file(const std::string& path) {
   if (::stat(path.c_str(), &st) != 0)
     throw std::runtime_error("token file '" + path + "': " + std::strerror(errno));
   if (!S_ISREG(st.st_mode)) throw std::runtime_error("token file '" + path + "' is not a regular file");
+#ifndef _WIN32
+  // (On Windows, the FMU's DLL, stat says nothing of owners and ACLs: the
+  // file's rights are the folder's, a user's profile is private by default.)
   if (st.st_uid != ::geteuid())
     throw std::runtime_error("token file '" + path + "' belongs to another user: use a file of your own");
   if (st.st_mode & (S_IRWXG | S_IRWXO)) {
@@ -25,6 +28,7 @@ std::string read_token_file(const std::string& path) {
     throw std::runtime_error("token file '" + path + "' is open to other users (mode " + mode +
                              "): run chmod 600 '" + path + "'");
   }
+#endif
   std::ifstream f(path);
   std::string line;
   if (!f || !std::getline(f, line)) throw std::runtime_error("token file '" + path + "' cannot be read or is empty");

@@ -239,7 +239,7 @@ extern "C" {
 
 // Ask fe_server to save its state after the steps done so far; its file's
 // path goes to path (cap bytes, NUL-terminated). In StepComplete only.
-__attribute__((visibility("default"))) fmi2Status pcs_fmu_checkpoint(fmi2Component c, char* path, size_t cap) {
+PCS_FMI2_API fmi2Status pcs_fmu_checkpoint(fmi2Component c, char* path, size_t cap) {
   return guarded(c, "pcs_fmu_checkpoint", kDoStep, [&](Instance& i) {
     const std::string p = i.checkpoint();
     if (!path || cap == 0 || p.size() >= cap) throw FmuError(fmi2Error, "the checkpoint path does not fit the buffer");
@@ -250,7 +250,7 @@ __attribute__((visibility("default"))) fmi2Status pcs_fmu_checkpoint(fmi2Compone
 // Resume a session after `step` coupling steps: before
 // fmi2ExitInitializationMode, against an fe_server started with --restart
 // and its checkpoint of the same step.
-__attribute__((visibility("default"))) fmi2Status pcs_fmu_resume(fmi2Component c, unsigned long long step) {
+PCS_FMI2_API fmi2Status pcs_fmu_resume(fmi2Component c, unsigned long long step) {
   return guarded(c, "pcs_fmu_resume", kSetupExperiment | kExitInit,
                  [&](Instance& i) { i.set_resume_step(static_cast<uint64_t>(step)); });
 }
@@ -261,14 +261,14 @@ __attribute__((visibility("default"))) fmi2Status pcs_fmu_resume(fmi2Component c
 // (for all its instances at once: the server answers when every FMU of the
 // session has connected) before it touches its results, so that a refused
 // restart leaves them as they were.
-__attribute__((visibility("default"))) fmi2Status pcs_fmu_confirm_resume(fmi2Component c) {
+PCS_FMI2_API fmi2Status pcs_fmu_confirm_resume(fmi2Component c) {
   return guarded(c, "pcs_fmu_confirm_resume", kDoStep, [&](Instance& i) { i.confirm_resume(); });
 }
 
 // Set *requested to 1 when fe_server got a stop signal and asks the host
 // for a checkpoint (then pcs_fmu_checkpoint, and the end of the session),
 // else 0. After any fmi2DoStep.
-__attribute__((visibility("default"))) fmi2Status pcs_fmu_stop_requested(fmi2Component c, int* requested) {
+PCS_FMI2_API fmi2Status pcs_fmu_stop_requested(fmi2Component c, int* requested) {
   return guarded(c, "pcs_fmu_stop_requested", kAnyButFatal, [&](Instance& i) {
     if (!requested) throw FmuError(fmi2Error, "requested is a null pointer");
     *requested = i.importer_asks_stop_requested() ? 1 : 0;
@@ -280,7 +280,7 @@ __attribute__((visibility("default"))) fmi2Status pcs_fmu_stop_requested(fmi2Com
 // within 200 ms of a stop signal, as the importer's own waits do. The FMU
 // shares no globals with the importer otherwise: its copy of socketlib is
 // linked in statically with hidden symbols. Called once, after loading.
-__attribute__((visibility("default"))) void pcs_fmu_set_stop_flag(const volatile sig_atomic_t* flag) {
+PCS_FMI2_API void pcs_fmu_set_stop_flag(const volatile sig_atomic_t* flag) {
   sl_set_stop_flag(flag);
 }
 

@@ -3,6 +3,7 @@
 #include "config/token.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -41,6 +42,11 @@ std::string path_from_file_uri(const std::string& uri) {
     }
   }
   while (out.size() > 1 && out.back() == '/') out.pop_back();
+#ifdef _WIN32
+  // file:///C:/dir: the path is C:/dir, not /C:/dir.
+  if (out.size() >= 3 && out[0] == '/' && std::isalpha(static_cast<unsigned char>(out[1])) && out[2] == ':')
+    out.erase(0, 1);
+#endif
   return out;
 }
 

@@ -82,7 +82,8 @@ std::vector<std::pair<std::string, std::string>> licence_files() {
 }
 
 int usage(std::ostream& os, int rc) {
-  os << "usage: fmugen PORTS.cfg -o OUT.fmu [--fmi 2|3] [--binary FMU_LIBRARY.so] [--description TEXT]\n"
+  os << "usage: fmugen PORTS.cfg -o OUT.fmu [--fmi 2|3] [--binary FMU_LIBRARY.so] [--binary-win64 FMU.dll | --no-win64]\n"
+        "              [--description TEXT]\n"
         "Generates an FMI 2.0 (or, with --fmi 3, FMI 3.0) co-simulation FMU that couples to fe_server.\n"
         "  --description TEXT     the FMU's description (default: the port table's, else one from its ports)\n"
         "  -h, --help, --version  this text; the version\n"
@@ -96,12 +97,15 @@ int usage(std::ostream& os, int rc) {
 int main(int argc, char** argv) {
   std::string ports, out, description;  // empty: the table's, else one from its ports
   std::string binary = PCS_FMU_BINARY;  // the pcs_fmu module of this build (FMI 2.0 and 3.0)
+  std::string binary_win64 = PCS_FMU_BINARY_WIN64;  // its win64 DLL, if this build made one
   int fmi = 2;
   try {
     config::Args args(argc, argv);
     while (args.next()) {
       if (args.is("-o") || args.is("--output")) out = args.value();
       else if (args.is("--binary")) binary = args.value();
+      else if (args.is("--binary-win64")) binary_win64 = args.value();
+      else if (args.is("--no-win64")) binary_win64.clear();
       else if (args.is("--description")) description = args.value();
       else if (args.is("--fmi")) {
         const std::string v = args.value();
@@ -121,12 +125,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   config::PortTable table;
-  std::string so;
+  std::string so, dll;
   std::time_t when = 0;
   std::vector<std::pair<std::string, std::string>> licences;
   try {  // what it reads: a fault there is the input's (exit 3, as the other tools)
     table = config::read_port_table(ports);
     so = config::read_text_file(binary, "FMU binary");
+    if (!binary_win64.empty()) dll = config::read_text_file(binary_win64, "FMU win64 binary");
     when = generation_time();
     for (const auto& [entry, path] : licence_files())
       licences.emplace_back(entry, config::read_text_file(path, "licence text"));
@@ -154,6 +159,9 @@ int main(int argc, char** argv) {
                 out, when);
       add_entry(z, std::string(fmi == 3 ? "binaries/x86_64-linux/" : "binaries/linux64/") + table.model_name + ".so", so,
                 out, when);
+      if (!dll.empty())
+        add_entry(z, std::string(fmi == 3 ? "binaries/x86_64-windows/" : "binaries/win64/") + table.model_name + ".dll",
+                  dll, out, when);
       add_entry(z, "resources/ports.cfg", config::read_text_file(ports, "port configuration"), out, when);
       add_entry(z, "documentation/index.html", fmugen::documentation_html(table, description, gen), out, when);
       add_entry(z, "documentation/externalDependencies.txt",
@@ -164,7 +172,7 @@ int main(int argc, char** argv) {
       throw;
     }
     if (zip_close(z) < 0) throw std::runtime_error("cannot write " + out + ": " + zip_strerror(z));
-    std::cout << "fmugen: wrote " << out << " (FMI " << (fmi == 3 ? "3.0" : "2.0") << ", model " << table.model_name << ", "
+    std::cout << "fmugen: wrote " << out << " (FMI " << (fmi == 3 ? "3.0" : "2.0") << (dll.empty() ? ", linux64" : ", linux64 and win64") << ", model " << table.model_name << ", "
               << table.to_fe.size() << " inputs, " << table.to_host.size() << " outputs, guid "
               << config::fmu_guid(table) << ")\n";
     if (table.hopsan)  // what a Hopsan user pastes into FMIWrapperQ (also in documentation/externalDependencies.txt)

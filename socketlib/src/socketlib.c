@@ -1,20 +1,126 @@
-/* TCP with deadlines. See socketlib.h for the contract of each call. */
+/* TCP with deadlines. See socketlib.h for the contract of each call.
+ *
+ * POSIX sockets, or Winsock on Windows (the FMU's win64 DLL): the few calls
+ * that differ are mapped just below, so each function reads the same on both. */
 #define _GNU_SOURCE /* accept4, SOCK_CLOEXEC */
 #include "socketlib/socketlib.h"
 
 #include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef _WIN32
+/* Winsock: a SOCKET is a small handle that fits our int (INVALID_SOCKET
+ * casts to -1); the calls take char* buffers and int lengths; errors come
+ * from WSAGetLastError(). poll() is emulated with select(), which (unlike
+ * WSAPoll on Windows before 10 2004) reports a refused non-blocking connect. */
+#define FD_SETSIZE 4096
+#ifndef _WIN32_WINNT
+#define _WIN32_WINNT 0x0601 /* Windows 7: inet_ntop, GetTickCount64 */
+#endif
+#include <winsock2.h>
+#include <ws2tcpip.h>
+#include <windows.h>
+typedef unsigned long nfds_t;
+#define pollfd sl__pollfd /* winsock2.h has its own, with a SOCKET; its POLL* bits are kept */
+struct pollfd {
+  int fd;
+  short events, revents;
+};
+#define SL__EINTR WSAEINTR
+#define SL__EAGAIN WSAEWOULDBLOCK
+#define SL__EINPROGRESS WSAEWOULDBLOCK
+#define SL__ECONNREFUSED WSAECONNREFUSED
+#define SL__ECONNRESET WSAECONNRESET
+#define SL__ECONNABORTED WSAECONNABORTED
+#define SL__EPIPE WSAESHUTDOWN
+#define SL__SOCK_FLAGS 0
+#define SL__MSG_SEND 0
+#define SL__MSG_RECV 0
+static int sl__errno(void) { return WSAGetLastError(); }
+static int sl__close_fd(int fd) { return closesocket((SOCKET)fd); }
+static int sl__set_nonblocking(int fd) {
+  u_long on = 1;
+  return ioctlsocket((SOCKET)fd, FIONBIO, &on) == 0 ? 0 : -1;
+}
+/* Winsock is started once per process, by the first call that needs it. */
+static void sl__startup(void) {
+  static LONG started = 0;
+  if (InterlockedCompareExchange(&started, 1, 0) == 0) {
+    WSADATA data;
+    WSAStartup(MAKEWORD(2, 2), &data);
+  }
+}
+static int poll(struct pollfd *p, nfds_t n, int timeout_ms) {
+  fd_set rd, wr, ex;
+  FD_ZERO(&rd);
+  FD_ZERO(&wr);
+  FD_ZERO(&ex);
+  for (nfds_t i = 0; i < n; ++i) {
+    if (p[i].events & POLLIN) FD_SET((SOCKET)p[i].fd, &rd);
+    if (p[i].events & POLLOUT) FD_SET((SOCKET)p[i].fd, &wr);
+    FD_SET((SOCKET)p[i].fd, &ex);
+  }
+  struct timeval tv = {timeout_ms / 1000, (timeout_ms % 1000) * 1000};
+  int r = select(0, &rd, &wr, &ex, &tv);
+  if (r <= 0) return r == 0 ? 0 : -1;
+  int count = 0;
+  for (nfds_t i = 0; i < n; ++i) {
+    p[i].revents = 0;
+    if (FD_ISSET((SOCKET)p[i].fd, &rd)) p[i].revents |= POLLIN;
+    if (FD_ISSET((SOCKET)p[i].fd, &wr)) p[i].revents |= POLLOUT;
+    if (FD_ISSET((SOCKET)p[i].fd, &ex)) p[i].revents |= POLLERR;
+    count += p[i].revents != 0;
+  }
+  return count;
+}
+static void sl__sleep_ms(long ms) { Sleep((DWORD)ms); }
+static int accept4(int fd, struct sockaddr *a, socklen_t *len, int flags) {
+  (void)flags;
+  SOCKET c = accept((SOCKET)fd, a, len);
+  if (c == INVALID_SOCKET) return -1;
+  if (sl__set_nonblocking((int)c) != 0) {
+    closesocket(c);
+    return -1;
+  }
+  return (int)c;
+}
+#define SOCK_CLOEXEC 0
+#define SOCK_NONBLOCK 0
+#else
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-#include <arpa/inet.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
+#define SL__EINTR EINTR
+#define SL__EAGAIN EAGAIN
+#define SL__EINPROGRESS EINPROGRESS
+#define SL__ECONNREFUSED ECONNREFUSED
+#define SL__ECONNRESET ECONNRESET
+#define SL__ECONNABORTED ECONNABORTED
+#define SL__EPIPE EPIPE
+#define SL__SOCK_FLAGS SOCK_CLOEXEC
+#define SL__MSG_SEND (MSG_NOSIGNAL | MSG_DONTWAIT)
+#define SL__MSG_RECV MSG_DONTWAIT
+static int sl__errno(void) { return errno; }
+static int sl__close_fd(int fd) { return close(fd); }
+static int sl__set_nonblocking(int fd) {
+  int flags = fcntl(fd, F_GETFL, 0);
+  if (flags < 0) return -1;
+  return fcntl(fd, F_SETFL, flags | O_NONBLOCK);
+}
+static void sl__startup(void) {}
+static void sl__sleep_ms(long ms) {
+  struct timespec pause = {ms / 1000, (ms % 1000) * 1000000L};
+  nanosleep(&pause, NULL);
+}
+#endif
 
 /* Pause between connection attempts while the server is not yet listening. */
 #define SL__CONNECT_RETRY_MS 50
@@ -46,9 +152,13 @@ const char *sl_err_name(int code) {
 }
 
 int64_t sl_now_ms(void) {
+#ifdef _WIN32
+  return (int64_t)GetTickCount64();
+#else
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+#endif
 }
 
 static int sl__sys(sl_socket *s, int err) {
@@ -93,8 +203,8 @@ static int sl__poll(struct pollfd *p, nfds_t n, int64_t deadline_ms, sl_socket *
       if (sl__remaining(deadline_ms) > 0) continue; /* a slice ended, or woke a little early */
       return 0;
     }
-    if (errno == EINTR) continue; /* the loop's head looks at the stop flag */
-    return sl__sys(s, errno);
+    if (sl__errno() == SL__EINTR) continue; /* the loop's head looks at the stop flag */
+    return sl__sys(s, sl__errno());
   }
 }
 
@@ -106,12 +216,6 @@ static int sl__wait(sl_socket *s, short events, int64_t deadline_ms) {
   p.events = events;
   int r = sl__poll(&p, 1, deadline_ms, s);
   return r > 0 ? 1 : r;
-}
-
-static int sl__set_nonblocking(int fd) {
-  int flags = fcntl(fd, F_GETFL, 0);
-  if (flags < 0) return -1;
-  return fcntl(fd, F_SETFL, flags | O_NONBLOCK);
 }
 
 int sl_parse_endpoint(const char *endpoint, char *host_out, size_t host_cap, int *port_out) {
@@ -143,6 +247,7 @@ int sl_parse_endpoint(const char *endpoint, char *host_out, size_t host_cap, int
 }
 
 static int sl__resolve(const char *host, int port, int passive, struct addrinfo **out) {
+  sl__startup();
   char service[16];
   snprintf(service, sizeof service, "%d", port);
   struct addrinfo hints;
@@ -155,7 +260,7 @@ static int sl__resolve(const char *host, int port, int passive, struct addrinfo 
 
 static void sl__tune(int fd) {
   int one = 1;
-  setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, (const char *)&one, sizeof one);
 #ifdef SO_NOSIGPIPE
   setsockopt(fd, SOL_SOCKET, SO_NOSIGPIPE, &one, sizeof one);
 #endif
@@ -170,21 +275,25 @@ int sl_listen(const char *host, int port, sl_socket *out) {
   if (rc != SL_OK) return rc;
   rc = SL_EADDRESS;
   for (struct addrinfo *a = ai; a; a = a->ai_next) {
-    int fd = socket(a->ai_family, a->ai_socktype | SOCK_CLOEXEC, a->ai_protocol);
+    int fd = (int)socket(a->ai_family, a->ai_socktype | SL__SOCK_FLAGS, a->ai_protocol);
     if (fd < 0) {
-      rc = sl__sys(out, errno);
+      rc = sl__sys(out, sl__errno());
       continue;
     }
     int one = 1;
+#ifndef _WIN32 /* on Windows SO_REUSEADDR lets another process take the port: SO_EXCLUSIVEADDRUSE is the default's meaning */
     setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+#else
+    (void)one;
+#endif
     if (bind(fd, a->ai_addr, a->ai_addrlen) == 0 && listen(fd, 64) == 0 &&
         sl__set_nonblocking(fd) == 0) {
       out->fd = fd;
       rc = SL_OK;
       break;
     }
-    rc = sl__sys(out, errno);
-    close(fd);
+    rc = sl__sys(out, sl__errno());
+    sl__close_fd(fd);
   }
   freeaddrinfo(ai);
   return rc;
@@ -213,21 +322,29 @@ int sl_accept(sl_socket *listener, int64_t deadline_ms, sl_socket *out) {
       out->fd = fd;
       return SL_OK;
     }
-    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR || errno == ECONNABORTED)
-      continue;
-    return sl__sys(listener, errno);
+    const int e = sl__errno();
+    if (e == SL__EAGAIN || e == SL__EINTR || e == SL__ECONNABORTED) continue;
+    return sl__sys(listener, e);
   }
 }
 
 /* One connection attempt. SL_OK, SL_EREFUSED (try again), SL_ETIMEDOUT or error. */
 static int sl__connect_once(const struct addrinfo *a, int64_t deadline_ms, sl_socket *out) {
-  int fd = socket(a->ai_family, a->ai_socktype | SOCK_CLOEXEC | SOCK_NONBLOCK, a->ai_protocol);
-  if (fd < 0) return sl__sys(out, errno);
+  int fd = (int)socket(a->ai_family, a->ai_socktype | SL__SOCK_FLAGS | SOCK_NONBLOCK, a->ai_protocol);
+  if (fd < 0) return sl__sys(out, sl__errno());
+#ifdef _WIN32
+  if (sl__set_nonblocking(fd) != 0) {
+    const int e = sl__errno();
+    sl__close_fd(fd);
+    return sl__sys(out, e);
+  }
+#endif
   out->fd = fd;
   int rc;
-  if (connect(fd, a->ai_addr, a->ai_addrlen) == 0) {
+  int e = 0;
+  if (connect(fd, a->ai_addr, (socklen_t)a->ai_addrlen) == 0) {
     rc = SL_OK;
-  } else if (errno == EINPROGRESS) {
+  } else if ((e = sl__errno()) == SL__EINPROGRESS) {
     int w = sl__wait(out, POLLOUT, deadline_ms);
     if (w < 0) {
       rc = w;
@@ -236,14 +353,14 @@ static int sl__connect_once(const struct addrinfo *a, int64_t deadline_ms, sl_so
     } else {
       int err = 0;
       socklen_t len = sizeof err;
-      getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &len);
-      rc = err == 0 ? SL_OK : (err == ECONNREFUSED ? SL_EREFUSED : sl__sys(out, err));
+      getsockopt(fd, SOL_SOCKET, SO_ERROR, (char *)&err, &len);
+      rc = err == 0 ? SL_OK : (err == SL__ECONNREFUSED ? SL_EREFUSED : sl__sys(out, err));
     }
   } else {
-    rc = errno == ECONNREFUSED ? SL_EREFUSED : sl__sys(out, errno);
+    rc = e == SL__ECONNREFUSED ? SL_EREFUSED : sl__sys(out, e);
   }
   if (rc != SL_OK) {
-    close(fd);
+    sl__close_fd(fd);
     out->fd = -1;
   }
   return rc;
@@ -272,8 +389,7 @@ int sl_connect(const char *host, int port, int64_t deadline_ms, sl_socket *out) 
     }
     int left = sl__remaining(deadline_ms);
     if (left <= 0) break;
-    struct timespec pause = {0, (long)(left < SL__CONNECT_RETRY_MS ? left : SL__CONNECT_RETRY_MS) * 1000000L};
-    nanosleep(&pause, NULL);
+    sl__sleep_ms(left < SL__CONNECT_RETRY_MS ? left : SL__CONNECT_RETRY_MS);
   }
   freeaddrinfo(ai);
   return rc;
@@ -283,21 +399,22 @@ int sl_send_all(sl_socket *s, const void *buf, size_t len, int64_t deadline_ms) 
   if (!s || s->fd < 0 || (!buf && len)) return SL_EINVAL;
   const uint8_t *p = (const uint8_t *)buf;
   while (len > 0) {
-    ssize_t n = send(s->fd, p, len, MSG_NOSIGNAL | MSG_DONTWAIT);
+    const long n = (long)send(s->fd, (const char *)p, (int)(len > 1u << 30 ? 1u << 30 : len), SL__MSG_SEND);
+    const int e = n < 0 ? sl__errno() : 0;
     if (n > 0) {
       p += n;
       len -= (size_t)n;
       continue;
     }
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+    if (n < 0 && e == SL__EINTR) continue;
+    if (n < 0 && e == SL__EAGAIN) {
       int w = sl__wait(s, POLLOUT, deadline_ms);
       if (w < 0) return w;
       if (w == 0) return SL_ETIMEDOUT;
       continue;
     }
-    if (n < 0 && (errno == EPIPE || errno == ECONNRESET)) return SL_ECLOSED;
-    return sl__sys(s, errno);
+    if (n < 0 && (e == SL__EPIPE || e == SL__ECONNRESET)) return SL_ECLOSED;
+    return sl__sys(s, e);
   }
   return SL_OK;
 }
@@ -307,28 +424,30 @@ int sl_recv_all(sl_socket *s, void *buf, size_t len, int64_t deadline_ms) {
   uint8_t *p = (uint8_t *)buf;
   size_t got = 0;
   while (got < len) {
-    ssize_t n = recv(s->fd, p + got, len - got, MSG_DONTWAIT);
+    const size_t want = len - got > 1u << 30 ? 1u << 30 : len - got;
+    const long n = (long)recv(s->fd, (char *)(p + got), (int)want, SL__MSG_RECV);
+    const int e = n < 0 ? sl__errno() : 0;
     if (n > 0) {
       got += (size_t)n;
       continue;
     }
     if (n == 0) return got == 0 ? SL_ECLOSED : SL_ETRUNCATED;
-    if (errno == EINTR) continue;
-    if (errno == EAGAIN || errno == EWOULDBLOCK) {
+    if (e == SL__EINTR) continue;
+    if (e == SL__EAGAIN) {
       int w = sl__wait(s, POLLIN, deadline_ms);
       if (w < 0) return w;
       if (w == 0) return SL_ETIMEDOUT;
       continue;
     }
-    if (errno == ECONNRESET) return got == 0 ? SL_ECLOSED : SL_ETRUNCATED;
-    return sl__sys(s, errno);
+    if (e == SL__ECONNRESET) return got == 0 ? SL_ECLOSED : SL_ETRUNCATED;
+    return sl__sys(s, e);
   }
   return SL_OK;
 }
 
 void sl_close(sl_socket *s) {
   if (s && s->fd >= 0) {
-    close(s->fd);
+    sl__close_fd(s->fd);
     s->fd = -1;
   }
 }
@@ -353,13 +472,14 @@ int sl_wait_any(sl_socket *const *socks, size_t n, int64_t deadline_ms, int *rea
 int sl_peek(sl_socket *s, void *buf, size_t len) {
   if (!s || s->fd < 0 || (!buf && len)) return SL_EINVAL;
   for (;;) {
-    ssize_t r = recv(s->fd, buf, len, MSG_PEEK | MSG_DONTWAIT);
+    const long r = (long)recv(s->fd, (char *)buf, (int)len, MSG_PEEK | SL__MSG_RECV);
+    const int e = r < 0 ? sl__errno() : 0;
     if (r > 0) return (int)r;
     if (r == 0) return len == 0 ? 0 : SL_ECLOSED;
-    if (errno == EINTR) continue;
-    if (errno == EAGAIN || errno == EWOULDBLOCK) return 0;
-    if (errno == ECONNRESET) return SL_ECLOSED;
-    return sl__sys(s, errno);
+    if (e == SL__EINTR) continue;
+    if (e == SL__EAGAIN) return 0;
+    if (e == SL__ECONNRESET) return SL_ECLOSED;
+    return sl__sys(s, e);
   }
 }
 

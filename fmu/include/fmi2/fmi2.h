@@ -54,7 +54,9 @@ typedef struct {
   const fmi2ComponentEnvironment componentEnvironment;
 } fmi2CallbackFunctions;
 
-#if defined(PCS_FMI2_EXPORTS)
+#if defined(PCS_FMI2_EXPORTS) && defined(_WIN32)
+#define PCS_FMI2_API __declspec(dllexport)
+#elif defined(PCS_FMI2_EXPORTS)
 #define PCS_FMI2_API __attribute__((visibility("default")))
 #else
 #define PCS_FMI2_API

@@ -53,10 +53,14 @@ typedef void (*fmi3IntermediateUpdateCallback)(fmi3InstanceEnvironment env, fmi3
 typedef void (*fmi3LockPreemptionCallback)(void);
 typedef void (*fmi3UnlockPreemptionCallback)(void);
 
-/* In the FMU's own build (PCS_FMI3_EXPORTS) the functions are its exports;
- * everything else in it is hidden. */
-#if defined(PCS_FMI3_EXPORTS)
-#pragma GCC visibility push(default)
+/* In the FMU's own build (PCS_FMI3_EXPORTS) the functions are its exports
+ * (a DLL's on Windows); everything else in it is hidden. */
+#if defined(PCS_FMI3_EXPORTS) && defined(_WIN32)
+#define PCS_FMI3_API __declspec(dllexport)
+#elif defined(PCS_FMI3_EXPORTS)
+#define PCS_FMI3_API __attribute__((visibility("default")))
+#else
+#define PCS_FMI3_API
 #endif
 
 /* Getters and setters of one type share a shape; X(suffix, type). */
@@ -75,21 +79,21 @@ typedef void (*fmi3UnlockPreemptionCallback)(void);
   X(String, fmi3String)
 
 #define PCS_FMI3_DECLARE_GET_SET(suffix, type)                                                              \
-  fmi3Status fmi3Get##suffix(fmi3Instance instance, const fmi3ValueReference valueReferences[],             \
+  PCS_FMI3_API fmi3Status fmi3Get##suffix(fmi3Instance instance, const fmi3ValueReference valueReferences[],             \
                              size_t nValueReferences, type values[], size_t nValues);                       \
-  fmi3Status fmi3Set##suffix(fmi3Instance instance, const fmi3ValueReference valueReferences[],             \
+  PCS_FMI3_API fmi3Status fmi3Set##suffix(fmi3Instance instance, const fmi3ValueReference valueReferences[],             \
                              size_t nValueReferences, const type values[], size_t nValues);
 PCS_FMI3_PLAIN_TYPES(PCS_FMI3_DECLARE_GET_SET)
 #undef PCS_FMI3_DECLARE_GET_SET
 
-const char* fmi3GetVersion(void);
-fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean loggingOn, size_t nCategories,
+PCS_FMI3_API const char* fmi3GetVersion(void);
+PCS_FMI3_API fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean loggingOn, size_t nCategories,
                                const fmi3String categories[]);
-fmi3Instance fmi3InstantiateModelExchange(fmi3String instanceName, fmi3String instantiationToken,
+PCS_FMI3_API fmi3Instance fmi3InstantiateModelExchange(fmi3String instanceName, fmi3String instantiationToken,
                                           fmi3String resourcePath, fmi3Boolean visible, fmi3Boolean loggingOn,
                                           fmi3InstanceEnvironment instanceEnvironment,
                                           fmi3LogMessageCallback logMessage);
-fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String instantiationToken,
+PCS_FMI3_API fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String instantiationToken,
                                          fmi3String resourcePath, fmi3Boolean visible, fmi3Boolean loggingOn,
                                          fmi3Boolean eventModeUsed, fmi3Boolean earlyReturnAllowed,
                                          const fmi3ValueReference requiredIntermediateVariables[],
@@ -97,100 +101,96 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
                                          fmi3InstanceEnvironment instanceEnvironment,
                                          fmi3LogMessageCallback logMessage,
                                          fmi3IntermediateUpdateCallback intermediateUpdate);
-fmi3Instance fmi3InstantiateScheduledExecution(fmi3String instanceName, fmi3String instantiationToken,
+PCS_FMI3_API fmi3Instance fmi3InstantiateScheduledExecution(fmi3String instanceName, fmi3String instantiationToken,
                                                fmi3String resourcePath, fmi3Boolean visible, fmi3Boolean loggingOn,
                                                fmi3InstanceEnvironment instanceEnvironment,
                                                fmi3LogMessageCallback logMessage,
                                                fmi3ClockUpdateCallback clockUpdate,
                                                fmi3LockPreemptionCallback lockPreemption,
                                                fmi3UnlockPreemptionCallback unlockPreemption);
-void fmi3FreeInstance(fmi3Instance instance);
-fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean toleranceDefined, fmi3Float64 tolerance,
+PCS_FMI3_API void fmi3FreeInstance(fmi3Instance instance);
+PCS_FMI3_API fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean toleranceDefined, fmi3Float64 tolerance,
                                        fmi3Float64 startTime, fmi3Boolean stopTimeDefined, fmi3Float64 stopTime);
-fmi3Status fmi3ExitInitializationMode(fmi3Instance instance);
-fmi3Status fmi3EnterEventMode(fmi3Instance instance);
-fmi3Status fmi3Terminate(fmi3Instance instance);
-fmi3Status fmi3Reset(fmi3Instance instance);
-fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
+PCS_FMI3_API fmi3Status fmi3ExitInitializationMode(fmi3Instance instance);
+PCS_FMI3_API fmi3Status fmi3EnterEventMode(fmi3Instance instance);
+PCS_FMI3_API fmi3Status fmi3Terminate(fmi3Instance instance);
+PCS_FMI3_API fmi3Status fmi3Reset(fmi3Instance instance);
+PCS_FMI3_API fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
                          size_t valueSizes[], fmi3Binary values[], size_t nValues);
-fmi3Status fmi3SetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
+PCS_FMI3_API fmi3Status fmi3SetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
                          const size_t valueSizes[], const fmi3Binary values[], size_t nValues);
-fmi3Status fmi3GetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
+PCS_FMI3_API fmi3Status fmi3GetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
                         fmi3Clock values[]);
-fmi3Status fmi3SetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
+PCS_FMI3_API fmi3Status fmi3SetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
                         const fmi3Clock values[]);
-fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance, fmi3ValueReference valueReference,
+PCS_FMI3_API fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance, fmi3ValueReference valueReference,
                                                size_t* nDependencies);
-fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference dependent,
+PCS_FMI3_API fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference dependent,
                                        size_t elementIndicesOfDependent[], fmi3ValueReference independents[],
                                        size_t elementIndicesOfIndependents[], fmi3DependencyKind dependencyKinds[],
                                        size_t nDependencies);
-fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState* FMUState);
-fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState FMUState);
-fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState* FMUState);
-fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState FMUState, size_t* size);
-fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState FMUState, fmi3Byte serializedState[],
+PCS_FMI3_API fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState* FMUState);
+PCS_FMI3_API fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState FMUState);
+PCS_FMI3_API fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState* FMUState);
+PCS_FMI3_API fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState FMUState, size_t* size);
+PCS_FMI3_API fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState FMUState, fmi3Byte serializedState[],
                                  size_t size);
-fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte serializedState[], size_t size,
+PCS_FMI3_API fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte serializedState[], size_t size,
                                    fmi3FMUState* FMUState);
-fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns,
+PCS_FMI3_API fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns,
                                         const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[],
                                         size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity);
-fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns,
+PCS_FMI3_API fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns,
                                     const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[],
                                     size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity);
-fmi3Status fmi3EnterConfigurationMode(fmi3Instance instance);
-fmi3Status fmi3ExitConfigurationMode(fmi3Instance instance);
-fmi3Status fmi3GetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+PCS_FMI3_API fmi3Status fmi3EnterConfigurationMode(fmi3Instance instance);
+PCS_FMI3_API fmi3Status fmi3ExitConfigurationMode(fmi3Instance instance);
+PCS_FMI3_API fmi3Status fmi3GetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                   size_t nValueReferences, fmi3Float64 intervals[], fmi3IntervalQualifier qualifiers[]);
-fmi3Status fmi3GetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+PCS_FMI3_API fmi3Status fmi3GetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                    size_t nValueReferences, fmi3UInt64 counters[], fmi3UInt64 resolutions[],
                                    fmi3IntervalQualifier qualifiers[]);
-fmi3Status fmi3GetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+PCS_FMI3_API fmi3Status fmi3GetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                size_t nValueReferences, fmi3Float64 shifts[]);
-fmi3Status fmi3GetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+PCS_FMI3_API fmi3Status fmi3GetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                 size_t nValueReferences, fmi3UInt64 counters[], fmi3UInt64 resolutions[]);
-fmi3Status fmi3SetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+PCS_FMI3_API fmi3Status fmi3SetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                   size_t nValueReferences, const fmi3Float64 intervals[]);
-fmi3Status fmi3SetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+PCS_FMI3_API fmi3Status fmi3SetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                    size_t nValueReferences, const fmi3UInt64 counters[],
                                    const fmi3UInt64 resolutions[]);
-fmi3Status fmi3SetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+PCS_FMI3_API fmi3Status fmi3SetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                size_t nValueReferences, const fmi3Float64 shifts[]);
-fmi3Status fmi3SetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+PCS_FMI3_API fmi3Status fmi3SetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                 size_t nValueReferences, const fmi3UInt64 counters[], const fmi3UInt64 resolutions[]);
-fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance);
-fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean* discreteStatesNeedUpdate,
+PCS_FMI3_API fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance);
+PCS_FMI3_API fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean* discreteStatesNeedUpdate,
                                     fmi3Boolean* terminateSimulation, fmi3Boolean* nominalsOfContinuousStatesChanged,
                                     fmi3Boolean* valuesOfContinuousStatesChanged, fmi3Boolean* nextEventTimeDefined,
                                     fmi3Float64* nextEventTime);
-fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance);
-fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
+PCS_FMI3_API fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance);
+PCS_FMI3_API fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
                                        fmi3Boolean* enterEventMode, fmi3Boolean* terminateSimulation);
-fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time);
-fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[],
+PCS_FMI3_API fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time);
+PCS_FMI3_API fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[],
                                    size_t nContinuousStates);
-fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[],
+PCS_FMI3_API fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[],
                                              size_t nContinuousStates);
-fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndicators[], size_t nEventIndicators);
-fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[], size_t nContinuousStates);
-fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t nContinuousStates);
-fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t* nEventIndicators);
-fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t* nContinuousStates);
-fmi3Status fmi3EnterStepMode(fmi3Instance instance);
-fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+PCS_FMI3_API fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndicators[], size_t nEventIndicators);
+PCS_FMI3_API fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[], size_t nContinuousStates);
+PCS_FMI3_API fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t nContinuousStates);
+PCS_FMI3_API fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t* nEventIndicators);
+PCS_FMI3_API fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t* nContinuousStates);
+PCS_FMI3_API fmi3Status fmi3EnterStepMode(fmi3Instance instance);
+PCS_FMI3_API fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                     size_t nValueReferences, const fmi3Int32 orders[], fmi3Float64 values[],
                                     size_t nValues);
-fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoint,
+PCS_FMI3_API fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoint,
                       fmi3Float64 communicationStepSize, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
                       fmi3Boolean* eventHandlingNeeded, fmi3Boolean* terminateSimulation, fmi3Boolean* earlyReturn,
                       fmi3Float64* lastSuccessfulTime);
-fmi3Status fmi3ActivateModelPartition(fmi3Instance instance, fmi3ValueReference clockReference,
+PCS_FMI3_API fmi3Status fmi3ActivateModelPartition(fmi3Instance instance, fmi3ValueReference clockReference,
                                       fmi3Float64 activationTime);
-
-#if defined(PCS_FMI3_EXPORTS)
-#pragma GCC visibility pop
-#endif
 
 /* Every function a 3.0 FMU exports, for tests that look them up. */
 #define PCS_FMI3_FUNCTIONS(X)                                                                                     \

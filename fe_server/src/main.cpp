@@ -236,6 +236,16 @@ std::string ranks_text(const fe::Solver& solver) {
   return s.str();
 }
 
+// *PCS_FATIGUE_PART: the hot spots to the log, every counted element to
+// <results>_fatigue.csv beside the results.
+void report_fatigue(const fe::History& history, double time, const std::string& out, bool quiet) {
+  const std::string report = history.fatigue_report(time);
+  if (report.empty()) return;
+  const std::string base = out.size() > 3 && out.compare(out.size() - 3, 3, ".h5") == 0 ? out.substr(0, out.size() - 3) : out;
+  history.write_fatigue_table(base + "_fatigue.csv", time);
+  if (!quiet) std::cout << "fe_server: " << report << "fe_server: every counted element in " << base << "_fatigue.csv\n";
+}
+
 int run_standalone(fe::Model& model, const std::string& out, bool quiet, int threads, const CheckpointOptions& ck) {
   if (!(model.end_time > 0.0)) {
     std::cerr << "fe_server: " << model.source
@@ -372,11 +382,16 @@ int run_standalone(fe::Model& model, const std::string& out, bool quiet, int thr
               << "\n";
   const std::string hourglass = fe::hourglass_warning(solver.energies());
   if (!hourglass.empty()) std::cerr << "fe_server: warning: " << hourglass << "\n";
+  report_fatigue(history, solver.time(), out, quiet);
   return energy_verdict(energy, drift, failed, model);
 }
 
 // What fe_server refuses before a run across ranks starts.
-void check_for_ranks(const CheckpointOptions& ck) {
+void check_for_ranks(const CheckpointOptions& ck, const fe::Model& model) {
+  if (!model.fatigue.empty())
+    throw config::InputError(model.fatigue.front().where,
+                             "*PCS_FATIGUE_PART: fatigue is counted on one rank only (each element's stress after every "
+                             "FE step would cross the ranks): run without mpirun, or without the card");
   if (ck.enabled())
     throw std::invalid_argument("--checkpoint, --checkpoint-every and --restart work on one rank only for now: "
                                 "run without mpirun to checkpoint");
@@ -509,7 +524,7 @@ int run_main(int argc, char** argv) {
                                                       std::to_string(fe::max_tlm_omega_t()) +
                                                       ", pressure ports omega*T = " +
                                                       std::to_string(fe::kMaxPressureOmegaT);
-    if (dom.parallel()) check_for_ranks(ck);
+    if (dom.parallel()) check_for_ranks(ck, model);
     // In a session the host decides when to checkpoint: always ready (on one rank).
     if (!ports_paths.empty() && ck.path.empty() && !dom.parallel()) ck.path = default_checkpoint_path(out);
     if (ck.enabled()) ck.deck_digest = config::file_sha256(deck);
@@ -642,6 +657,7 @@ int run_main(int argc, char** argv) {
         if (!opt.quiet) std::cout << tag << message << "; " << energy << "; history (" << history->rows() << " rows) in " << path << std::endl;
         const std::string hourglass = fe::hourglass_warning(solver.energies());
         if (!hourglass.empty()) std::cerr << tag << "warning: " << hourglass << "\n";
+        report_fatigue(*history, solver.time(), path, opt.quiet);
         code = energy_verdict(energy, drift, failed, model);
       } else {
         std::cerr << tag << message << "; history up to the last completed step (" << history->rows()

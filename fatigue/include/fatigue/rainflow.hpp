@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace fatigue {
@@ -66,6 +67,15 @@ class RainflowCounter {
 
   // Reversals held, not yet closed into cycles: the counter's memory.
   size_t held() const { return stack_.size(); }
+
+  // The counter's whole state, for a checkpoint, and its restoration.
+  const std::vector<double>& held_reversals() const { return stack_; }
+  int direction() const { return direction_; }
+  double extreme() const { return extreme_; }
+  bool started() const { return started_; }
+  void restore(std::vector<double> held, int direction, double extreme, bool started) {
+    stack_ = std::move(held), direction_ = direction, extreme_ = extreme, started_ = started;
+  }
 
  private:
   template <class Sink>

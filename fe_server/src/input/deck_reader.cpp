@@ -105,6 +105,7 @@ struct Reader {
     bool part = false;
   };
   std::vector<DampingCards> damping_cards;  // *BOUNDARY_PRESCRIBED_MOTION card, and whether _SET
+  std::vector<std::pair<Card, Card>> fatigue_cards;  // *PCS_FATIGUE_PART: card 1, card 2 (or empty)
   Card body_parts_card;  // *LOAD_BODY_PARTS PSID
   bool has_body_parts = false;
   std::map<int, std::pair<int, double>> sections;         // secid → (elform, bar area)
@@ -257,6 +258,7 @@ struct Reader {
       {{"*LOAD_BODY_X", "*LOAD_BODY_Y", "*LOAD_BODY_Z"}, &Reader::read_load_body_x, "body accelerations along x, y or z"},
       {{"*DAMPING_GLOBAL"}, &Reader::read_damping_global, "mass-proportional damping of the whole model"},
       {{"*DAMPING_PART_MASS"}, &Reader::read_damping_part_mass, "mass-proportional damping of a part"},
+      {{"*PCS_FATIGUE_PART"}, &Reader::read_pcs_fatigue_part, "our own card: the fatigue of a part's elements, counted during the run (S-N curve, mean-stress correction, notch factor)"},
       {{"*LOAD_NODE_POINT", "*LOAD_NODE_SET"}, &Reader::read_load_node_point, "point loads on nodes or node sets"},
       {{"*LOAD_SEGMENT", "*LOAD_SEGMENT_SET"}, &Reader::read_load_segment, "pressure loads on segments or segment sets"},
       {{"*LOAD_BODY_PARTS"}, &Reader::read_load_body_parts, "the parts a body load acts on"},
@@ -790,6 +792,46 @@ struct Reader {
     }
   }
 
+  void read_pcs_fatigue_part(const Block& b, [[maybe_unused]] const std::string& kw) {
+    // Two cards per part: PID SA_REF N_REF M SE HAIBACH STRESS MEAN, then SU KF GATE.
+    if (b.cards.empty() || b.cards.size() % 2 != 0)
+      b.fail("*PCS_FATIGUE_PART takes two cards per part (PID SA_REF N_REF M SE HAIBACH STRESS MEAN, then SU KF "
+             "GATE: 0,1,0 for none, a notch factor of 1, no gate); it has " + std::to_string(b.cards.size()));
+    for (size_t i = 0; i < b.cards.size(); i += 2)
+      fatigue_cards.push_back({fields_of(b.cards[i], kW10), fields_of(b.cards[i + 1], kW10)});
+  }
+
+  void fatigue_part(const Card& c, const Card& c2) {
+    FatigueDef f;
+    f.where = c.where;
+    const long pid = c.integer(0, "PID");
+    auto part = m.parts.find(static_cast<int>(pid));
+    if (part == m.parts.end()) c.fail("PID " + std::to_string(pid) + " is not a *PART");
+    if (m.materials.at(part->second.material).rigid) c.fail("part " + std::to_string(pid) + " is rigid: it has no stress");
+    f.part = static_cast<int>(pid);
+    f.curve.sa_ref = c.real(1, "SA_REF");
+    f.curve.n_ref = c.real(2, "N_REF");
+    f.curve.m = c.real(3, "M");
+    f.curve.endurance = c.real_or(4, "SE", 0.0);
+    f.curve.haibach = c.integer_or(5, "HAIBACH", 0) != 0;
+    if (const std::string why = f.curve.check(); !why.empty()) c.fail("S-N curve: " + why);
+    f.stress = static_cast<int>(c.integer_or(6, "STRESS", 0));
+    if (f.stress != 0 && f.stress != 1) c.fail("STRESS " + std::to_string(f.stress) + ": 0 (signed von Mises) or 1 (largest principal)");
+    const long mean = c.integer_or(7, "MEAN", 0);
+    if (mean < 0 || mean > 3) c.fail("MEAN " + std::to_string(mean) + ": 0 none, 1 Goodman, 2 Gerber, 3 SWT");
+    f.mean = static_cast<fatigue::MeanStress>(mean);
+    f.su = c2.real_or(0, "SU", 0.0);
+    f.kf = c2.real_or(1, "KF", 1.0);
+    f.gate = c2.real_or(2, "GATE", 0.0);
+    if ((f.mean == fatigue::MeanStress::Goodman || f.mean == fatigue::MeanStress::Gerber) && !(f.su > 0.0))
+      c2.fail("MEAN " + std::to_string(mean) + " needs SU, the ultimate strength, on card 2");
+    if (!(f.kf >= 1.0)) c2.fail("KF must be 1 or more (a notch raises the stress)");
+    if (!(f.gate >= 0.0)) c2.fail("GATE must be 0 or more");
+    for (const FatigueDef& other : m.fatigue)
+      if (other.part == f.part) c.fail("part " + std::to_string(pid) + " has a *PCS_FATIGUE_PART already, at " + other.where.str());
+    m.fatigue.push_back(f);
+  }
+
   void read_load_node_point(const Block& b, [[maybe_unused]] const std::string& kw) {
     // NID (or NSID), DOF, LCID, SF, CID, M1, M2, M3.
     for (const Card& raw : b.cards) nodal_load_cards.push_back({fields_of(raw, kW10), kw == "*LOAD_NODE_SET"});
@@ -1253,6 +1295,7 @@ struct Reader {
       m.nodal_loads.push_back(l);
     }
     for (const DampingCards& d : damping_cards) mass_damping(d);
+    for (const auto& [c1, c2] : fatigue_cards) fatigue_part(c1, c2);
     if (has_body_parts) {
       // LS-DYNA: the body loads act on the parts of this set only.
       const long psid = body_parts_card.integer(0, "PSID");

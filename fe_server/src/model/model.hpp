@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "config/keyword_reader.hpp"
+#include "fatigue/damage.hpp"
 
 namespace fe {
 
@@ -252,6 +253,25 @@ struct NodalLoad {
 // *DAMPING_GLOBAL / *DAMPING_PART_MASS: mass-proportional damping, a force
 // −D(t)·m·v on every deformable node (of the part), D = SF·curve(t) (or
 // *DAMPING_GLOBAL's constant VALDMP), per direction times STX, STY, STZ.
+// *PCS_FATIGUE_PART (a card of our own, docs/fatigue.md): the fatigue of
+// every element of a part, counted while the run goes (output/fatigue.hpp):
+// an equivalent stress per element, times a notch factor, rainflow-counted
+// (ASTM E1049-85) and summed on an S-N curve with a mean-stress correction
+// (Palmgren-Miner). Stresses in the deck's units.
+struct FatigueDef {
+  int part = 0;
+  fatigue::SnCurve curve;
+  fatigue::MeanStress mean = fatigue::MeanStress::None;
+  double su = 0.0;     // ultimate strength (Goodman, Gerber)
+  // 0: signed von Mises (the sign of the hydrostatic stress: a compressive
+  // pulse counts as compression); 1: the principal stress of largest
+  // magnitude, with its sign.
+  int stress = 0;
+  double kf = 1.0;    // notch factor on the element's stress (1: the mesh's stress as it is)
+  double gate = 0.0;  // reversals smaller than this are not counted
+  config::SourceLocation where;
+};
+
 struct MassDamping {
   bool all_nodes = true;
   std::vector<int> nodes;  // node indices (*DAMPING_PART_MASS)
@@ -330,6 +350,7 @@ struct Model {
   std::vector<BodyLoad> body_loads;
   std::vector<SegmentPressure> segment_pressures;
   std::vector<MassDamping> mass_damping;
+  std::vector<FatigueDef> fatigue;
   std::vector<NodalLoad> nodal_loads;
   DynamicRelaxation relaxation;
   bool relaxes() const;  // a dynamic relaxation phase runs before the transient

@@ -32,6 +32,7 @@ double von_mises(const Eigen::Matrix<double, 6, 1>& t) {
 FieldWriter::FieldWriter(const std::string& path, const Model& model, bool resume) : m_(model), path_(path) {
   xdmf_ = path.substr(0, path.rfind('.')) + ".xdmf";
   for (const auto& [id, mat] : model.materials) plastic_ = plastic_ || mat.plastic;
+  fatigue_ = !model.fatigue.empty();
   if (resume && std::filesystem::exists(path)) {
     H5E_BEGIN_TRY { file_ = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT); }
     H5E_END_TRY;
@@ -62,7 +63,7 @@ FieldWriter::FieldWriter(const std::string& path, const Model& model, bool resum
   if (fresh_) return;
   // The state at t = 0: undeformed, initial velocities, no stress.
   write_snapshot(0.0, model.x0, model.v0, std::vector<Eigen::Matrix<double, 6, 1>>(cells(), Eigen::Matrix<double, 6, 1>::Zero()),
-                 std::vector<double>(cells(), 0.0));
+                 std::vector<double>(cells(), 0.0), std::vector<double>(cells(), 0.0));
 }
 
 std::vector<FieldWriter::Field> FieldWriter::field_list() const {
@@ -72,6 +73,7 @@ std::vector<FieldWriter::Field> FieldWriter::field_list() const {
   for (int c = 0; c < (axisymmetric() ? 4 : 6); ++c) f.push_back({axisymmetric() ? kAxi[c] : k3d[c], "Cell", "Pa"});
   f.push_back({"von_mises", "Cell", "Pa"});
   if (plastic_) f.push_back({"plastic_strain", "Cell", "1"});
+  if (fatigue_) f.push_back({"fatigue_damage", "Cell", "1"});
   return f;
 }
 
@@ -130,19 +132,19 @@ void FieldWriter::write_int_dataset(const std::string& name, const std::vector<i
   if (rc < 0) throw std::runtime_error("HDF5: cannot write " + name + " to " + path_);
 }
 
-void FieldWriter::write(const Solver& s) {
+void FieldWriter::write(const Solver& s, const std::vector<double>& damage) {
   // Across ranks the other ranks take part in gathering it (History's
   // follower: history.hpp).
   std::vector<Vec3> x, v;
   std::vector<Eigen::Matrix<double, 6, 1>> stress;
   std::vector<double> plastic;
   s.gather_fields(x, v, stress, plastic, axisymmetric());
-  write_snapshot(s.time(), x, v, stress, plastic);
+  write_snapshot(s.time(), x, v, stress, plastic, damage.empty() ? std::vector<double>(cells(), 0.0) : damage);
 }
 
 void FieldWriter::write_snapshot(double time, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                                  const std::vector<Eigen::Matrix<double, 6, 1>>& stress,
-                                 const std::vector<double>& plastic_strain) {
+                                 const std::vector<double>& plastic_strain, const std::vector<double>& damage) {
   char group[32];
   std::snprintf(group, sizeof group, "fields/%06zu/", times_.size());
   const std::string g = group;
@@ -170,6 +172,8 @@ void FieldWriter::write_snapshot(double time, const std::vector<Vec3>& x, const 
   write_dataset(g + "von_mises", column.data(), stress.size(), 1, "Pa");
   if (plastic_)  // effective plastic strain (0 in elastic parts)
     write_dataset(g + "plastic_strain", plastic_strain.data(), plastic_strain.size(), 1, "1");
+  if (fatigue_)  // Miner damage so far (*PCS_FATIGUE_PART; 0 in parts without one)
+    write_dataset(g + "fatigue_damage", damage.data(), damage.size(), 1, "1");
   H5Fflush(file_, H5F_SCOPE_GLOBAL);
   times_.push_back(time);
   write_index();

@@ -38,7 +38,9 @@ class FieldWriter {
   ~FieldWriter();
   FieldWriter(const FieldWriter&) = delete;
   FieldWriter& operator=(const FieldWriter&) = delete;
-  void write(const Solver& s);
+  // damage: the fatigue damage per cell (FatigueTracker::damage_field), for
+  // a model with *PCS_FATIGUE_PART; empty: zeros.
+  void write(const Solver& s, const std::vector<double>& damage = {});
   size_t snapshots() const { return times_.size(); }
   // The snapshots' times (checkpoints); restoring removes later snapshots
   // from the file and rewrites the index.
@@ -54,8 +56,10 @@ class FieldWriter {
   // One snapshot from nodal displacements, velocities and element stresses
   // (Voigt per element, the solver's layout).
   void write_snapshot(double time, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                      const std::vector<Eigen::Matrix<double, 6, 1>>& stress, const std::vector<double>& plastic_strain);
+                      const std::vector<Eigen::Matrix<double, 6, 1>>& stress, const std::vector<double>& plastic_strain,
+                      const std::vector<double>& damage);
   bool plastic_ = false;  // a plastic material: snapshots carry plastic_strain
+  bool fatigue_ = false;  // *PCS_FATIGUE_PART: snapshots carry fatigue_damage
   bool fresh_ = false;    // a restart began a new file: the earlier snapshots are elsewhere
   // The fields of every snapshot, in the order written.
   std::vector<Field> field_list() const;

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "output/ascii_output.hpp"
+#include "output/fatigue.hpp"
 #include "output/field_output.hpp"
 
 namespace fe {
@@ -106,6 +107,7 @@ History::History(const std::string& path, const Model& model, const config::Port
     fields_ = std::make_unique<FieldWriter>(base + "_fields.h5", model, resume);  // writes the snapshot at t = 0 unless resuming
     next_snapshot_ = model.snapshot_interval;
   }
+  if (!model.fatigue.empty()) fatigue_ = std::make_unique<FatigueTracker>(model);
   // A new file opens from now on, whatever kills the process (a resumed
   // one once state() has cut it back to the checkpoint's rows).
   if (!resume) writer_.start_writing();
@@ -146,6 +148,9 @@ void History::state(config::StateIO& io) {
   uint64_t has_ascii = ascii_ != nullptr;
   io.expect("history ascii", has_ascii, "LS-DYNA ASCII files");
   if (ascii_) ascii_->state(io);
+  uint64_t has_fatigue = fatigue_ != nullptr;
+  io.expect("history fatigue", has_fatigue, "fatigue counting (*PCS_FATIGUE_PART)");
+  if (fatigue_) fatigue_->state(io);
   for (size_t k = 0; k < 3; ++k) {
     if (k > 0 && stream_[k] == 0) continue;  // a stream this model does not write
     uint64_t rows = writer_.rows(stream_[k]);
@@ -153,6 +158,12 @@ void History::state(config::StateIO& io) {
     if (!io.saving()) writer_.resume_at(static_cast<size_t>(rows), stream_[k]);
   }
   if (!io.saving()) writer_.start_writing();
+}
+
+std::string History::fatigue_report(double time) const { return fatigue_ ? fatigue_->report(time) : std::string(); }
+
+void History::write_fatigue_table(const std::string& path, double time) const {
+  if (fatigue_) fatigue_->write_csv(path, time);
 }
 
 size_t History::snapshots() const { return fields_ ? fields_->snapshots() : 0; }
@@ -236,9 +247,10 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
     }
     writer_.append(row_, stream_[2]);
   }
+  if (fatigue_) fatigue_->sample(s);  // every FE step: the stress's turning points, not a decimated history's
   if (ascii_) ascii_->record(s);
   if (fields_ && s.time() >= next_snapshot_ - 1e-12 * model_.snapshot_interval) {
-    fields_->write(s);
+    fields_->write(s, fatigue_ ? fatigue_->damage_field() : std::vector<double>{});
     next_snapshot_ += model_.snapshot_interval;
   }
 }

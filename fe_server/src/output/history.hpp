@@ -65,6 +65,10 @@ class History {
   long every_nodes() const { return every_[1]; }
   long every_elements() const { return every_[2]; }
   size_t snapshots() const;
+  // *PCS_FATIGUE_PART: the hot spots so far ("" without fatigue counting),
+  // and every counted element's table as CSV.
+  std::string fatigue_report(double time) const;
+  void write_fatigue_table(const std::string& path, double time) const;
   // The XDMF index of the field snapshots ("" when the deck asks for none).
   std::string fields_path() const;
   // "energy balance error X J (Y % of Z J)"; *exceeded is set when the error
@@ -89,6 +93,7 @@ class History {
   size_t stream_[3] = {0, 0, 0};
   std::unique_ptr<class FieldWriter> fields_;
   std::unique_ptr<class AsciiOutput> ascii_;  // LS-DYNA's ASCII files, when the deck asks for them
+  std::unique_ptr<class FatigueTracker> fatigue_;  // *PCS_FATIGUE_PART
   double next_snapshot_ = 0.0;
   double energy_scale_ = 0.0;
 };

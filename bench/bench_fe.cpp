@@ -31,6 +31,7 @@
 #include "input/mesher.hpp"
 #include "config/port_table.hpp"
 #include "config/version.hpp"
+#include "output/fatigue.hpp"
 #include "solver/solver.hpp"
 
 namespace {
@@ -252,6 +253,64 @@ void thread_scaling() {
                 sorted[2]);
   }
 }
+// The cost of counting fatigue (*PCS_FATIGUE_PART) on every element: the FE
+// step with and without the tracker's sample, interleaved, on the 2D
+// cylinder of the thread benchmark (30720 axi4 elements) and a 3D one.
+void fatigue_cost() {
+  std::printf("fatigue counting on every element (signed von Mises, each FE step; 7 interleaved pairs):\n");
+  const std::string card = "*PCS_FATIGUE_PART\n1,500e6,1e5,8,0,0,0,0\n0,1,0\n";
+  auto cylinder = [&](int nr, int ny) {
+    fe::Model a = fe::parse_deck("*KEYWORD\n" + axi_test::block(1, 1, 0.0, 0.06, nr, 0.0, 0.8 * ny / 640.0, ny) +
+                                     "*PART\np\n1,1,1\n*SECTION_SHELL\n1,15\n0\n*MAT_ELASTIC\n1,7850,2.1e11,0.3\n" + card,
+                                 "cyl2d.k");
+    for (size_t i = 0; i < a.x0.size(); ++i) a.v0[i] = fe::Vec3(0, 1.0 * std::sin(20.0 * a.x0[i].y()), 0);
+    return a;
+  };
+  // The hammer's size (its 928 elements fit the caches) and one 30 times larger.
+  fe::Model small = cylinder(16, 64), axi = cylinder(48, 640);
+  fe::RevolutionMeshOptions o;
+  o.element_size = 0.004;
+  fe::Model hex = fe::parse_deck("*KEYWORD\n" + fe::mesh_revolution({{0.4, 0.03, 0.0}}, o).keyword_text + materials(0.3) + card,
+                                 "cyl.k");
+  for (size_t i = 0; i < hex.x0.size(); ++i) hex.v0[i] = fe::Vec3(0, 0, 1.0 * std::sin(20.0 * hex.x0[i].z()));
+  for (auto [name, model] : {std::pair<const char*, fe::Model*>{"axi4", &small}, {"axi4", &axi}, {"hex8", &hex}}) {
+    const size_t elements = model->solids.size() + model->axis.size();
+    const int steps = static_cast<int>(std::max<size_t>(20, 3000000 / elements));
+    const double dt = 0.9 * fe::Solver::stable_dt(*model).dt;
+    fe::Solver s(*model, dt);
+    fe::FatigueTracker t(*model, dt);
+    fe::Model every4 = *model;  // the same card sampling every 4th FE step (DT = 4 steps)
+    every4.fatigue[0].dt = 4.0 * dt;
+    fe::FatigueTracker t4(every4, dt);
+    for (int k = 0; k < 5; ++k) s.step();
+    std::vector<double> bare, counted, counted4;
+    for (int rep = 0; rep < 7; ++rep) {
+      auto t0 = Clock::now();
+      for (int k = 0; k < steps; ++k) s.step();
+      bare.push_back(1e6 * since(t0) / steps);
+      t0 = Clock::now();
+      for (int k = 0; k < steps; ++k) {
+        s.step();
+        t.sample(s);
+      }
+      counted.push_back(1e6 * since(t0) / steps);
+      t0 = Clock::now();
+      for (int k = 0; k < steps; ++k) {
+        s.step();
+        t4.sample(s);
+      }
+      counted4.push_back(1e6 * since(t0) / steps);
+    }
+    for (auto* v : {&bare, &counted, &counted4}) std::sort(v->begin(), v->end());
+    std::printf("  %s, %zu elements: FE step %.1f us (min; median %.1f); counting every step %.1f us (+%.1f %%, "
+                "medians +%.1f %%, %.1f ns per element and sample), every 4th step %.1f us (+%.1f %%, medians +%.1f %%)\n",
+                name, elements, bare[0], bare[3], counted[0], 100.0 * (counted[0] - bare[0]) / bare[0],
+                100.0 * (counted[3] - bare[3]) / bare[3], 1e3 * (counted[0] - bare[0]) / static_cast<double>(elements),
+                counted4[0], 100.0 * (counted4[0] - bare[0]) / bare[0], 100.0 * (counted4[3] - bare[3]) / bare[3]);
+    std::printf("csv:fatigue_cost,%s,%zu,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n", name, elements, bare[0], counted[0],
+                counted4[0], bare[3], counted[3], counted4[3]);
+  }
+}
 }  // namespace
 
 // bench_fe [NAME...]: every benchmark, or those named (hammer, threads,
@@ -347,7 +406,7 @@ int main(int argc, char** argv) {
   const std::pair<const char*, void (*)()> all[] = {
       {"hammer", hammer_fe_step_cost}, {"threads", thread_scaling},      {"hex8", element_cycle_cost},
       {"bar", bar_cycle_cost},         {"axi4", axi_cycle_cost},          {"bar_impact", bar_impact_convergence},
-      {"axi_bar_impact", axi_bar_impact_convergence}, {"calculix", calculix_comparison}};
+      {"axi_bar_impact", axi_bar_impact_convergence}, {"calculix", calculix_comparison}, {"fatigue", fatigue_cost}};
   for (int i = 1; i < argc; ++i) {
     bool known = false;
     for (const auto& [name, run] : all) known |= std::string(argv[i]) == name;

@@ -21,74 +21,59 @@ struct Cycle {
   double count = 0.0;
 };
 
-// ASTM E1049-85 rainflow counting: the three-point rule with the starting
-// point (5.4.4 steps 1-5) on each reversal as it is found, and the residue
-// counted as half cycles at the end (step 6). Each cycle goes to the sink,
-// a callable taking a Cycle, as soon as it closes.
-class RainflowCounter {
+// The turning points of a sampled signal: the hot part of a counter (two
+// numbers and a direction per signal), apart from the reversals it holds.
+// gate >= 0: a turning point counts only once the signal has come back from
+// it by more than the gate, so noise below the gate makes none.
+struct TurningPoints {
+  double extreme = 0.0;       // the current run's extremum: the next reversal when it turns
+  double first = 0.0;         // the first sample, until the signal leaves it
+  signed char direction = 0;  // +1 rising to extreme, -1 falling to it, 0 not yet left the first sample
+  bool started = false;
+
+  // One sample; true when it makes a reversal, written to *r (the first
+  // sample is one).
+  bool next(double x, double gate, double* r) {
+    if (direction != 0) {  // the common case, one branch that is almost always taken the same way
+      const double d = x - extreme;
+      if (d * direction >= 0.0) {
+        extreme = x;  // still going the same way: the candidate moves
+        return false;
+      }
+      if (std::fabs(d) <= gate) return false;
+      *r = extreme;  // it turned back by more than the gate
+      direction = static_cast<signed char>(-direction);
+      extreme = x;
+      return true;
+    }
+    if (!started) {
+      started = true;
+      first = extreme = *r = x;
+      return true;
+    }
+    // Which way the history leaves its first point.
+    if (x - first > gate) direction = 1, extreme = x;
+    else if (first - x > gate) direction = -1, extreme = x;
+    return false;
+  }
+  // At the end of the history: the last extremum, if the signal ever moved.
+  bool last(double* r) const {
+    if (direction == 0) return false;
+    *r = extreme;
+    return true;
+  }
+};
+
+// ASTM E1049-85's three-point rule with the starting point (5.4.4 steps
+// 2-5) on each reversal as it comes, and the residue as half cycles at the
+// end (step 6). Each cycle goes to the sink, a callable taking a Cycle, as
+// soon as it closes.
+class ReversalCounter {
  public:
-  // gate >= 0: a turning point counts only once the signal has come back
-  // from it by more than the gate, so noise below the gate makes no cycles
-  // (0: every turning point of the samples).
-  explicit RainflowCounter(double gate = 0.0) : gate_(gate) {}
-
   template <class Sink>
-  void add(double x, Sink&& sink) {
-    if (!started_) {  // the first sample is the first reversal
-      started_ = true;
-      reversal(x, sink);
-      extreme_ = x;
-      return;
-    }
-    if (direction_ == 0) {  // which way the history leaves its first point
-      if (x - stack_.back() > gate_) direction_ = 1, extreme_ = x;
-      else if (stack_.back() - x > gate_) direction_ = -1, extreme_ = x;
-      return;
-    }
-    if ((direction_ > 0 && x >= extreme_) || (direction_ < 0 && x <= extreme_)) {
-      extreme_ = x;  // still going the same way: the candidate moves
-    } else if (std::fabs(x - extreme_) > gate_) {
-      reversal(extreme_, sink);  // it turned back by more than the gate
-      direction_ = -direction_;
-      extreme_ = x;
-    }
-  }
-
-  // The end of the history: the last extremum is a reversal, and every range
-  // left is half a cycle. The counter is then empty, ready for a new history.
-  template <class Sink>
-  void finish(Sink&& sink) {
-    if (direction_ != 0) reversal(extreme_, sink);
-    for (size_t i = 1; i < stack_.size(); ++i) emit(stack_[i - 1], stack_[i], 0.5, sink);
-    stack_.clear();
-    direction_ = 0;
-    started_ = false;
-  }
-
-  // Reversals held, not yet closed into cycles: the counter's memory.
-  size_t held() const { return stack_.size(); }
-
-  // The counter's whole state, for a checkpoint, and its restoration.
-  const std::vector<double>& held_reversals() const { return stack_; }
-  int direction() const { return direction_; }
-  double extreme() const { return extreme_; }
-  bool started() const { return started_; }
-  void restore(std::vector<double> held, int direction, double extreme, bool started) {
-    stack_ = std::move(held), direction_ = direction, extreme_ = extreme, started_ = started;
-  }
-
- private:
-  template <class Sink>
-  static void emit(double a, double b, double count, Sink& sink) {
-    const double hi = a > b ? a : b, lo = a > b ? b : a;
-    sink(Cycle{hi - lo, 0.5 * (hi + lo), count});
-  }
-
-  // ASTM 5.4.4 steps 2-5 for the reversal just read. stack_[0] is the
-  // starting point S; X is the newest range, Y the one before it.
-  template <class Sink>
-  void reversal(double r, Sink& sink) {
+  void push(double r, Sink& sink) {
     stack_.push_back(r);
+    // stack_[0] is the starting point S; X is the newest range, Y the one before it.
     while (stack_.size() >= 3) {
       const size_t n = stack_.size();
       const double x = std::fabs(stack_[n - 1] - stack_[n - 2]);
@@ -103,12 +88,50 @@ class RainflowCounter {
       }
     }
   }
+  template <class Sink>
+  void finish(Sink& sink) {
+    for (size_t i = 1; i < stack_.size(); ++i) emit(stack_[i - 1], stack_[i], 0.5, sink);
+    stack_.clear();
+  }
+  const std::vector<double>& held() const { return stack_; }
+  void restore(std::vector<double> held) { stack_ = std::move(held); }
 
-  double gate_;
+ private:
+  template <class Sink>
+  static void emit(double a, double b, double count, Sink& sink) {
+    const double hi = a > b ? a : b, lo = a > b ? b : a;
+    sink(Cycle{hi - lo, 0.5 * (hi + lo), count});
+  }
   std::vector<double> stack_;
-  int direction_ = 0;     // +1 rising to extreme_, -1 falling to it, 0 not yet left the start
-  double extreme_ = 0.0;  // the extremum of the current run: the next reversal when it turns
-  bool started_ = false;
+};
+
+// Rainflow counting of one signal, streaming (ASTM E1049-85, 5.4.4): its
+// turning points, and the three-point rule on them.
+class RainflowCounter {
+ public:
+  explicit RainflowCounter(double gate = 0.0) : gate_(gate) {}
+
+  template <class Sink>
+  void add(double x, Sink&& sink) {
+    double r;
+    if (points_.next(x, gate_, &r)) reversals_.push(r, sink);
+  }
+  // The end of the history: the last extremum is a reversal, and every range
+  // left is half a cycle. The counter is then empty, ready for a new history.
+  template <class Sink>
+  void finish(Sink&& sink) {
+    double r;
+    if (points_.last(&r)) reversals_.push(r, sink);
+    reversals_.finish(sink);
+    points_ = TurningPoints{};
+  }
+  // Reversals held, not yet closed into cycles: the counter's memory.
+  size_t held() const { return reversals_.held().size(); }
+
+ private:
+  double gate_;
+  TurningPoints points_;
+  ReversalCounter reversals_;
 };
 
 // The reversals (turning points) of a whole history, for counting it at

@@ -793,7 +793,7 @@ struct Reader {
   }
 
   void read_pcs_fatigue_part(const Block& b, [[maybe_unused]] const std::string& kw) {
-    // Two cards per part: PID SA_REF N_REF M SE HAIBACH STRESS MEAN, then SU KF GATE.
+    // Two cards per part: PID SA_REF N_REF M SE HAIBACH STRESS MEAN, then SU KF GATE DT.
     if (b.cards.empty() || b.cards.size() % 2 != 0)
       b.fail("*PCS_FATIGUE_PART takes two cards per part (PID SA_REF N_REF M SE HAIBACH STRESS MEAN, then SU KF "
              "GATE: 0,1,0 for none, a notch factor of 1, no gate); it has " + std::to_string(b.cards.size()));
@@ -823,6 +823,8 @@ struct Reader {
     f.su = c2.real_or(0, "SU", 0.0);
     f.kf = c2.real_or(1, "KF", 1.0);
     f.gate = c2.real_or(2, "GATE", 0.0);
+    f.dt = c2.real_or(3, "DT", 0.0);
+    if (!(f.dt >= 0.0)) c2.fail("DT must be 0 (every FE step) or more");
     if ((f.mean == fatigue::MeanStress::Goodman || f.mean == fatigue::MeanStress::Gerber) && !(f.su > 0.0))
       c2.fail("MEAN " + std::to_string(mean) + " needs SU, the ultimate strength, on card 2");
     if (!(f.kf >= 1.0)) c2.fail("KF must be 1 or more (a notch raises the stress)");

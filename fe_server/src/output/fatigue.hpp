@@ -6,6 +6,7 @@
 // closed), never per step.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -28,9 +29,11 @@ double largest_principal(const Eigen::Matrix<double, 6, 1>& s, bool axisymmetric
 
 class FatigueTracker {
  public:
-  explicit FatigueTracker(const Model& m);
+  // fe_dt: the FE step, for each card's sampling interval DT.
+  FatigueTracker(const Model& m, double fe_dt);
   bool empty() const { return cells_.empty(); }
-  // After every FE step: each tracked element's stress, one sample.
+  // After every FE step: each tracked element's stress, one sample (at its
+  // card's interval).
   void sample(const Solver& s);
   // Damage so far of every element of the field output (the axisymmetric
   // elements, else the solids, in the model's order), the residue's half
@@ -46,19 +49,28 @@ class FatigueTracker {
   void state(config::StateIO& io);
 
  private:
+  // Hot, every sample: the element, its part's card and its turning points
+  // (32 bytes); cold, at a reversal only: the reversals held, the damage.
   struct Cell {
-    size_t element = 0;  // index into m.axis (axisymmetric) or m.solids
-    size_t def = 0;  // into m.fatigue
-    fatigue::RainflowCounter counter;
+    uint32_t element = 0;  // index into m.axis (axisymmetric) or m.solids
+    uint32_t def = 0;      // into m.fatigue
+    fatigue::TurningPoints points;
+  };
+  struct Count {
+    fatigue::ReversalCounter reversals;
     fatigue::Damage damage;
     double largest_range = 0.0;
   };
-  // The cell's damage with its residue counted as half cycles (a copy of its counter finishes).
-  double damage_with_residue(const Cell& c) const;
-  Vec3 centroid(const Cell& c) const;
+  // The cell's damage with its residue counted as half cycles (a copy finishes).
+  double damage_with_residue(size_t i) const;
+  Vec3 centroid(size_t element) const;
+  int element_id(size_t element) const;
   const Model& m_;
   bool axisymmetric_ = false;
   std::vector<Cell> cells_;
+  std::vector<Count> counts_;  // per cell
+  std::vector<long> every_;    // per card: FE steps between samples
+  std::vector<char> due_;      // per card: sampled at this step
 };
 
 }  // namespace fe

@@ -107,7 +107,7 @@ History::History(const std::string& path, const Model& model, const config::Port
     fields_ = std::make_unique<FieldWriter>(base + "_fields.h5", model, resume);  // writes the snapshot at t = 0 unless resuming
     next_snapshot_ = model.snapshot_interval;
   }
-  if (!model.fatigue.empty()) fatigue_ = std::make_unique<FatigueTracker>(model);
+  if (!model.fatigue.empty()) fatigue_ = std::make_unique<FatigueTracker>(model, fe_dt);
   // A new file opens from now on, whatever kills the process (a resumed
   // one once state() has cut it back to the checkpoint's rows).
   if (!resume) writer_.start_writing();

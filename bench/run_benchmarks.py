@@ -522,14 +522,12 @@ def fatigue_section(fe_text):
     return L
 
 
-def rewrite_fatigue_section():
-    """--fatigue: that section rewritten in RESULTS.md (appended if absent)."""
+def replace_section(title, lines):
+    """RESULTS.md's section `## title` replaced by `lines` (appended if absent)."""
     path = ROOT / "bench/RESULTS.md"
     text = path.read_text()
-    out = subprocess.run([str(BUILD / "bench" / "bench_fe"), "fatigue"], capture_output=True, text=True, timeout=600,
-                         check=True).stdout
-    new = "\n".join(fatigue_section(out)) + "\n"
-    tag = "## Fatigue counting on every element\n"
+    new = "\n".join(lines) + "\n"
+    tag = f"## {title}\n"
     if tag in text:
         a = text.index(tag)
         b = text.find("\n## ", a + 1)
@@ -537,21 +535,18 @@ def rewrite_fatigue_section():
     else:
         text = text.rstrip("\n") + "\n\n" + new
     path.write_text(text)
+
+
+def rewrite_fatigue_section():
+    """--fatigue: that section rewritten in RESULTS.md from a run of `bench_fe fatigue`."""
+    out = subprocess.run([str(BUILD / "bench" / "bench_fe"), "fatigue"], capture_output=True, text=True, timeout=600,
+                         check=True).stdout
+    replace_section("Fatigue counting on every element", fatigue_section(out))
 
 
 def rewrite_hard_cases_section():
-    """--hard-cases: that section rewritten in RESULTS.md (appended if absent)."""
-    path = ROOT / "bench/RESULTS.md"
-    text = path.read_text()
-    new = "\n".join(hard_cases_section()) + "\n"
-    tag = "## Hard cases and the cost of the run-quality guards\n"
-    if tag in text:
-        a = text.index(tag)
-        b = text.find("\n## ", a + 1)
-        text = text[:a] + new + (text[b + 1:] if b >= 0 else "")
-    else:
-        text = text.rstrip("\n") + "\n\n" + new
-    path.write_text(text)
+    """--hard-cases: that section rewritten in RESULTS.md."""
+    replace_section("Hard cases and the cost of the run-quality guards", hard_cases_section())
 
 
 def rewrite_stability_section():

@@ -12,7 +12,9 @@ whose answers are known:
 - the scene, and so the geometry, is the one the runs' fe.h5 files name; runs
   of two scenes in one folder, or of an unknown one, are refused;
 - the time shift against the reference is found where there is one, and is
-  none where the cycles drift apart."""
+  none where the cycles drift apart;
+- the fatigue hot spots: each part's most damaged element, per blow, with
+  the blows and hours to crack initiation."""
 import pathlib
 import sys
 import tempfile
@@ -92,4 +94,18 @@ late = {"time": tt, "components/mech/x": lift(tt - 2e-3, 0.04)}
 check(abs(h.time_shift(ref, late) - 2e-3) < 20e-6, f"a lift 2 ms late: {1e6 * h.time_shift(ref, late):.0f} us")
 slow = {"time": tt, "components/mech/x": lift(tt, 0.0412)}
 check(np.isnan(h.time_shift(ref, slow)), f"a lift 3 % slower drifts: {h.time_shift(ref, slow)} (nan)")
+# The fatigue hot spots: per part the element with the most damage, per
+# blow over the run's blows, and the blows and hours to initiation at f.
+with tempfile.TemporaryDirectory() as tmp:
+    p = pathlib.Path(tmp) / "fe_fatigue.csv"
+    p.write_text("element,part,x,y,z,cycles,largest_range,damage,time_to_initiation_s\n"
+                 "1,1,0.004,0.005,0,100,5e8,2e-6,1\n2,1,0.01,0.1,0,100,3e8,1e-6,1\n"
+                 "200240,2,0.032,-0.005,0,90,2.6e8,4e-7,1\n500066,5,0.031,0.009,0,80,5.4e8,0,inf\n")
+    spots = {b["part"]: b for b in h.fatigue_hot_spots(p, 20, 25.0)}
+    check(spots[1]["element"] == 1 and abs(spots[1]["per_blow"] - 1e-7) < 1e-20,
+          f"the piston's hot spot is its most damaged element, 2e-6 over 20 blows: {spots[1]}")
+    check(abs(spots[1]["blows_to_initiation"] - 1e7) < 1e-3 and abs(spots[1]["hours"] - 1e7 / 25 / 3600) < 1e-9,
+          f"1e7 blows to initiation, {1e7 / 25 / 3600:.1f} h at 25 Hz: {spots[1]['hours']}")
+    check(spots[5]["blows_to_initiation"] == float("inf"), "no damage: no initiation")
+    check(abs(spots[2]["r_mm"] - 32.0) < 1e-9 and abs(spots[2]["range_MPa"] - 260.0) < 1e-9, "position in mm, range in MPa")
 sys.exit(1 if failures else 0)

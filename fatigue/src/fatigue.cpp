@@ -8,31 +8,13 @@
 namespace fatigue {
 
 std::vector<double> reversals(const std::vector<double>& history, double gate) {
-  // The streaming counter's own turning-point rule, collected.
+  // The streaming counter's own turning points, collected.
   std::vector<double> out;
-  int direction = 0;
-  double extreme = 0.0;
-  for (size_t i = 0; i < history.size(); ++i) {
-    const double x = history[i];
-    if (i == 0) {
-      out.push_back(x);
-      extreme = x;
-      continue;
-    }
-    if (direction == 0) {
-      if (x - out.back() > gate) direction = 1, extreme = x;
-      else if (out.back() - x > gate) direction = -1, extreme = x;
-      continue;
-    }
-    if ((direction > 0 && x >= extreme) || (direction < 0 && x <= extreme)) {
-      extreme = x;
-    } else if (std::fabs(x - extreme) > gate) {
-      out.push_back(extreme);
-      direction = -direction;
-      extreme = x;
-    }
-  }
-  if (direction != 0) out.push_back(extreme);
+  TurningPoints points;
+  double r;
+  for (double x : history)
+    if (points.next(x, gate, &r)) out.push_back(r);
+  if (points.last(&r)) out.push_back(r);
   return out;
 }
 

@@ -13,13 +13,9 @@
 #include "instance.hpp"
 #include "socketlib/socketlib.h"
 
-using pcs_fmu::FmuError;
-using pcs_fmu::Instance;
-using pcs_fmu::State;
+using namespace pcs_fmu;  // Instance, FmuError, the states' masks and the shell (guarded.hpp)
 
 namespace {
-
-using namespace pcs_fmu;
 
 template <class F>
 fmi2Status guarded(fmi2Component c, const char* fn, unsigned allowed, F&& work) {

@@ -6,21 +6,17 @@
 // String (server.host, server.token). Every function the standard lists is
 // exported; what the model description says the FMU cannot do is refused
 // with a message saying which capability is false.
-#include <cmath>
 #include <string>
+#include <utility>
 
 #include "config/port_table.hpp"
 #include "fmi3/fmi3.h"
 #include "guarded.hpp"
 #include "instance.hpp"
 
-using pcs_fmu::FmuError;
-using pcs_fmu::Instance;
-using pcs_fmu::State;
+using namespace pcs_fmu;  // Instance, FmuError, the states' masks and the shell (guarded.hpp)
 
 namespace {
-
-using namespace pcs_fmu;
 
 template <class F>
 fmi3Status guarded(fmi3Instance c, const char* fn, unsigned allowed, F&& work) {

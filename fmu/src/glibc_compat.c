@@ -6,9 +6,10 @@
  * RHEL 8, Ubuntu 20.04, Debian 10 have glibc 2.28-2.31. A module that
  * references e.g. arc4random@GLIBC_2.36 does not load there at all ("version
  * `GLIBC_2.36' not found"). Each definition below is linked into the module
- * (hidden: the version script exports only fmi2*), so the static archives bind
- * to it and the module needs nothing newer than GLIBC_2.28 from libc;
- * tests/fmu checks that with objdump -T (fmu.symbol_versions).
+ * (hidden: the version script exports only fmi2*, fmi3* and pcs_fmu_*), so the
+ * static archives bind to it and the module needs nothing newer than
+ * GLIBC_2.28 from libc; fmu.portable_binary_and_packaging checks that with
+ * objdump -T.
  *
  * Each one does what glibc's does, with an older interface:
  *   stat, lstat, fstat, fstat64  the system calls (glibc < 2.33 had only
@@ -16,7 +17,8 @@
  *                                is glibc's)
  *   arc4random                   getrandom(2), or /dev/urandom where the
  *                                kernel lacks it; aborts rather than return a
- *                                weak value (it seeds nonces)
+ *                                weak value (libstdc++'s std::random_device
+ *                                references it)
  *   _dl_find_object              dl_iterate_phdr: the unwinder asks it for the
  *                                .eh_frame_hdr of the object holding a pc
  *   pthread_once                 one recursive lock for all once-controls

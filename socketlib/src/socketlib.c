@@ -281,7 +281,7 @@ int sl_listen(const char *host, int port, sl_socket *out) {
       continue;
     }
     int one = 1;
-#ifndef _WIN32 /* on Windows SO_REUSEADDR lets another process take the port: SO_EXCLUSIVEADDRUSE is the default's meaning */
+#ifndef _WIN32 /* on Windows SO_REUSEADDR would let another process bind the same port; without it a port in use is refused, as here */
     setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
 #else
     (void)one;

@@ -187,6 +187,13 @@ TEST(FatigueFe, TheCardsMistakesAreRefusedAtTheirLine) {
   refused("*PCS_FATIGUE_PART\n1,40e6,1e6,5,0,0,0,1\n0,1,0\n", "needs SU");
   refused("*PCS_FATIGUE_PART\n1,40e6,1e6,5,0,0,2,0\n0,1,0\n", "STRESS 2");
   refused("*PCS_FATIGUE_PART\n1,40e6,1e6,5,0,0,0,0\n0,0.5,0\n", "KF must be 1 or more");
+  // The hard cases that would end with exit 0 and no or all damage: a curve
+  // in MPa in this Pa deck, and a part with no element the tracker counts.
+  refused("*PCS_FATIGUE_PART\n1,40,1e6,5,0,0,0,0\n0,1,0\n", "SA_REF 40 is 1.9e-10 of the part's E");
+  refused("*PCS_FATIGUE_PART\n1,40e6,1e6,5,0,0,0,1\n1200,1,0\n", "SU 1200 is");
+  refused("*PART\nbar\n2,2,1\n*SECTION_BEAM\n2,3\n1e-4\n*NODE\n900001,0,1,0\n900002,0,1.1,0\n"
+          "*ELEMENT_BEAM\n900001,2,900001,900002\n*PCS_FATIGUE_PART\n2,40e6,1e6,5,0,0,0,0\n0,1,0\n",
+          "part 2 has no axisymmetric elements");
 }
 
 // The principal stress of largest magnitude in closed form, against Eigen's

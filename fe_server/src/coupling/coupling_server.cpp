@@ -643,7 +643,7 @@ ExitCode follow_session(const Domain& domain, Solver& solver, PortMap& ports, Fo
   }
 }
 
-std::string CouplingServer::split_master_hint(const Client& late, uint64_t step, size_t received) {
+std::string CouplingServer::split_master_hint(const Client& late, uint64_t step) {
   // Another FMU's STEP of this round came (it was read, or it waits unread
   // in its socket): the importer is inside that FMU's step and will not step
   // this one until it returns, which it cannot before this one's inputs.
@@ -652,7 +652,7 @@ std::string CouplingServer::split_master_hint(const Client& late, uint64_t step,
     if (&c == &late) continue;
     sl_socket* s = &c.conn;
     int ready = 0;
-    const bool in = (&c < &late && received > 0) || sl_wait_any(&s, 1, sl_now_ms(), &ready) > 0;
+    const bool in = c.stepped || sl_wait_any(&s, 1, sl_now_ms(), &ready) > 0;
     if (in) others += (others.empty() ? "" : ", ") + std::string("'") + c.table->model_name + "'";
   }
   if (others.empty()) return "";
@@ -727,18 +727,18 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHis
     // be told to the others while they still listen (split_master_hint).
     const bool split = clients_.size() > 1;
     const int64_t round_deadline = deadline_after(split ? kSplitRoundShare * timeout_ : timeout_);
-    size_t received = 0;
+    for (Client& c : clients_) c.stepped = false;
     for (Client& c : clients_) {
       pcs_header h{};
       int rc = receive(c, h, expected, split ? round_deadline : deadline_after(timeout_));
       if (rc == SL_ETIMEDOUT && stopping_ && sl_now_ms() >= stop_deadline_) return stop(expected, no_checkpoint(), message);
       if (rc == SL_ETIMEDOUT && split)
-        if (const std::string hint = split_master_hint(c, expected, received); !hint.empty()) {
+        if (const std::string hint = split_master_hint(c, expected); !hint.empty()) {
           message = hint;
           abort_all(expected, static_cast<uint32_t>(-SL_ETIMEDOUT), message);
           return kExitLinkLost;
         }
-      if (rc == SL_OK && h.type == PCS_MSG_STEP) ++received;
+      c.stepped = rc == SL_OK && h.type == PCS_MSG_STEP;
       if (rc == SL_EINTERRUPTED)
         return stop(expected, "waiting for STEP " + std::to_string(expected) + name_of(c), message);
       if (rc != SL_OK) {

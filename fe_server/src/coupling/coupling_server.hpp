@@ -162,6 +162,7 @@ class CouplingServer {
     const config::PortTable* table = nullptr;
     sl_socket conn = SL_SOCKET_INIT;
     size_t in_offset = 0, out_offset = 0;  // of its variables in the combined table
+    bool stepped = false;  // its STEP of the current round has been read
   };
   // Waits for every client until the accept deadline. Up to kMaxPending
   // connections are in their handshake at once; a connection's frame is read
@@ -188,11 +189,14 @@ class CouplingServer {
   // A session of several FMUs whose round `step` one FMU (`late`) never
   // joined by the round's deadline, while another's STEP came: the reason a
   // sequential importer deadlocks there, and what to change; "" when no
-  // other FMU's STEP came either (a plain time-out). `received`: the STEPs
-  // read so far this round, in clients_ order.
-  std::string split_master_hint(const Client& late, uint64_t step, size_t received);
+  // other FMU's STEP came either (a plain time-out): one read this round
+  // (Client::stepped), or one waiting unread in its socket.
+  std::string split_master_hint(const Client& late, uint64_t step);
   // The share of the step time-out a round of several FMUs may take: the
-  // FMUs wait the whole time-out, so they are still listening when told.
+  // FMUs wait their own time-out (the port table's, as the server's unless
+  // --step-timeout or server.timeout set another), so they are still
+  // listening when told. A host slower than this between two FMUs' steps is
+  // taken for a lost link at 0.8 of the time-out instead of 1.
   static constexpr double kSplitRoundShare = 0.8;
   int64_t next_busy_check_ = 0;
   static constexpr int64_t kBusyCheckMs = 200;

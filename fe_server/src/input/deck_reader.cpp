@@ -815,6 +815,31 @@ struct Reader {
     f.curve.endurance = c.real_or(4, "SE", 0.0);
     f.curve.haibach = c.integer_or(5, "HAIBACH", 0) != 0;
     if (const std::string why = f.curve.check(); !why.empty()) c.fail("S-N curve: " + why);
+    // The elements counted are the part's solids, or in an axisymmetric deck
+    // its axisymmetric ones (output/fatigue.hpp): a part of bars or springs
+    // would count nothing, and the run end with no word of it.
+    const bool axisymmetric = m.solids.empty() && !m.axis.empty();
+    const auto of_part = [&](const auto& elements) {
+      return std::count_if(elements.begin(), elements.end(), [&](const auto& e) { return e.part == pid; });
+    };
+    if ((axisymmetric ? of_part(m.axis) : of_part(m.solids)) == 0)
+      c.fail("part " + std::to_string(pid) + " has no " + (axisymmetric ? "axisymmetric" : "solid") +
+             " elements: fatigue is counted on those only, not on bars, springs or masses");
+    // The curve in the deck's stress unit: a fatigue strength is 1e-4 to 1e-2
+    // of E (steels 200-800 MPa at 210 GPa, aluminium 50-150 MPa at 70 GPa).
+    // Far outside, it is in another unit (MPa in a Pa deck), which would
+    // count no damage, or all of it, and end with exit 0.
+    const double E = m.materials.at(part->second.material).E;
+    auto plausible = [&](double stress, const char* name, const Card& card) {
+      if (E > 0.0 && stress > 0.0 && (stress < 1e-5 * E || stress > 0.1 * E)) {
+        char why[240];
+        std::snprintf(why, sizeof why, "%s %g is %.3g of the part's E (%g): a metal's fatigue strength is 1e-4 to "
+                      "1e-2 of E; is it in the deck's stress unit?", name, stress, stress / E, E);
+        card.fail(why);
+      }
+    };
+    plausible(f.curve.sa_ref, "SA_REF", c);
+    plausible(f.curve.endurance, "SE", c);
     f.stress = static_cast<int>(c.integer_or(6, "STRESS", 0));
     if (f.stress != 0 && f.stress != 1) c.fail("STRESS " + std::to_string(f.stress) + ": 0 (signed von Mises) or 1 (largest principal)");
     const long mean = c.integer_or(7, "MEAN", 0);
@@ -827,6 +852,7 @@ struct Reader {
     if (!(f.dt >= 0.0)) c2.fail("DT must be 0 (every FE step) or more");
     if ((f.mean == fatigue::MeanStress::Goodman || f.mean == fatigue::MeanStress::Gerber) && !(f.su > 0.0))
       c2.fail("MEAN " + std::to_string(mean) + " needs SU, the ultimate strength, on card 2");
+    plausible(f.su, "SU", c2);
     if (!(f.kf >= 1.0)) c2.fail("KF must be 1 or more (a notch raises the stress)");
     if (!(f.gate >= 0.0)) c2.fail("GATE must be 0 or more");
     for (const FatigueDef& other : m.fatigue)

@@ -12,11 +12,7 @@
 
 namespace fe {
 
-double signed_von_mises(const Eigen::Matrix<double, 6, 1>& s) {
-  const double a = s(0) - s(1), b = s(1) - s(2), c = s(2) - s(0);
-  const double vm = std::sqrt(0.5 * (a * a + b * b + c * c) + 3.0 * (s(3) * s(3) + s(4) * s(4) + s(5) * s(5)));
-  return std::copysign(vm, s(0) + s(1) + s(2));
-}
+double signed_von_mises(const Eigen::Matrix<double, 6, 1>& s) { return std::copysign(von_mises(s), s(0) + s(1) + s(2)); }
 
 double largest_principal(const Eigen::Matrix<double, 6, 1>& s, bool axisymmetric) {
   auto largest = [](double a, double b) { return std::fabs(a) >= std::fabs(b) ? a : b; };
@@ -60,6 +56,7 @@ namespace {
 // root per sample; the root is taken at a reversal only.
 bool squared_domain(const FatigueDef& d) { return d.stress == 0 && d.gate == 0.0; }
 
+// von_mises(s)², signed, without its root.
 double signed_von_mises_squared(const Eigen::Matrix<double, 6, 1>& s) {
   const double a = s(0) - s(1), b = s(1) - s(2), c = s(2) - s(0);
   const double vm2 = 0.5 * (a * a + b * b + c * c) + 3.0 * (s(3) * s(3) + s(4) * s(4) + s(5) * s(5));

@@ -86,6 +86,7 @@ int usage(std::ostream& os, int rc) {
         "              [--description TEXT]\n"
         "Generates an FMI 2.0 (or, with --fmi 3, FMI 3.0) co-simulation FMU that couples to fe_server.\n"
         "  --description TEXT     the FMU's description (default: the port table's, else one from its ports)\n"
+        "  --binary FILE          another FMU library (then no win64 DLL, unless --binary-win64 names its twin)\n"
         "  -h, --help, --version  this text; the version\n"
         "Exit codes: 0 written, 2 usage, 3 input rejected (the port configuration or the binary), 1 the FMU\n"
         "            could not be written.\n";
@@ -98,13 +99,14 @@ int main(int argc, char** argv) {
   std::string ports, out, description;  // empty: the table's, else one from its ports
   std::string binary = PCS_FMU_BINARY;  // the pcs_fmu module of this build (FMI 2.0 and 3.0)
   std::string binary_win64 = PCS_FMU_BINARY_WIN64;  // its win64 DLL, if this build made one
+  bool binary_given = false, win64_given = false;
   int fmi = 2;
   try {
     config::Args args(argc, argv);
     while (args.next()) {
       if (args.is("-o") || args.is("--output")) out = args.value();
-      else if (args.is("--binary")) binary = args.value();
-      else if (args.is("--binary-win64")) binary_win64 = args.value();
+      else if (args.is("--binary")) binary = args.value(), binary_given = true;
+      else if (args.is("--binary-win64")) binary_win64 = args.value(), win64_given = true;
       else if (args.is("--no-win64")) binary_win64.clear();
       else if (args.is("--description")) description = args.value();
       else if (args.is("--fmi")) {
@@ -118,6 +120,8 @@ int main(int argc, char** argv) {
       else if (ports.empty()) ports = args.current();
       else throw std::invalid_argument("unexpected argument '" + args.current() + "'");
     }
+    // Another binary with this build's DLL would pair two different builds in one FMU.
+    if (binary_given && !win64_given) binary_win64.clear();
     if (ports.empty()) throw std::invalid_argument("no port configuration given");
     if (out.empty()) throw std::invalid_argument("no output given (-o OUT.fmu)");
   } catch (const std::exception& e) {

@@ -2,7 +2,6 @@
 
 #include "config/version.hpp"
 
-#include <cctype>
 #include <cstdio>
 #include <sstream>
 
@@ -74,12 +73,7 @@ void units_categories_experiment(std::ostringstream& x, const config::PortTable&
 std::string default_description(const config::PortTable& t) {
   std::ostringstream d;
   d << t.model_name << ": fe_server co-simulation";
-  const char* sep = ", ";
-  for (const auto& p : t.ports) {
-    std::string type = config::to_string(p.type);
-    for (auto& c : type) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    d << sep << type << " port " << p.label;
-  }
+  for (const auto& p : t.ports) d << ", " << config::to_lower(config::to_string(p.type)) << " port " << p.label;
   d << " (" << config::to_string(t.mode) << " coupling, " << config::shortest(t.dt) << " s)";
   return d.str();
 }

@@ -91,9 +91,14 @@ void CouplingClient::connect(const std::string& host, int port, const std::strin
         next_note = now + kProgressMs;
       }
       if (e.code() == SL_EBUSY) {  // the session ends when it ends: try again now and then, not in a tight loop
-        const int64_t pause = std::min<int64_t>(kBusyRetryMs, deadline - now);
-        struct timespec ts = {static_cast<time_t>(pause / 1000), static_cast<long>(pause % 1000) * 1000000L};
-        nanosleep(&ts, nullptr);
+        // In slices of 100 ms that look at the importer's stop flag, as every
+        // wait of the link does (a stop signal ends it within 200 ms).
+        const int64_t until = std::min<int64_t>(now + kBusyRetryMs, deadline);
+        const volatile sig_atomic_t* stop = sl_get_stop_flag();
+        while (sl_now_ms() < until && !(stop && *stop)) {
+          struct timespec ts = {0, 100 * 1000000L};
+          nanosleep(&ts, nullptr);
+        }
       }
     }
   }

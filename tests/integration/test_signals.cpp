@@ -283,7 +283,9 @@ TEST(Signals, EachStopSignalEndsAHostWhoseFmuIsWaiting) {
   const std::vector<Wait> waits = {{"connection refused, retried", SIGTERM, false, Behaviour::Echo},
                                    {"a handshake never answered", SIGINT, true, Behaviour::SilentAfterHello},
                                    {"a step answered by heartbeats only", SIGTERM, true, Behaviour::EndlessHeartbeats},
-                                   {"a step answered by heartbeats only", SIGINT, true, Behaviour::EndlessHeartbeats}};
+                                   {"a step answered by heartbeats only", SIGINT, true, Behaviour::EndlessHeartbeats},
+                                   // the FMU's pause before it asks a busy server again (1 s; the signal at 0.8 s)
+                                   {"a server busy with another session", SIGTERM, true, Behaviour::Busy}};
   const config::PortTable table = scene_table();  // the peer holds it by reference
   for (const Wait& w : waits) {
     SCOPED_TRACE(w.name);

@@ -52,6 +52,12 @@ void TestPeer::serve() {
   }
   pcs_hello hello{};
   pcs_decode_hello(buf.data(), h.payload_size, &hello);
+  if (behaviour_ == Behaviour::Busy) {  // as fe_server answers a host while another session runs
+    pcs_send_abort(&c, 0, static_cast<uint32_t>(-SL_EBUSY), "busy: running another session (test peer)", deadline);
+    error_ = "busy";
+    sl_close(&c);
+    return;
+  }
   if (behaviour_ == Behaviour::SilentAfterHello) {  // until the client gives up or closes
     pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline);
     error_ = "silent after HELLO";

@@ -34,6 +34,7 @@ class TestPeer {
     AcceptAnyProof, // an impostor: take any AUTH, answer with a HELLO_ACK proof of its own token
     SilentAfterHello, // read HELLO, then send nothing (a handshake that never ends)
     EndlessHeartbeats, // answer STEP with a HEARTBEAT every 0.1 s and never a RESULT
+    Busy,           // answer HELLO with ABORT SL_EBUSY (a server in another session), then close
   };
   TestPeer(const config::PortTable& table, Behaviour b = Behaviour::Echo, std::string token = session_token());
   ~TestPeer();

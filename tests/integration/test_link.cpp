@@ -258,7 +258,13 @@ TEST(Kill, KillingTheServerMidRunStopsTheHostWithItsResultsKept) {
   ChildProcess host({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server",
                      "127.0.0.1:" + std::to_string(server.port), "--out", dir.file("host.h5"), "--quiet", "--set",
                      "simulation.stoptime=100", "--set", "piston.verbose=0"});
-  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  // Mid-run: once the session runs (a fixed 400 ms was too short for a host
+  // still starting under the sanitizers on a loaded machine: it was killed
+  // before it connected), then some 300 ms of steps.
+  for (int i = 0; i < 2000 && server.child->output().find("session accepted") == std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_NE(server.child->output().find("session accepted"), std::string::npos) << server.child->output();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
   kill(server.child->pid(), SIGKILL);
   EXPECT_EQ(host.wait(kHardTimeout), 4) << host.output();
   EXPECT_NE(host.output().find("peer closed"), std::string::npos) << host.output();
@@ -272,7 +278,13 @@ TEST(Kill, KillingTheHostMidRunStopsTheServerWithItsHistoryKept) {
   ChildProcess host({PCS_TLM_HOST_EXE, kScene + "/model.tlm", "--fmu", PCS_ONE_DOF_FMU, "--server",
                      "127.0.0.1:" + std::to_string(server.port), "--out", dir.file("host.h5"), "--quiet", "--set",
                      "simulation.stoptime=100"});
-  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  // Mid-run: once the session runs (a fixed 400 ms was too short for a host
+  // still starting under the sanitizers on a loaded machine: it was killed
+  // before it connected), then some 300 ms of steps.
+  for (int i = 0; i < 2000 && server.child->output().find("session accepted") == std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_NE(server.child->output().find("session accepted"), std::string::npos) << server.child->output();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
   kill(host.pid(), SIGKILL);
   EXPECT_EQ(server.child->wait(kHardTimeout), 6) << server.child->output();
   EXPECT_NE(server.child->output().find("SL_ECLOSED"), std::string::npos) << server.child->output();

@@ -45,6 +45,8 @@ void CouplingClient::receive_handshake_frame(pcs_header& h, uint16_t want, const
     pcs_decode_abort(buf_.data(), h.payload_size, &a);
     sl_close(&sock_);
     if (a.code == static_cast<uint32_t>(-SL_EBUSY)) throw LinkError(SL_EBUSY, where + " is " + a.reason);
+    if (a.code == static_cast<uint32_t>(-SL_ECROWDED))
+      throw LinkError(SL_ECROWDED, where + " dropped this connection: " + a.reason);
     throw LinkError(SL_EREFUSED_BY_PEER, where + " refused the session: " + a.reason);
   }
   if (rc == SL_EVERSION)  // fail() tells the server, in an ABORT it can read whatever its version
@@ -69,34 +71,44 @@ void CouplingClient::connect(const std::string& host, int port, const std::strin
   // (yet) listening, or one busy with another session, is retried until the
   // deadline and said to be so every few seconds.
   int64_t next_note = start + kProgressMs;
-  bool told_busy = false;
+  bool told_busy = false, told_crowded = false;
   for (;;) {
     try {
       connect_once(host, port, token, std::min(deadline, sl_now_ms() + kProgressMs), deadline);
       return;
     } catch (const LinkError& e) {
-      const bool waiting = e.code() == SL_EREFUSED || e.code() == SL_EBUSY ||
+      // Crowded, or closed in the handshake without a word: a server that
+      // made room under a connection flood (its ABORT can be lost when our
+      // HELLO crossed its close); a server that has gone is refused next time.
+      const bool crowded = e.code() == SL_ECROWDED || (e.code() == SL_ECLOSED && connected_once_);
+      const bool waiting = e.code() == SL_EREFUSED || e.code() == SL_EBUSY || crowded ||
                            (e.code() == SL_ETIMEDOUT && !connected_once_);
       const int64_t now = sl_now_ms();
       if (!waiting || now >= deadline) throw;
-      const bool first_busy = e.code() == SL_EBUSY && !told_busy;  // said at once: the user can act on it
+      // Said at once the first time: the user can act on it (another
+      // session runs; someone floods the server's port).
+      const bool first_told = (e.code() == SL_EBUSY && !told_busy) || (crowded && !told_crowded);
       told_busy = told_busy || e.code() == SL_EBUSY;
-      if (now >= next_note || first_busy) {
+      told_crowded = told_crowded || crowded;
+      if (now >= next_note || first_told) {
         char waited[160];
         std::snprintf(waited, sizeof waited, "; retrying until %g s have passed (%.0f s so far)", timeout_s,
                       (now - start) / 1000.0);
-        tell(true, (e.code() == SL_EBUSY ? std::string(e.what()) : "no answer from " + where +
-                                                                         " (is fe_server started, on this host and port?)") +
-                       waited);
+        const std::string what = e.code() == SL_EBUSY || crowded
+                                     ? std::string(e.what())
+                                     : "no answer from " + where + " (is fe_server started, on this host and port?)";
+        tell(true, what + waited);
         next_note = now + kProgressMs;
       }
-      if (e.code() == SL_EBUSY) {  // the session ends when it ends: try again now and then, not in a tight loop
-        // In slices of 100 ms that look at the importer's stop flag, as every
-        // wait of the link does (a stop signal ends it within 200 ms).
-        const int64_t until = std::min<int64_t>(now + kBusyRetryMs, deadline);
+      if (e.code() == SL_EBUSY || crowded) {
+        // The session ends when it ends: try again now and then, not in a
+        // tight loop; a flood is outlasted by asking again soon. In slices of
+        // at most 100 ms that look at the importer's stop flag, as every wait
+        // of the link does (a stop signal ends it within 200 ms).
+        const int64_t until = std::min<int64_t>(now + (crowded ? kCrowdedRetryMs : kBusyRetryMs), deadline);
         const volatile sig_atomic_t* stop = sl_get_stop_flag();
         while (sl_now_ms() < until && !(stop && *stop)) {
-          struct timespec ts = {0, 100 * 1000000L};
+          struct timespec ts = {0, std::min<int64_t>(100, std::max<int64_t>(1, until - sl_now_ms())) * 1000000L};
           nanosleep(&ts, nullptr);
         }
       }

@@ -31,8 +31,8 @@ class CouplingClient {
   CouplingClient(const CouplingClient&) = delete;
   CouplingClient& operator=(const CouplingClient&) = delete;
 
-  // Connect (retrying while refused, or while the server is busy with another
-  // session) and shake hands, all before now + timeout_s. Throws LinkError,
+  // Connect (retrying while refused, while the server is busy with another
+  // session, or after it dropped us under a connection flood) and shake hands, all before now + timeout_s. Throws LinkError,
   // e.g. when the server refuses the token. The wait is told to the progress
   // callback when it starts and every kProgressMs while it lasts (warning
   // set: the importer's user should see it).
@@ -41,6 +41,8 @@ class CouplingClient {
   void set_progress(Progress p) { progress_ = std::move(p); }
   static constexpr int64_t kProgressMs = 5000;
   static constexpr int64_t kBusyRetryMs = 1000;
+  // After the server dropped us to make room (SL_ECROWDED, a flood).
+  static constexpr int64_t kCrowdedRetryMs = 50;
   // Send STEP k with `inputs` and wait up to timeout_s for RESULT k.
   // Throws LinkError (timed out, peer closed, ABORT with its reason, ...).
   void step(uint64_t k, double time, double dt, const std::vector<double>& inputs,

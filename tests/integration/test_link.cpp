@@ -369,8 +369,11 @@ TEST(Strangers, NoStrangerEndsAWaitingSessionAndTheRealHostIsServed) {
 // then nothing (it is challenged and holds a slot), 500 of them open at any
 // time. The real host, arriving 3 s into the
 // flood, must be served (connected, authenticated, stepped) within 2 s: the
-// server never stops accepting, and new connections evict the oldest ones
-// that have sent no valid HELLO. A second host after the flood ends the
+// server never stops accepting, new connections evict the ones whose
+// handshake stood still the longest, and a host evicted anyway is told
+// SL_ECROWDED and asks again. (Evicting connections without a valid HELLO
+// first failed here: the flood's HELLOs filled the table, and the host was
+// the next one evicted, every time.) A second host after the flood ends the
 // server's second session, so the server serves the whole flood.
 TEST(Strangers, TheRealHostIsServedWithinTwoSecondsUnderAConnectionFlood) {
   TempDir dir;
@@ -440,4 +443,85 @@ TEST(Strangers, TheRealHostIsServedWithinTwoSecondsUnderAConnectionFlood) {
   second.bye();
   EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output().substr(0, 3000);
   EXPECT_NE(server.child->output().find("evicted so far"), std::string::npos) << "the eviction is logged";
+}
+
+// Who makes room, and that it is told. From one address the server holds 64
+// handshakes (kMaxPendingPerPeer). Here: H connects, then S0 (silent), then H
+// sends a valid HELLO and is challenged, then 62 silent ones fill the share.
+// Connection 65 must evict S0 (idle the longest, though H was accepted
+// first), connection 66 then H (challenged, but idle longer than the 62),
+// and each one evicted reads ABORT SL_ECROWDED, not a reset. A policy by
+// accept order evicts H first; the earlier policy (no HELLO first) evicted
+// a silent one second and said nothing.
+TEST(Strangers, TheConnectionIdleLongestMakesRoomAndIsToldSo) {
+  TempDir dir;
+  Server server(dir, {"--handshake-timeout", "30", "--quiet"});
+  ASSERT_GT(server.port, 0) << server.child->output();
+  auto open = [&] {
+    sl_socket s = SL_SOCKET_INIT;
+    EXPECT_EQ(sl_connect("127.0.0.1", server.port, sl_now_ms() + 5000, &s), SL_OK);
+    return s;
+  };
+  // The code of the ABORT waiting on s, or the receive error (within 5 s).
+  auto abort_code = [](sl_socket& s) -> long {
+    std::vector<uint8_t> buf(PCS_MAX_REASON + 64);
+    pcs_header h{};
+    const int rc = pcs_recv_frame(&s, &h, buf.data(), static_cast<uint32_t>(buf.size()), sl_now_ms() + 5000);
+    if (rc != SL_OK) return rc;
+    if (h.type != PCS_MSG_ABORT) return 1000 + h.type;
+    pcs_abort a{};
+    pcs_decode_abort(buf.data(), h.payload_size, &a);
+    return -static_cast<long>(a.code);
+  };
+  sl_socket hello_one = open();
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  sl_socket s0 = open();
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  const config::PortTable t = scene_table();
+  pcs_hello hello{PCS_PROTOCOL_VERSION, t.hash(), t.dt, static_cast<uint32_t>(t.subcycles), {}};
+  uint8_t frame[256];
+  const int n = pcs_encode_hello(&hello, frame, sizeof frame);
+  ASSERT_EQ(pcs_send_frame(&hello_one, PCS_MSG_HELLO, 0, frame, static_cast<uint32_t>(n), sl_now_ms() + 2000), SL_OK);
+  std::vector<uint8_t> buf(1024);
+  pcs_header h{};
+  ASSERT_EQ(pcs_recv_frame(&hello_one, &h, buf.data(), static_cast<uint32_t>(buf.size()), sl_now_ms() + 5000), SL_OK);
+  ASSERT_EQ(h.type, PCS_MSG_CHALLENGE);
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  std::vector<sl_socket> silent;
+  for (int i = 0; i < 62; ++i) silent.push_back(open());
+  sl_socket extra1 = open();
+  EXPECT_EQ(abort_code(s0), SL_ECROWDED) << "the silent one idle the longest goes first";
+  uint8_t byte = 0;
+  EXPECT_EQ(sl_peek(&hello_one, &byte, 1), 0) << "the challenged one, idle less long, stays for now";
+  sl_socket extra2 = open();
+  EXPECT_EQ(abort_code(hello_one), SL_ECROWDED) << "then the challenged one, idle longer than the rest";
+  for (auto* s : {&hello_one, &s0, &extra1, &extra2}) sl_close(s);
+  for (auto& s : silent) sl_close(&s);
+  // The server goes on and serves the real host.
+  pcs_fmu::CouplingClient client(t);
+  client.connect("127.0.0.1", server.port, testing_support::session_token(), 10.0);
+  client.bye();
+  EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output().substr(0, 3000);
+}
+
+// The host's side: a server that dropped it to make room (ABORT SL_ECROWDED)
+// is asked again at once, not given up on, and the wait is said.
+TEST(Link, AHostDroppedToMakeRoomAsksAgainAndIsServed) {
+  config::PortTable t = scene_table();
+  testing_support::TestPeer peer(t, testing_support::TestPeer::Behaviour::CrowdedOnce);
+  pcs_fmu::CouplingClient client(t);
+  std::string notes;
+  client.set_progress([&](bool, const std::string& m) { notes += m + "\n"; });
+  const int64_t start = sl_now_ms();
+  ASSERT_NO_THROW(client.connect("127.0.0.1", peer.port(), testing_support::session_token(), 5.0)) << notes;
+  const int64_t waited = sl_now_ms() - start;
+  std::vector<double> in = {1.0}, out;
+  client.step(0, 0.0, t.dt, in, out);
+  client.bye();
+  peer.join();
+  EXPECT_EQ(peer.crowded(), 1);
+  EXPECT_EQ(peer.steps(), 1);
+  EXPECT_NE(notes.find("dropped this connection: crowded"), std::string::npos) << notes;
+  // One pause of kCrowdedRetryMs, not the busy server's kBusyRetryMs.
+  EXPECT_LT(waited, pcs_fmu::CouplingClient::kBusyRetryMs) << notes;
 }

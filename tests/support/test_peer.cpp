@@ -38,12 +38,23 @@ void TestPeer::serve() {
   // Every wait here is bounded, so a failing test cannot hang the peer.
   const int64_t deadline = sl_now_ms() + 10000;
   sl_socket c = SL_SOCKET_INIT;
+  std::vector<uint8_t> buf(PCS_MAX_REASON + 1024);
+  pcs_header h{};
+  if (behaviour_ == Behaviour::CrowdedOnce) {  // as fe_server drops a connection to make room under a flood
+    if (sl_accept(&listener_, deadline, &c) != SL_OK ||
+        pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline) != SL_OK) {
+      error_ = "no first HELLO";
+      sl_close(&c);
+      return;
+    }
+    pcs_send_abort(&c, 0, static_cast<uint32_t>(-SL_ECROWDED), "crowded: too many connections (test peer)", deadline);
+    sl_close(&c);
+    ++crowded_;
+  }
   if (sl_accept(&listener_, deadline, &c) != SL_OK) {
     error_ = "no client";
     return;
   }
-  std::vector<uint8_t> buf(PCS_MAX_REASON + 1024);
-  pcs_header h{};
   if (pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline) != SL_OK ||
       h.type != PCS_MSG_HELLO) {
     error_ = "no HELLO";

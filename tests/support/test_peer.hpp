@@ -35,12 +35,15 @@ class TestPeer {
     SilentAfterHello, // read HELLO, then send nothing (a handshake that never ends)
     EndlessHeartbeats, // answer STEP with a HEARTBEAT every 0.1 s and never a RESULT
     Busy,           // answer HELLO with ABORT SL_EBUSY (a server in another session), then close
+    CrowdedOnce,    // answer the first HELLO with ABORT SL_ECROWDED (a flood made room), then serve as Echo
   };
   TestPeer(const config::PortTable& table, Behaviour b = Behaviour::Echo, std::string token = session_token());
   ~TestPeer();
   int port() const { return port_; }
   // Steps answered so far and the last error the peer saw (empty if none).
   int steps() const { return steps_; }
+  // Connections answered SL_ECROWDED (CrowdedOnce).
+  int crowded() const { return crowded_; }
   std::string error() const;
   void join();
 
@@ -52,6 +55,7 @@ class TestPeer {
   sl_socket listener_ = SL_SOCKET_INIT;
   int port_ = 0;
   std::atomic<int> steps_{0};
+  std::atomic<int> crowded_{0};
   std::string error_;
   std::thread thread_;
 };

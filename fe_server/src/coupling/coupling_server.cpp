@@ -297,6 +297,7 @@ CouplingServer::HandshakeProgress CouplingServer::handshake_step(Pending& p, std
   bool bound = false;
   why = advance_handshake(p, bound);
   if (!why.empty()) return HandshakeProgress::Refused;
+  p.progressed = sl_now_ms();
   return bound ? HandshakeProgress::Bound : HandshakeProgress::Waiting;
 }
 
@@ -472,6 +473,7 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
         Pending p;
         p.conn = conn;
         p.deadline = sl_now_ms() + handshake_ms;
+        p.progressed = sl_now_ms();
         p.peer = peer;
         const size_t colon = p.peer.rfind(':');
         p.address = colon == std::string::npos ? p.peer : p.peer.substr(0, colon);
@@ -496,23 +498,29 @@ ExitCode CouplingServer::accept_clients(std::string& message) {
   return kExitOk;
 }
 
-bool CouplingServer::make_room(std::vector<Pending>& pending, const std::string& address) const {
+bool CouplingServer::make_room(std::vector<Pending>& pending, const std::string& address) {
   size_t same = 0;
   for (const Pending& p : pending) same += p.address == address;
   const bool over_share = same >= kMaxPendingPerPeer;
   if (pending.size() < kMaxPending && !over_share) return false;
-  // The oldest (pending is in accept order) that has not sent a valid HELLO;
-  // failing that the oldest of all: a stranger who knows the public table
-  // hash can be challenged too, and must not hold its slot either.
-  auto oldest = [&](bool unchallenged_only) {
-    for (size_t k = 0; k < pending.size(); ++k)
-      if ((!unchallenged_only || !pending[k].challenged) && (!over_share || pending[k].address == address)) return k;
-    return pending.size();
-  };
-  size_t victim = oldest(true);
-  if (victim == pending.size()) victim = oldest(false);
+  // The one idle the longest; of equals the first accepted.
+  size_t victim = pending.size();
+  for (size_t k = 0; k < pending.size(); ++k) {
+    if (over_share && pending[k].address != address) continue;
+    if (victim == pending.size() || pending[k].progressed < pending[victim].progressed) victim = k;
+  }
   if (victim == pending.size()) return false;
-  sl_close(&pending[victim].conn);
+  sl_socket& conn = pending[victim].conn;
+  // What it sent is read first: closing a socket with unread bytes resets
+  // the connection, and the peer would lose the ABORT that says why.
+  // At most a few KiB: a handshake is smaller, and a peer that keeps
+  // sending cannot hold the server here.
+  uint8_t unread[512];
+  for (int round = 0, n; round < 8 && (n = sl_peek(&conn, unread, sizeof unread)) > 0; ++round)
+    if (sl_recv_all(&conn, unread, static_cast<size_t>(n), sl_now_ms()) != SL_OK) break;
+  pcs_send_abort(&conn, 0, static_cast<uint32_t>(-SL_ECROWDED),
+                 "crowded: too many connections in their handshake (a connection flood?); try again", sl_now_ms());
+  sl_close(&conn);
   pending.erase(pending.begin() + static_cast<long>(victim));
   return true;
 }

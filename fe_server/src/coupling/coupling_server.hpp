@@ -138,6 +138,9 @@ class CouplingServer {
     // Part of a frame stays readable until it is whole: such a connection is
     // polled again only after a short pause, so a slow drip costs no CPU.
     int64_t pause_until = 0;
+    // When it last moved its handshake on (accepted, HELLO read): under a
+    // flood the connection idle the longest is dropped first (make_room).
+    int64_t progressed = 0;
     bool challenged = false;  // HELLO answered with CHALLENGE; AUTH expected
     int which = -1;           // the client whose port table the HELLO named
     uint8_t client_nonce[PCS_NONCE_SIZE] = {};
@@ -171,12 +174,15 @@ class CouplingServer {
   // bytes, oversize length, wrong token or table) is refused, logged with its
   // address and reason, and the server keeps listening.
   // Under a connection flood the server never stops accepting: a new
-  // connection that finds no room evicts the oldest one that has not yet
-  // sent a valid HELLO (silent, or a partial frame), from its own address if
-  // that address holds more than kMaxPendingPerPeer, so connections that say
-  // nothing cannot crowd out a host that says HELLO at once. (Before, a full
-  // table stopped accepting until the strangers' 5 s deadlines ran out: 100
-  // connections/s kept the real host out for good.)
+  // connection that finds no room evicts the one whose handshake has stood
+  // still the longest (Pending::progressed), from its own address if that
+  // address holds more than kMaxPendingPerPeer, and tells it SL_ECROWDED so
+  // a real host evicted anyway tries again. A host that answers at once
+  // stays the freshest; connections that say nothing, or a valid HELLO (the
+  // table hash is public) and then nothing, age and go first. (Preferring
+  // to evict connections without a HELLO let a flood of valid HELLOs fill
+  // the table, and then each newcomer, the real host too, was the first to
+  // go, within a millisecond.)
   ExitCode accept_clients(std::string& message);
   // While a session runs, a new connection (the next session's host, come
   // early; a second importer) is answered at once with ABORT SL_EBUSY and
@@ -204,8 +210,9 @@ class CouplingServer {
   static constexpr size_t kMaxPending = 128;
   static constexpr size_t kMaxPendingPerPeer = 64;
   // Makes room for one more connection from `address` (see accept_clients):
-  // closes and removes the one evicted, if any; true if it evicted.
-  bool make_room(std::vector<Pending>& pending, const std::string& address) const;
+  // tells the one evicted SL_ECROWDED, closes and removes it; true if it
+  // evicted.
+  static bool make_room(std::vector<Pending>& pending, const std::string& address);
   // Reads the whole frame waiting on p.conn (HELLO, or AUTH once
   // challenged) and answers it (handshake_step's second half). Returns "" while the handshake goes on or
   // is complete (p.which bound when `bound` is set), else the reason for

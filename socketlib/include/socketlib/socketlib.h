@@ -42,7 +42,8 @@ extern "C" {
   X(UNEXPECTED, -13, "unexpected message type or step index")                        \
   X(REFUSED_BY_PEER, -14, "peer refused the session (ABORT received)")           \
   X(INTERRUPTED, -15, "interrupted: the program was asked to stop (signal)")          \
-  X(BUSY, -16, "the server is busy with another session")
+  X(BUSY, -16, "the server is busy with another session")                           \
+  X(CROWDED, -17, "the server dropped this connection to make room for newer ones (a connection flood?)")
 
 typedef enum {
   SL_OK = 0,

@@ -8,7 +8,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "loads/cavity_load.hpp"
 
 namespace fe {
 

@@ -21,47 +21,6 @@ using config::Block;
 using config::Card;
 using config::InputError;
 
-int Model::index_of(int node_id, const config::SourceLocation& where) const {
-  auto it = node_index.find(node_id);
-  if (it == node_index.end()) throw InputError(where, "node " + std::to_string(node_id) + " is not defined in *NODE");
-  return it->second;
-}
-
-double Model::total_mass() const {
-  double m = 0;
-  for (double mi : mass) m += mi;
-  return m;
-}
-
-bool Model::relaxes() const {
-  if (relaxation.idrflg) return true;
-  for (const auto& [id, c] : curves)
-    if (c.sidr >= 1) return true;
-  return false;
-}
-
-double Material::yield_stress(double ep, double* slope) const {
-  if (hardening_strain.empty()) {
-    *slope = beta * plastic_modulus;
-    return yield + beta * plastic_modulus * ep;
-  }
-  const auto& a = hardening_strain;
-  const auto& o = hardening_stress;
-  size_t k = static_cast<size_t>(std::upper_bound(a.begin(), a.end(), ep) - a.begin());
-  k = std::clamp<size_t>(k, 1, a.size() - 1);  // the first or last segment beyond the ends
-  *slope = (o[k] - o[k - 1]) / (a[k] - a[k - 1]);
-  return o[k - 1] + *slope * (ep - a[k - 1]);
-}
-
-double Curve::value(double t) const {
-  const double x = (t - offa) / sfa;
-  if (x <= a.front()) return sfo * o.front() + offo;
-  if (x >= a.back()) return sfo * o.back() + offo;
-  const size_t k = static_cast<size_t>(std::upper_bound(a.begin(), a.end(), x) - a.begin());
-  const double w = (x - a[k - 1]) / (a[k] - a[k - 1]);
-  return sfo * ((1.0 - w) * o[k - 1] + w * o[k]) + offo;
-}
-
 namespace {
 
 // Fields of a card: comma-separated as written, else fixed-width columns.

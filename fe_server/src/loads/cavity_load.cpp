@@ -7,42 +7,6 @@
 
 namespace fe {
 
-Vec3 segment_area_vector(const Segment& s, const std::vector<Vec3>& x) {
-  if (s.line()) {
-    // The ring a 2D line segment sweeps about the y axis: 2π·r̄·L along the
-    // outward normal (to the right of n0 → n1), r̄ the mean radius (Pappus).
-    const Vec3& a = x[static_cast<size_t>(s.n[0])];
-    const Vec3& b = x[static_cast<size_t>(s.n[1])];
-    const Vec3 d = b - a;
-    return 2.0 * 3.141592653589793 * 0.5 * (a.x() + b.x()) * Vec3(d.y(), -d.x(), 0.0);
-  }
-  // Half the cross product of the diagonals: exact for a planar quad, the
-  // mean area vector for a warped one, and for a triangle (n4 = n3) equal to
-  // ½(x2 − x1) × (x3 − x1).
-  const Vec3& a = x[static_cast<size_t>(s.n[0])];
-  const Vec3& b = x[static_cast<size_t>(s.n[1])];
-  const Vec3& c = x[static_cast<size_t>(s.n[2])];
-  const Vec3& d = x[static_cast<size_t>(s.n[3])];
-  return 0.5 * (c - a).cross(d - b);
-}
-
-void segment_corner_weights(const Segment& s, const std::vector<Vec3>& x, double w[4]) {
-  w[0] = w[1] = w[2] = w[3] = 0.0;
-  if (s.line()) {
-    const double ra = x[static_cast<size_t>(s.n[0])].x(), rb = x[static_cast<size_t>(s.n[1])].x();
-    const double sum = ra + rb;
-    if (!(sum > 0.0)) {  // a line on the axis sweeps no area: any split is exact
-      w[0] = w[1] = 0.5;
-      return;
-    }
-    w[0] = (2.0 * ra + rb) / (3.0 * sum);
-    w[1] = (ra + 2.0 * rb) / (3.0 * sum);
-    return;
-  }
-  const int nc = s.corners();
-  for (int k = 0; k < nc; ++k) w[k] = 1.0 / nc;
-}
-
 static int corners(const Segment& s) { return s.corners(); }
 
 // A loading set with cavity bounds along the axis (ZMIN or ZMAX given).

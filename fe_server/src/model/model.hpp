@@ -365,4 +365,14 @@ struct Model {
   double total_mass() const;
 };
 
+// Area vector of a segment (|A| = area, direction = normal by node order);
+// for a 2D line the ring it sweeps about the y axis, 2π·r̄·L.
+Vec3 segment_area_vector(const Segment& s, const std::vector<Vec3>& x);
+
+// How a segment's area is shared by its corners (Σ w = 1), for its load and
+// for its flow alike: equal shares on a 3D segment; on a 2D line the ring's
+// consistent shares ∫N_a·r ds/∫r ds = (2r_a + r_b)/(3(r_a + r_b)), so a face
+// normal to the axis loads its outer node more than the one on the axis.
+void segment_corner_weights(const Segment& s, const std::vector<Vec3>& x, double w[4]);
+
 }  // namespace fe

@@ -32,8 +32,9 @@ class CouplingClient {
   CouplingClient& operator=(const CouplingClient&) = delete;
 
   // Connect (retrying while refused, while the server is busy with another
-  // session, or after it dropped us under a connection flood) and shake hands, all before now + timeout_s. Throws LinkError,
-  // e.g. when the server refuses the token. The wait is told to the progress
+  // session, or after it dropped us under a connection flood) and shake
+  // hands, all before now + timeout_s. Throws LinkError, e.g. when the
+  // server refuses the token. The wait is told to the progress
   // callback when it starts and every kProgressMs while it lasts (warning
   // set: the importer's user should see it).
   void connect(const std::string& host, int port, const std::string& token, double timeout_s);

@@ -504,24 +504,29 @@ TEST(Strangers, TheConnectionIdleLongestMakesRoomAndIsToldSo) {
   EXPECT_EQ(server.child->wait(kHardTimeout), 0) << server.child->output().substr(0, 3000);
 }
 
-// The host's side: a server that dropped it to make room (ABORT SL_ECROWDED)
-// is asked again at once, not given up on, and the wait is said.
+// The host's side: a server that dropped it to make room (ABORT SL_ECROWDED,
+// or a close in the handshake whose ABORT was lost) is asked again at once,
+// not given up on, and the wait is said.
 TEST(Link, AHostDroppedToMakeRoomAsksAgainAndIsServed) {
-  config::PortTable t = scene_table();
-  testing_support::TestPeer peer(t, testing_support::TestPeer::Behaviour::CrowdedOnce);
-  pcs_fmu::CouplingClient client(t);
-  std::string notes;
-  client.set_progress([&](bool, const std::string& m) { notes += m + "\n"; });
-  const int64_t start = sl_now_ms();
-  ASSERT_NO_THROW(client.connect("127.0.0.1", peer.port(), testing_support::session_token(), 5.0)) << notes;
-  const int64_t waited = sl_now_ms() - start;
-  std::vector<double> in = {1.0}, out;
-  client.step(0, 0.0, t.dt, in, out);
-  client.bye();
-  peer.join();
-  EXPECT_EQ(peer.crowded(), 1);
-  EXPECT_EQ(peer.steps(), 1);
-  EXPECT_NE(notes.find("dropped this connection: crowded"), std::string::npos) << notes;
-  // One pause of kCrowdedRetryMs, not the busy server's kBusyRetryMs.
-  EXPECT_LT(waited, pcs_fmu::CouplingClient::kBusyRetryMs) << notes;
+  using Behaviour = testing_support::TestPeer::Behaviour;
+  for (auto [behaviour, said] : {std::pair<Behaviour, const char*>{Behaviour::CrowdedOnce, "dropped this connection: crowded"},
+                                 {Behaviour::ClosedOnce, "no handshake answer"}}) {
+    config::PortTable t = scene_table();
+    testing_support::TestPeer peer(t, behaviour);
+    pcs_fmu::CouplingClient client(t);
+    std::string notes;
+    client.set_progress([&](bool, const std::string& m) { notes += m + "\n"; });
+    const int64_t start = sl_now_ms();
+    ASSERT_NO_THROW(client.connect("127.0.0.1", peer.port(), testing_support::session_token(), 5.0)) << notes;
+    const int64_t waited = sl_now_ms() - start;
+    std::vector<double> in = {1.0}, out;
+    client.step(0, 0.0, t.dt, in, out);
+    client.bye();
+    peer.join();
+    EXPECT_EQ(peer.crowded(), 1) << said;
+    EXPECT_EQ(peer.steps(), 1) << said;
+    EXPECT_NE(notes.find(said), std::string::npos) << notes;
+    // One pause of kCrowdedRetryMs, not the busy server's kBusyRetryMs.
+    EXPECT_LT(waited, pcs_fmu::CouplingClient::kBusyRetryMs) << notes;
+  }
 }

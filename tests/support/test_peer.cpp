@@ -40,14 +40,17 @@ void TestPeer::serve() {
   sl_socket c = SL_SOCKET_INIT;
   std::vector<uint8_t> buf(PCS_MAX_REASON + 1024);
   pcs_header h{};
-  if (behaviour_ == Behaviour::CrowdedOnce) {  // as fe_server drops a connection to make room under a flood
+  // As fe_server drops a connection to make room under a flood: telling it
+  // so, or with the ABORT lost (the HELLO crossed the close).
+  if (behaviour_ == Behaviour::CrowdedOnce || behaviour_ == Behaviour::ClosedOnce) {
     if (sl_accept(&listener_, deadline, &c) != SL_OK ||
         pcs_recv_frame(&c, &h, buf.data(), static_cast<uint32_t>(buf.size()), deadline) != SL_OK) {
       error_ = "no first HELLO";
       sl_close(&c);
       return;
     }
-    pcs_send_abort(&c, 0, static_cast<uint32_t>(-SL_ECROWDED), "crowded: too many connections (test peer)", deadline);
+    if (behaviour_ == Behaviour::CrowdedOnce)
+      pcs_send_abort(&c, 0, static_cast<uint32_t>(-SL_ECROWDED), "crowded: too many connections (test peer)", deadline);
     sl_close(&c);
     ++crowded_;
   }

@@ -36,13 +36,14 @@ class TestPeer {
     EndlessHeartbeats, // answer STEP with a HEARTBEAT every 0.1 s and never a RESULT
     Busy,           // answer HELLO with ABORT SL_EBUSY (a server in another session), then close
     CrowdedOnce,    // answer the first HELLO with ABORT SL_ECROWDED (a flood made room), then serve as Echo
+    ClosedOnce,     // close after the first HELLO without a word (that ABORT lost), then serve as Echo
   };
   TestPeer(const config::PortTable& table, Behaviour b = Behaviour::Echo, std::string token = session_token());
   ~TestPeer();
   int port() const { return port_; }
   // Steps answered so far and the last error the peer saw (empty if none).
   int steps() const { return steps_; }
-  // Connections answered SL_ECROWDED (CrowdedOnce).
+  // Connections dropped after their HELLO (CrowdedOnce, ClosedOnce).
   int crowded() const { return crowded_; }
   std::string error() const;
   void join();

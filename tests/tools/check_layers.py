@@ -3,7 +3,8 @@
 
 fe_server/src/README.md lists the folders in a table, one layer per row: a
 file may include headers of its own folder and of the folders above it in
-that table, never of one below. This reads the order from the README (so the
+that table, never of one below (and never by a relative "../" path, which
+would pass the rule unseen). This reads the order from the README (so the
 check follows the document, not a copy of it) and every
 `#include "folder/..."` in fe_server/src/<folder>/, and fails naming each
 include that goes downwards, or a folder the table does not list.
@@ -40,6 +41,9 @@ def main() -> int:
             continue
         for path in sorted((src / folder).glob("*.[ch]pp")):
             for no, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+                if re.match(r'\s*#\s*include\s+[<"]\.\./', line):  # would pass the rule unseen
+                    errors.append(f"{path}:{no}: a relative include; name the layer (\"loads/...\")")
+                    continue
                 m = re.match(r'\s*#\s*include\s+"([a-z_]+)/', line)
                 if not m or m.group(1) not in rank:
                     continue  # another library's header (config/, socketlib/, ...)

@@ -36,7 +36,8 @@ const std::map<std::string, int>& title_layouts() {
       {"*DEFINE_CURVE", 0}, {"*SET_NODE_LIST", 0}, {"*SET_PART_LIST", 0}, {"*SET_PART", 0},
       {"*SET_SEGMENT", 0}, {"*SET_SOLID", 0}, {"*SET_SOLID_LIST", 0}, {"*SET_SHELL", 0},
       {"*SET_SHELL_LIST", 0}, {"*SET_BEAM", 0}, {"*SET_BEAM_LIST", 0}, {"*SET_NODE_GENERATE", 0},
-      {"*SET_NODE_ADD", 0}, {"*SET_PART_ADD", 0}};
+      {"*SET_NODE_ADD", 0}, {"*SET_PART_ADD", 0}, {"*SET_NODE_LIST_GENERATE", 0},
+      {"*MAT_PLASTIC_KINEMATIC", 0}, {"*MAT_003", 0}, {"*MAT_PIECEWISE_LINEAR_PLASTICITY", 0}, {"*MAT_024", 0}};
   return kTitle;
 }
 
@@ -52,6 +53,19 @@ void drop_heading_cards(Block& b, int per, const char* what) {
     b.fail(b.keyword + ": expected a " + what + " card and " + std::to_string(per) + " card(s) per definition, got " +
            std::to_string(b.cards.size()) + " cards");
   b.cards = std::move(kept);
+}
+
+// The contacts this reader reads, whose _ID and _TITLE forms put one
+// heading card (CID, HEADING) before the contact's own cards.
+bool contact_heading(const std::string& kw) {
+  static const std::set<std::string> kContacts = {
+      "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE", "*CONTACT_2D_AUTOMATIC_SURFACE_TO_SURFACE",
+      "*CONTACT_NODES_TO_SURFACE",             "*CONTACT_AUTOMATIC_NODES_TO_SURFACE",
+      "*CONTACT_AUTOMATIC_SINGLE_SURFACE",     "*CONTACT_TIED_SURFACE_TO_SURFACE",
+      "*CONTACT_TIED_NODES_TO_SURFACE",        "*CONTACT_FORCE_TRANSDUCER_PENALTY"};
+  for (const char* suffix : {"_ID", "_TITLE"})
+    if (ends_with(kw, suffix) && kContacts.count(kw.substr(0, kw.size() - std::string(suffix).size()))) return true;
+  return false;
 }
 
 bool blank(const Card& c) { return !c.comma_separated && config::trim(c.text).empty(); }
@@ -70,6 +84,10 @@ int tier(const std::string& kw) {
 std::vector<Block> normalise_blocks(std::vector<Block> blocks) {
   bool long_deck = false, i10 = false;
   for (Block& b : blocks) {
+    if (b.keyword == "*KEYWORD_ID") {  // the deck's project, number and stage: a label, no physics
+      b.keyword = "*KEYWORD";
+      b.cards.clear();
+    }
     if (b.keyword == "*KEYWORD") {
       const std::string o = config::to_upper(b.options);
       if (o.find("LONG=Y") != std::string::npos) long_deck = true;
@@ -81,23 +99,30 @@ std::vector<Block> normalise_blocks(std::vector<Block> blocks) {
     if (b.options == "+") long_format = true;
     if (b.options == "-") long_format = false;
     // The options.
-    if (ends_with(b.keyword, "_TITLE") && b.keyword != "*TITLE") {
-      const std::string base = b.keyword.substr(0, b.keyword.size() - 6);
-      const auto it = title_layouts().find(base);
-      if (it == title_layouts().end())
-        b.fail(b.keyword + " is not supported by this fe_server version (nor is " + base + " with a title)");
+    if (contact_heading(b.keyword)) {
+      // A contact's _ID or _TITLE: one card (CID, HEADING) before its cards.
+      const std::string base = b.keyword.substr(0, b.keyword.rfind('_'));
       while (!b.cards.empty() && blank(b.cards.back())) b.cards.pop_back();
-      drop_heading_cards(b, it->second, "title");
+      drop_heading_cards(b, 0, ends_with(b.keyword, "_ID") ? "ID" : "title");
       b.keyword = base;
+    } else if (ends_with(b.keyword, "_TITLE") && b.keyword != "*TITLE") {
+      const std::string base = b.keyword.substr(0, b.keyword.size() - 6);
+      // Another keyword's _TITLE stays as it is: the reader refuses it, with
+      // its reason (deck_reader.cpp, unsupported).
+      const auto it = title_layouts().find(base);
+      if (it != title_layouts().end()) {
+        while (!b.cards.empty() && blank(b.cards.back())) b.cards.pop_back();
+        drop_heading_cards(b, it->second, "title");
+        b.keyword = base;
+      }
     } else if (ends_with(b.keyword, "_ID")) {
       const std::string base = b.keyword.substr(0, b.keyword.size() - 3);
       while (!b.cards.empty() && blank(b.cards.back())) b.cards.pop_back();
-      if (base == "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE" || base == "*CONTACT_2D_AUTOMATIC_SURFACE_TO_SURFACE")
-        drop_heading_cards(b, 0, "ID");
-      else if (base == "*BOUNDARY_PRESCRIBED_MOTION_NODE" || base == "*BOUNDARY_PRESCRIBED_MOTION_SET")
-        drop_heading_cards(b, 1, "ID");
+      if (base == "*BOUNDARY_PRESCRIBED_MOTION_NODE" || base == "*BOUNDARY_PRESCRIBED_MOTION_SET" ||
+          base == "*BOUNDARY_PRESCRIBED_MOTION_RIGID" || base == "*BOUNDARY_SPC_NODE" || base == "*BOUNDARY_SPC_SET")
+        drop_heading_cards(b, 1, "ID");  // an ID card before each definition
       else
-        b.fail(b.keyword + " is not supported by this fe_server version (nor is " + base + " with an ID)");
+        continue;  // as a _TITLE above: the reader refuses it
       b.keyword = base;
     }
     // Blank cards. After the last card they are layout, except where a

@@ -193,7 +193,7 @@ struct Reader {
       {{"*ELEMENT_DISCRETE"}, &Reader::read_element_discrete, "discrete spring and damper elements"},
       {{"*ELEMENT_MASS"}, &Reader::read_element_mass, "lumped masses on nodes"},
       {{"*SET_NODE_LIST"}, &Reader::read_set_node_list, "node sets"},
-      {{"*SET_NODE_GENERATE"}, &Reader::read_set_node_generate, "node sets by ranges"},
+      {{"*SET_NODE_LIST_GENERATE", "*SET_NODE_GENERATE"}, &Reader::read_set_node_generate, "node sets by ranges of ids"},
       {{"*SET_NODE_ADD", "*SET_PART_ADD"}, &Reader::read_set_node_add, "unions of node or part sets"},
       {{"*SET_PART_LIST", "*SET_PART"}, &Reader::read_set_part_list, "part sets"},
       {{"*SET_SOLID", "*SET_SOLID_LIST", "*SET_SHELL", "*SET_SHELL_LIST", "*SET_BEAM", "*SET_BEAM_LIST"}, &Reader::read_set_solid, "element sets"},
@@ -306,7 +306,8 @@ struct Reader {
       const long elform = c1.integer_or(1, "ELFORM", 2);
       if (elform != 14 && elform != 15)
         c1.fail("ELFORM " + std::to_string(elform) +
-                ": this fe_server has shells only as 2D axisymmetric solids, ELFORM 15 (or 14)");
+                ": 3D shells are not modelled; this fe_server's shells are 2D axisymmetric solids only, ELFORM 15 "
+                "(or 14): mesh a 3D part with solids (*ELEMENT_SOLID)");
       if (elform == 14)
         warn(c1.where, "ELFORM 14 (area weighted axisymmetric) runs as ELFORM 15 (volume weighted)");
       sections[static_cast<int>(c1.integer(0, "SECID"))] = {15, 0.0};
@@ -384,7 +385,16 @@ struct Reader {
     }
     if (b.cards.size() > 3) {
       Card eps = fields_of(b.cards[2], kW10), es = fields_of(b.cards[3], kW10);
+      // Cards of zeros are no curve: LS-DYNA then takes SIGY and ETAN (or
+      // LCSS), and LS-PrePost writes them so. Strains without stresses are
+      // a mistake, not a curve.
+      bool no_stress = true, no_strain = true;
       for (size_t k = 0; k < 8; ++k) {
+        no_stress = no_stress && es.real_or(k, "ES", 0.0) == 0.0;
+        no_strain = no_strain && eps.real_or(k, "EPS", 0.0) == 0.0;
+      }
+      if (no_stress && !no_strain) es.fail("EPS are given but every ES is 0: give the yield stresses, or zeros in both cards for SIGY and ETAN");
+      for (size_t k = 0; k < 8 && !no_stress; ++k) {
         const double e = eps.real_or(k, "EPS", 0.0), sy = es.real_or(k, "ES", 0.0);
         if (sy == 0.0 && k > 0) break;
         if (!mat.hardening_strain.empty() && !(e > mat.hardening_strain.back()))
@@ -984,6 +994,10 @@ struct Reader {
         "*DATABASE_EXTENT_AVS", "*DATABASE_EXTENT_BINARY", "*DATABASE_EXTENT_BINARY_COMP", "*DATABASE_EXTENT_D3PART",
         "*DATABASE_EXTENT_INTFOR", "*DATABASE_EXTENT_MOVIE", "*DATABASE_EXTENT_MPGS", "*DATABASE_EXTENT_SSSTAT",
         "*DATABASE_FORMAT", "*DATABASE_FREQUENCY_ASCII", "*DATABASE_FREQUENCY_BINARY", "*DATABASE_FSI",
+        "*DATABASE_FREQUENCY_BINARY_D3ACS", "*DATABASE_FREQUENCY_BINARY_D3ATV", "*DATABASE_FREQUENCY_BINARY_D3FTG",
+        "*DATABASE_FREQUENCY_BINARY_D3PSD", "*DATABASE_FREQUENCY_BINARY_D3RMS", "*DATABASE_FREQUENCY_BINARY_D3SPCM",
+        "*DATABASE_FREQUENCY_BINARY_D3SSD", "*DATABASE_FREQUENCY_BINARY_D3ZCF", "*DATABASE_FREQUENCY_ASCII_NODOUT_PSD",
+        "*DATABASE_FREQUENCY_ASCII_ELOUT_PSD", "*DATABASE_FREQUENCY_ASCII_NODOUT_SSD", "*DATABASE_FREQUENCY_ASCII_ELOUT_SSD",
         "*DATABASE_GCEOUT", "*DATABASE_HISTORY_DISCRETE", "*DATABASE_HISTORY_NODE_SET", "*DATABASE_HISTORY_SOLID_SET",
         "*DATABASE_HISTORY_SHELL_SET", "*DATABASE_HISTORY_BEAM_SET", "*DATABASE_HISTORY_TSHELL", "*DATABASE_HISTORY_SPH",
         "*DATABASE_JNTFORC", "*DATABASE_MASSOUT", "*DATABASE_MOVIE", "*DATABASE_MPGS", "*DATABASE_NCFORC",
@@ -1003,12 +1017,105 @@ struct Reader {
     return config::nearest(kw, database_keywords());
   }
 
+  // Run controls that set how LS-DYNA runs, never what it computes: the CPU
+  // count, its decomposition and its restart dumps. fe_server's results do
+  // not depend on the thread or rank count (solver.hpp), so none of their
+  // fields can change one.
+  static const char* run_control_note(const std::string& kw) {
+    if (kw == "*CONTROL_PARALLEL")
+      return "sets LS-DYNA's CPU count and summation order (fe_server: --threads; its results are the same for any "
+             "count)";
+    if (kw.rfind("*CONTROL_MPP_IO_", 0) == 0) return "sets LS-DYNA's MPP dump files";
+    if (kw.rfind("*CONTROL_MPP_DECOMPOSITION_", 0) == 0)
+      return "sets LS-DYNA's MPP domain decomposition (fe_server partitions with METIS; results as on one rank)";
+    return nullptr;
+  }
+
+  // LS-DYNA's default of a *CONTROL_ field (card and field from 0) where it
+  // is not 0, as its keyword manual gives them: a deck that writes them out
+  // (LS-PrePost does) asks for nothing else than a blank card or a 0.
+  static double control_default(const std::string& kw, size_t card, size_t field) {
+    for (const ControlDefault& d : control_defaults())
+      if (kw == d.keyword && card == d.card && field == d.field) return d.value;
+    return 0.0;
+  }
+  struct ControlDefault {
+    const char* keyword;
+    size_t card, field;
+    double value;
+    const char* name;
+  };
+  static const std::vector<ControlDefault>& control_defaults() {
+    static const std::vector<ControlDefault> kDefaults = {
+        {"*CONTROL_CONTACT", 0, 0, 0.1, "SLSFAC"},
+        {"*CONTROL_CONTACT", 0, 2, 1.0, "ISLCHK"},
+        {"*CONTROL_CONTACT", 0, 4, 1.0, "PENOPT"},
+        {"*CONTROL_CONTACT", 0, 6, 1.0, "ORIEN"},
+        {"*CONTROL_CONTACT", 1, 4, 4.0, "XPENE"},
+        {"*CONTROL_CONTACT", 4, 2, 1.0, "RWGAPS"},
+        {"*CONTROL_CONTACT", 4, 4, 1.0, "RWKSF"},
+        {"*CONTROL_SHELL", 0, 0, 20.0, "WRPANG"},
+        {"*CONTROL_SHELL", 0, 2, -1.0, "IRNXX"},
+        {"*CONTROL_SHELL", 0, 4, 2.0, "THEORY"},
+        {"*CONTROL_SHELL", 0, 5, 2.0, "BWC"},
+        {"*CONTROL_SHELL", 0, 6, 1.0, "MITER"},
+        {"*CONTROL_SHELL", 1, 0, 1.0, "ROTASCL"},
+        {"*CONTROL_SHELL", 1, 3, 1.0, "CSTYP6"},
+        {"*CONTROL_SHELL", 2, 4, 2.0, "IRQUAD"},
+        {"*CONTROL_SOLID", 0, 2, 4.0, "NIPTETS"},
+        {"*CONTROL_SOLID", 0, 3, 1.0, "SWLOCL"},
+        {"*CONTROL_ACCURACY", 0, 1, 1.0, "INN"},
+    };
+    return kDefaults;
+  }
+
+  // Keywords users' decks carry that this reader refuses, with what the
+  // refusal means for the model and what to do instead.
+  static const std::vector<std::pair<const char*, const char*>>& refusals() {
+    static const std::vector<std::pair<const char*, const char*>> kReasons = {
+        {"*MAT_NULL", "fluids with an equation of state are not modelled (a percussion unit's oil is the host's: "
+                      "give its cavities as *USER_LOADING_SET ports)"},
+        {"*EOS_", "equations of state (for *MAT_NULL fluids) are not modelled (a percussion unit's oil is the "
+                  "host's: give its cavities as *USER_LOADING_SET ports)"},
+        {"*MAT_ADD_EROSION", "element erosion is not modelled: without it no element would fail, so the deck is refused"},
+        {"*CONTACT_ERODING_", "eroding contact needs element erosion, which is not modelled"},
+        {"*SECTION_SPH", "SPH particles are not modelled"},
+        {"*ELEMENT_SPH", "SPH particles are not modelled"},
+        {"*SECTION_TSHELL", "thick shells are not modelled: mesh the part with solids (*ELEMENT_SOLID)"},
+        {"*ELEMENT_TSHELL", "thick shells are not modelled: mesh the part with solids (*ELEMENT_SOLID)"},
+        {"*CONTROL_IMPLICIT_", "fe_server is explicit only (central differences): implicit statics, eigenvalues and "
+                               "implicit dynamics are not available"},
+        {"*FREQUENCY_DOMAIN_", "frequency-domain analyses are not available: fe_server integrates in time"},
+        {"*CONSTRAINED_JOINT_", "joints are not modelled: tie the parts (*CONTACT_TIED_...) or merge them as rigid "
+                                "bodies (*CONSTRAINED_RIGID_BODIES)"},
+        {"*HOURGLASS", "per-part hourglass control is not read: *CONTROL_HOURGLASS sets it for the whole model"},
+    };
+    return kReasons;
+  }
+  static const char* refusal_reason(const std::string& kw) {
+    for (const auto& [prefix, why] : refusals())
+      if (kw.rfind(prefix, 0) == 0) return why;
+    return nullptr;
+  }
+
   // A keyword this reader does not read is ignored only where that provably
   // changes no result: output requests (fe_server writes its own HDF5), and
   // *CONTROL_ cards that hold nothing but blanks and zeros (LS-DYNA's
   // defaults). Anything else is an error with its line.
   void unsupported(const Block& b) {
-    const std::string& kw = b.keyword;
+    // A _TITLE or _ID the grammar did not take off (deck_grammar.cpp): of a
+    // keyword read here, the option is what is missing; else the refusal
+    // is the keyword's own.
+    std::string kw = b.keyword;
+    for (const std::string suffix : {"_ID", "_TITLE"})
+      if (kw != "*TITLE" && kw.size() > suffix.size() && kw.compare(kw.size() - suffix.size(), suffix.size(), suffix) == 0) {
+        const std::string base = kw.substr(0, kw.size() - suffix.size());
+        if (keyword_index().count(base))
+          b.fail(base + " is read by this fe_server version, but not its " + suffix + " form: give it without the " +
+                 (suffix == "_ID" ? "ID card" : "title card"));
+        kw = base;
+        break;
+      }
     if (kw.rfind("*DATABASE_", 0) == 0 && !known_database_keyword(kw)) {
       // A misspelt output request would silently write nothing.
       const std::string near = nearest_database_keyword(kw);
@@ -1022,9 +1129,15 @@ struct Reader {
     if (kw.rfind("*CASE", 0) == 0)
       b.fail(kw + ": load cases (*CASE) are not supported; their contents would apply to every case: run each case as "
                   "its own deck");
+    if (const char* note = run_control_note(kw)) {
+      warn(b.where, kw + " " + note + ": it changes no result here, ignored");
+      return;
+    }
+    const char* why = refusal_reason(kw);
+    if (why && kw.rfind("*CONTROL_", 0) != 0) b.fail(kw + " is not supported by this fe_server version: " + why);
     if (kw.rfind("*CONTROL_", 0) == 0) {
-      for (const Card& raw : b.cards) {
-        const Card c = fields_of(raw, kW10);
+      for (size_t card = 0; card < b.cards.size(); ++card) {
+        const Card c = fields_of(b.cards[card], kW10);
         for (size_t k = 0; k < c.fields.size(); ++k) {
           if (c.fields[k].empty()) continue;
           double v = 1.0;
@@ -1032,12 +1145,13 @@ struct Reader {
             v = config::parse_real(c.fields[k], c.where, "");
           } catch (const InputError&) {
           }
-          if (v != 0.0)
+          if (v != 0.0 && v != control_default(kw, card, k))  // 0 is LS-DYNA's "the default" too
             c.fail(kw + " is not supported by this fe_server version and field " + std::to_string(k + 1) + " ('" +
-                   c.fields[k] + "') is not LS-DYNA's default: ignoring it would change the result");
+                   c.fields[k] + "') is not LS-DYNA's default: ignoring it would change the result" +
+                   (why ? std::string(" (") + why + ")" : std::string()));
         }
       }
-      warn(b.where, kw + " is not supported; its cards hold only LS-DYNA's defaults (blanks and zeros), ignored");
+      warn(b.where, kw + " is not supported; its cards hold only LS-DYNA's defaults, ignored");
       return;
     }
     b.fail("keyword " + kw + " is not supported by this fe_server version; ignoring it could change the result");
@@ -1924,8 +2038,20 @@ std::string deck_keyword_coverage() {
   const char* sep = ": ";
   for (const std::string& k : Reader::database_keywords())
     if (!Reader::keyword_index().count(k)) s << sep << "`" << k << "`", sep = ", ";
-  s << "; `*CONTROL_OUTPUT`, `*CONTROL_ENERGY`, `*CONTROL_CPU`; and any other `*CONTROL_` card that holds only blanks "
-       "and zeros (LS-DYNA's defaults). Every other keyword is refused at its line.\n";
+  s << "; `*CONTROL_OUTPUT`, `*CONTROL_ENERGY`, `*CONTROL_CPU`; and any other `*CONTROL_` card that holds only "
+       "LS-DYNA's defaults: blanks, zeros, and these values where LS-DYNA's manual gives a default other than 0";
+  sep = ": ";
+  for (const Reader::ControlDefault& d : Reader::control_defaults())
+    s << sep << "`" << d.keyword << "` " << d.name << " " << Reader::short_number(d.value), sep = ", ";
+  s << ".\n\nIgnored with a note, because they set how LS-DYNA runs and never what it computes: `*CONTROL_PARALLEL`, "
+       "`*CONTROL_MPP_IO_...`, `*CONTROL_MPP_DECOMPOSITION_...`.\n\n"
+       "Refused with the reason (any other keyword is refused at its line too):\n\n"
+       "| keyword | why |\n|---|---|\n";
+  for (const auto& [prefix, why] : Reader::refusals()) {
+    const std::string p = prefix;
+    s << "| `" << p << (p.back() == '_' ? "...`" : "`") << " | " << why << " |\n";
+  }
+  s << "| `*CASE...` | load cases: their contents would apply to every case; run each case as its own deck |\n";
   return s.str();
 }
 

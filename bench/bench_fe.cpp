@@ -14,7 +14,8 @@
 //      30k+ elements, the two counts interleaved three times (median);
 //  (8) against CalculiX (ccx, Debian's calculix-ccx; skipped without it):
 //      the bar impact's h = 2.5 mm hex8 mesh as C3D8R, explicit, one
-//      thread each, output only at the end.
+//      thread each, output only at the end;
+//  (9) fatigue counting's cost; (10) tet4 beside hex8 on one block.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -26,6 +27,7 @@
 #include <vector>
 
 #include "axi_decks.hpp"
+#include "block_decks.hpp"
 #include "loads/cavity_load.hpp"
 #include "input/deck_reader.hpp"
 #include "input/mesher.hpp"
@@ -77,6 +79,41 @@ void element_cycle_cost() {
     std::printf("  %10zu %10d %12.1f (median %.1f, slowest %.1f)\n", m.solids.size(), steps, t.fastest, t.median, t.slowest);
     std::printf("csv:fe_cost,hex8,%zu,%.2f,%.2f,%.2f\n", m.solids.size(), t.fastest, t.median, t.slowest);
   }
+}
+
+// (10) tet4 beside hex8: one 24×24×24-cell block (13824 cells) meshed
+// both ways, stretching, timed interleaved three times each on one core:
+// ns per element-cycle, and per cell-cycle (a tetrahedral mesh of the
+// same resolution has six elements per cell, and its step is shorter).
+void tet4_cycle_cost() {
+  std::printf("tet4 beside hex8 (24^3-cell block, one core, interleaved):\n");
+  fe::Model hex = fe::parse_deck(fe_test::block_deck(24, 24, 24, 2e-3, false, 2.1e11, 0.3).deck, "hex.k");
+  fe::Model tet = fe::parse_deck(fe_test::block_deck(24, 24, 24, 2e-3, true, 2.1e11, 0.3).deck, "tet.k");
+  std::vector<double> per_element[2], steps_ratio;
+  fe::Model* models[2] = {&hex, &tet};
+  double dt[2];
+  for (int k = 0; k < 2; ++k) {
+    for (size_t i = 0; i < models[k]->x0.size(); ++i) models[k]->v0[i] = fe::Vec3(0, 0, 1.0 * models[k]->x0[i].z());
+    dt[k] = 0.9 * fe::Solver::stable_dt(*models[k]).dt;
+  }
+  for (int round = 0; round < 3; ++round)
+    for (int k = 0; k < 2; ++k) {
+      fe::Solver s(*models[k], dt[k]);
+      s.set_threads(1);
+      const size_t n = models[k]->solids.size();
+      const SliceTiming t = time_in_slices(s, std::max(20, static_cast<int>(4e6 / static_cast<double>(n))), n);
+      per_element[k].push_back(t.fastest);
+    }
+  for (int k = 0; k < 2; ++k) std::sort(per_element[k].begin(), per_element[k].end());
+  const double h = per_element[0].front(), t = per_element[1].front();
+  std::printf("  hex8 %zu elements: %.1f ns/element-cycle (of 3: %.1f-%.1f); step %.3g s\n", hex.solids.size(), h,
+              per_element[0].front(), per_element[0].back(), dt[0]);
+  std::printf("  tet4 %zu elements: %.1f ns/element-cycle (of 3: %.1f-%.1f); step %.3g s\n", tet.solids.size(), t,
+              per_element[1].front(), per_element[1].back(), dt[1]);
+  std::printf("  per cell and simulated second: tet4 costs %.1fx hex8 (6 elements per cell, steps %.2fx as many)\n",
+              6.0 * t / h * dt[0] / dt[1], dt[0] / dt[1]);
+  std::printf("csv:fe_cost,tet4,%zu,%.2f,%.2f,%.2f\n", tet.solids.size(), t, per_element[1][1], per_element[1].back());
+  std::printf("csv:fe_cost,hex8_block,%zu,%.2f,%.2f,%.2f\n", hex.solids.size(), h, per_element[0][1], per_element[0].back());
 }
 
 void bar_cycle_cost() {
@@ -406,7 +443,7 @@ int main(int argc, char** argv) {
   const std::pair<const char*, void (*)()> all[] = {
       {"hammer", hammer_fe_step_cost}, {"threads", thread_scaling},      {"hex8", element_cycle_cost},
       {"bar", bar_cycle_cost},         {"axi4", axi_cycle_cost},          {"bar_impact", bar_impact_convergence},
-      {"axi_bar_impact", axi_bar_impact_convergence}, {"calculix", calculix_comparison}, {"fatigue", fatigue_cost}};
+      {"axi_bar_impact", axi_bar_impact_convergence}, {"calculix", calculix_comparison}, {"fatigue", fatigue_cost}, {"tet4", tet4_cycle_cost}};
   for (int i = 1; i < argc; ++i) {
     bool known = false;
     for (const auto& [name, run] : all) known |= std::string(argv[i]) == name;

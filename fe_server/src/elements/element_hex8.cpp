@@ -1,5 +1,6 @@
 #include "elements/element_hex8.hpp"
 #include "elements/element_plasticity.hpp"
+#include "elements/element_tet4.hpp"
 
 #include <Eigen/Geometry>
 #include <Eigen/Cholesky>
@@ -100,21 +101,28 @@ Hex8State::Hex8State(const Model& m, const std::vector<int>* owner, int rank)
     : sigma(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()),
       plastic_strain(m.solids.size(), 0.0),
       back_stress(m.solids.size(), Eigen::Matrix<double, 6, 1>::Zero()) {
-  for (size_t e = 0; e < m.solids.size(); ++e) {
-    const SolidElement& el = m.solids[e];
+  // The deformable elements this rank computes: the hexahedra first, then
+  // the tetrahedra, so that a batch is of one kind.
+  for (const bool tets : {false, true}) {
+    if (tets) first_tet = elements.size();
+    for (size_t e = 0; e < m.solids.size(); ++e) {
+      const SolidElement& el = m.solids[e];
+      if (el.tet4 == tets && !m.materials.at(m.parts.at(el.part).material).rigid && (!owner || (*owner)[e] == rank))
+        elements.push_back(static_cast<int>(e));
+    }
+  }
+  for (const int index : elements) {
+    const SolidElement& el = m.solids[static_cast<size_t>(index)];
     const Material& mat = m.materials.at(m.parts.at(el.part).material);
-    if (mat.rigid || (owner && (*owner)[e] != rank)) continue;
-    elements.push_back(static_cast<int>(e));
-    Mat83 b;
-    double volume = 0.0;
-    hex8_gradients(hex8_gather(m.x0, el), b, volume);
-    hourglass.push_back(m.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0);
-    // The element's own stable step (mass scaling included) per unit of its
-    // characteristic length V/A_max: the step it allows later is this times
-    // its length then (the wave speed taken as constant).
     const Mat83 x0 = hex8_gather(m.x0, el);
-    const double len0 = hex8_characteristic_length(x0, volume);
-    const double step0 = hex8_stable_step(x0, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2) * std::sqrt(el.mass_scale);
+    const double volume = solid_volume(x0, el);
+    hourglass.push_back(el.tet4 ? 0.0 : m.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0);
+    // The element's own stable step (mass scaling included) per unit of its
+    // characteristic length (V/A_max; a tetrahedron's smallest altitude):
+    // the step it allows later is this times its length then (the wave
+    // speed taken as constant).
+    const double len0 = solid_characteristic_length(x0, el);
+    const double step0 = solid_stable_step(x0, el, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2) * std::sqrt(el.mass_scale);
     step_per_length.push_back(len0 > 0.0 && step0 > 0.0 ? step0 / len0 : 1e300);
     const int slot = fe::part_slot(m, el.part);
     part_slot.push_back(slot);
@@ -137,21 +145,7 @@ namespace {
 
 constexpr int W = static_cast<int>(kHex8Lanes);
 
-// One batch of W elements side by side: every array is [..][lane], and
-// every loop over lanes is a vector operation. Lanes past the end of the
-// element list carry a unit cube at rest and are ignored.
-struct Hex8Batch {
-  double x[8][3][W], v[8][3][W];
-  double lambda[W], two_mu[W], rho[W], c[W], ch[W], sig[6][W];
-  double spl[W];    // the element's stable step per unit of its characteristic length (idle lanes: huge)
-  double limit[W];  // out: its current stable step
-  // Plastic lanes: their material (nullptr: elastic), effective plastic
-  // strain and back stress, updated in place.
-  const Material* plastic[W];
-  double ep[W], alpha[6][W];
-  // Out:
-  double f[8][3][W], volume[W], internal[W], hourglass[W], damping_power[W];
-};
+using Hex8Batch = SolidBatch;
 
 // Sums of eight corner values u_a against the eight products of the
 // corners' natural coordinates, all at once (a Walsh–Hadamard transform,
@@ -353,6 +347,80 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void hex8_kernel(He
   }
 }
 
+// The batch of n elements from k0 (all hexahedra, or all tetrahedra: Tets).
+// The slots that carry nodes: a tetrahedron's four corners (its other slots
+// repeat them, and their force slots stay 0), a hexahedron's eight.
+template <bool Tets>
+void solid_batch(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt,
+                 size_t k0, int n, Hex8Batch& B, std::vector<Vec3>& f, BlockResult& r) {
+  constexpr int corners = Tets ? 4 : 8;
+  auto slot = [](int j) { return Tets ? kTet4Corners[j] : j; };
+  for (int l = 0; l < W; ++l) {
+    if (l < n) {
+      const size_t k = k0 + static_cast<size_t>(l);
+      const size_t e = static_cast<size_t>(st.elements[k]);
+      const std::array<int, 8>& nodes = st.nodes[k];
+      for (int j = 0; j < corners; ++j) {
+        const int a = slot(j);
+        const Vec3& xa = x[static_cast<size_t>(nodes[static_cast<size_t>(a)])];
+        const Vec3& va = v[static_cast<size_t>(nodes[static_cast<size_t>(a)])];
+        for (int i = 0; i < 3; ++i) B.x[a][i][l] = xa[i], B.v[a][i][l] = va[i];
+      }
+      const Hex8State::PartConstants& pc = st.parts[static_cast<size_t>(st.part_slot[k])];
+      B.lambda[l] = pc.lambda, B.two_mu[l] = pc.two_mu, B.rho[l] = pc.rho, B.c[l] = pc.wave_speed;
+      B.ch[l] = st.hourglass[k];
+      B.spl[l] = st.step_per_length[k];
+      for (int c = 0; c < 6; ++c) B.sig[c][l] = st.sigma[e](c);
+      B.plastic[l] = pc.plastic;
+      if (B.plastic[l]) {
+        B.ep[l] = st.plastic_strain[e];
+        for (int c = 0; c < 6; ++c) B.alpha[c][l] = st.back_stress[e](c);
+      }
+    } else {  // an idle lane: a unit cube at rest
+      for (int a = 0; a < 8; ++a)
+        for (int i = 0; i < 3; ++i) B.x[a][i][l] = 0.5 * kXi[a][i], B.v[a][i][l] = 0.0;
+      B.lambda[l] = B.two_mu[l] = B.rho[l] = B.c[l] = B.ch[l] = 0.0;
+      B.spl[l] = 1e300;
+      for (int c = 0; c < 6; ++c) B.sig[c][l] = 0.0;
+      B.plastic[l] = nullptr;
+    }
+  }
+  if constexpr (Tets)
+    tet4_kernel(B, dt, m.bulk_q1, m.bulk_q2);
+  else
+    hex8_kernel(B, dt, m.bulk_q1, m.bulk_q2);
+  note_step_limits(B.limit, W, n, k0, r);
+  for (int l = 0; l < n; ++l) {
+    const size_t k = k0 + static_cast<size_t>(l);
+    if (!(B.volume[l] > 0.0) && r.inverted < 0) {
+      r.inverted = static_cast<long>(k);
+      r.measure = B.volume[l];
+    }
+    const size_t e = static_cast<size_t>(st.elements[k]);
+    for (int c = 0; c < 6; ++c) st.sigma[e](c) = B.sig[c][l];
+    if (B.plastic[l]) {
+      st.plastic_strain[e] = B.ep[l];
+      for (int c = 0; c < 6; ++c) st.back_stress[e](c) = B.alpha[c][l];
+    }
+    const unsigned direct = st.gather.direct_corners(k);
+    for (int j = 0; j < corners; ++j) {
+      const int a = slot(j);
+      if (direct & (1u << a)) {  // this block's own node: added here, in element order
+        Vec3& fn = f[static_cast<size_t>(st.nodes[k][static_cast<size_t>(a)])];
+        for (int i = 0; i < 3; ++i) fn[i] += B.f[a][i][l];
+      } else {
+        double* out = &st.force[24 * k + 3 * static_cast<size_t>(a)];
+        for (int i = 0; i < 3; ++i) out[i] = B.f[a][i][l];
+      }
+    }
+    r.internal += B.internal[l];
+    r.hourglass += B.hourglass[l];
+    r.part_internal[static_cast<size_t>(st.part_slot[k])] += B.internal[l];
+    r.part_hourglass[static_cast<size_t>(st.part_slot[k])] += B.hourglass[l];
+    r.damping_power += B.damping_power[l];
+  }
+}
+
 // Elements [first, last) of the deformable list: gather, kernel, then each
 // corner force added to its node if the node is this block's own (direct),
 // else written to the element's slot for the gather; energy partials and
@@ -361,67 +429,16 @@ void hex8_block(const Model& m, Hex8State& st, const std::vector<Vec3>& x, const
                 size_t first, size_t last, std::vector<Vec3>& f, BlockResult& r) {
   r.reset();
   Hex8Batch B;
-  for (size_t k0 = first; k0 < last; k0 += kHex8Lanes) {
-    const int n = static_cast<int>(std::min(kHex8Lanes, last - k0));
-    for (int l = 0; l < W; ++l) {
-      if (l < n) {
-        const size_t k = k0 + static_cast<size_t>(l);
-        const size_t e = static_cast<size_t>(st.elements[k]);
-        const std::array<int, 8>& nodes = st.nodes[k];
-        for (int a = 0; a < 8; ++a) {
-          const Vec3& xa = x[static_cast<size_t>(nodes[static_cast<size_t>(a)])];
-          const Vec3& va = v[static_cast<size_t>(nodes[static_cast<size_t>(a)])];
-          for (int i = 0; i < 3; ++i) B.x[a][i][l] = xa[i], B.v[a][i][l] = va[i];
-        }
-        const Hex8State::PartConstants& pc = st.parts[static_cast<size_t>(st.part_slot[k])];
-        B.lambda[l] = pc.lambda, B.two_mu[l] = pc.two_mu, B.rho[l] = pc.rho, B.c[l] = pc.wave_speed;
-        B.ch[l] = st.hourglass[k];
-        B.spl[l] = st.step_per_length[k];
-        for (int c = 0; c < 6; ++c) B.sig[c][l] = st.sigma[e](c);
-        B.plastic[l] = pc.plastic;
-        if (B.plastic[l]) {
-          B.ep[l] = st.plastic_strain[e];
-          for (int c = 0; c < 6; ++c) B.alpha[c][l] = st.back_stress[e](c);
-        }
-      } else {  // an idle lane: a unit cube at rest
-        for (int a = 0; a < 8; ++a)
-          for (int i = 0; i < 3; ++i) B.x[a][i][l] = 0.5 * kXi[a][i], B.v[a][i][l] = 0.0;
-        B.lambda[l] = B.two_mu[l] = B.rho[l] = B.c[l] = B.ch[l] = 0.0;
-        B.spl[l] = 1e300;
-        for (int c = 0; c < 6; ++c) B.sig[c][l] = 0.0;
-        B.plastic[l] = nullptr;
-      }
-    }
-    hex8_kernel(B, dt, m.bulk_q1, m.bulk_q2);
-    note_step_limits(B.limit, W, n, k0, r);
-    for (int l = 0; l < n; ++l) {
-      const size_t k = k0 + static_cast<size_t>(l);
-      if (!(B.volume[l] > 0.0) && r.inverted < 0) {
-        r.inverted = static_cast<long>(k);
-        r.measure = B.volume[l];
-      }
-      const size_t e = static_cast<size_t>(st.elements[k]);
-      for (int c = 0; c < 6; ++c) st.sigma[e](c) = B.sig[c][l];
-      if (B.plastic[l]) {
-        st.plastic_strain[e] = B.ep[l];
-        for (int c = 0; c < 6; ++c) st.back_stress[e](c) = B.alpha[c][l];
-      }
-      const unsigned direct = st.gather.direct_corners(k);
-      for (int a = 0; a < 8; ++a) {
-        if (direct & (1u << a)) {  // this block's own node: added here, in element order
-          Vec3& fn = f[static_cast<size_t>(st.nodes[k][static_cast<size_t>(a)])];
-          for (int i = 0; i < 3; ++i) fn[i] += B.f[a][i][l];
-        } else {
-          double* out = &st.force[24 * k + 3 * static_cast<size_t>(a)];
-          for (int i = 0; i < 3; ++i) out[i] = B.f[a][i][l];
-        }
-      }
-      r.internal += B.internal[l];
-      r.hourglass += B.hourglass[l];
-      r.part_internal[static_cast<size_t>(st.part_slot[k])] += B.internal[l];
-      r.part_hourglass[static_cast<size_t>(st.part_slot[k])] += B.hourglass[l];
-      r.damping_power += B.damping_power[l];
-    }
+  for (size_t k0 = first; k0 < last;) {
+    // A batch of one kind: it ends where the tetrahedra begin.
+    const bool tets = k0 >= st.first_tet;
+    const size_t end = tets ? last : std::min(last, st.first_tet);
+    const int n = static_cast<int>(std::min(kHex8Lanes, end - k0));
+    if (tets)
+      solid_batch<true>(m, st, x, v, dt, k0, n, B, f, r);
+    else
+      solid_batch<false>(m, st, x, v, dt, k0, n, B, f, r);
+    k0 += static_cast<size_t>(n);
   }
 }
 

@@ -59,7 +59,8 @@ struct Hex8State {
   std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // Voigt: xx, yy, zz, xy, yz, zx; per solid
   std::vector<double> plastic_strain;                    // effective plastic strain, per solid
   std::vector<Eigen::Matrix<double, 6, 1>> back_stress;  // kinematic hardening's centre, per solid
-  std::vector<int> elements;                       // the elements of deformable parts
+  std::vector<int> elements;  // the elements of deformable parts: hexahedra, then tetrahedra
+  size_t first_tet = 0;       // where the tetrahedra begin in `elements`
   // What the kernel needs of a part: its material's constants.
   struct PartConstants {
     double lambda = 0.0, two_mu = 0.0, rho = 0.0, wave_speed = 0.0;
@@ -93,6 +94,25 @@ struct Hex8State {
 // bit-identical for any count.
 constexpr size_t kHex8Lanes = 8;
 size_t hex8_block_size(size_t elements);
+
+// One batch of kHex8Lanes solids side by side: every array is [..][lane],
+// and every loop over lanes is a vector operation. Lanes past the end of
+// the element list carry a unit cube at rest and are ignored. A batch is
+// all hexahedra or all tetrahedra (element_tet4.hpp: its corners in slots
+// 0, 1, 2 and 4, the only slots its kernel reads and writes).
+struct SolidBatch {
+  static constexpr int W = static_cast<int>(kHex8Lanes);
+  double x[8][3][W], v[8][3][W];
+  double lambda[W], two_mu[W], rho[W], c[W], ch[W], sig[6][W];
+  double spl[W];    // the element's stable step per unit of its characteristic length (idle lanes: huge)
+  double limit[W];  // out: its current stable step
+  // Plastic lanes: their material (nullptr: elastic), effective plastic
+  // strain and back stress, updated in place.
+  const Material* plastic[W];
+  double ep[W], alpha[6][W];
+  // Out:
+  double f[8][3][W], volume[W], internal[W], hourglass[W], damping_power[W];
+};
 
 // One step of every hex8: stress update over dt from the velocities v
 // (hypoelastic with the Jaumann rate, J2 plasticity where the material has

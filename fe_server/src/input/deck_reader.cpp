@@ -3,6 +3,7 @@
 
 #include "elements/element_axi4.hpp"
 #include "elements/element_hex8.hpp"
+#include "elements/element_tet4.hpp"
 #include "config/nearest.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -120,6 +121,8 @@ struct Reader {
   }
 
   config::SourceLocation elout_where;  // the *DATABASE_ELOUT block, for its warning
+  bool sort_tetrahedra = false;        // *CONTROL_SOLID ESORT 1: tetrahedra of ELFORM 1 parts run as ELFORM 10
+  std::set<int> tet_in_hex_part;       // parts whose tetrahedra were said to be in an ELFORM 1 section
 
   static std::string short_number(double v) {
     char b[32];
@@ -176,7 +179,7 @@ struct Reader {
       {{"*TITLE"}, &Reader::read_title, "the deck's title"},
       {{"*NODE"}, &Reader::read_node, "nodes: NID, X, Y, Z, TC"},
       {{"*PART"}, &Reader::read_part, "parts: title, PID, SECID, MID"},
-      {{"*SECTION_SOLID"}, &Reader::read_section_solid, "hex8 solids' section (ELFORM)"},
+      {{"*SECTION_SOLID"}, &Reader::read_section_solid, "solids' section: ELFORM 1 (one-point hexahedron), 10 (constant-strain tetrahedron)"},
       {{"*SECTION_BEAM"}, &Reader::read_section_beam, "1D bars' section (ELFORM, area)"},
       {{"*SECTION_SHELL"}, &Reader::read_section_shell, "2D axisymmetric solids' section (ELFORM)"},
       {{"*SECTION_DISCRETE"}, &Reader::read_section_discrete, "discrete springs' and dampers' section"},
@@ -187,7 +190,7 @@ struct Reader {
       {{"*MAT_ELASTIC", "*MAT_001"}, &Reader::read_mat_elastic, "linear elastic material"},
       {{"*MAT_SPRING_ELASTIC", "*MAT_S01"}, &Reader::read_mat_spring_elastic, "linear spring"},
       {{"*MAT_DAMPER_VISCOUS", "*MAT_S02"}, &Reader::read_mat_damper_viscous, "linear damper"},
-      {{"*ELEMENT_SOLID"}, &Reader::read_element_solid, "hex8 solid elements"},
+      {{"*ELEMENT_SOLID"}, &Reader::read_element_solid, "solid elements: hexahedra (wedges as degenerate ones), tetrahedra (4 nodes, or N4 repeated)"},
       {{"*ELEMENT_BEAM"}, &Reader::read_element_beam, "bar elements"},
       {{"*ELEMENT_SHELL"}, &Reader::read_element_shell, "axisymmetric 2D solid elements (4 nodes)"},
       {{"*ELEMENT_DISCRETE"}, &Reader::read_element_discrete, "discrete spring and damper elements"},
@@ -227,6 +230,7 @@ struct Reader {
       {{"*CONTROL_TERMINATION"}, &Reader::read_control_termination, "the end time"},
       {{"*CONTROL_TIMESTEP"}, &Reader::read_control_timestep, "the time step factor (TSSFAC) and mass scaling (DT2MS)"},
       {{"*CONTROL_HOURGLASS"}, &Reader::read_control_hourglass, "hourglass control (IHQ, QH)"},
+      {{"*CONTROL_SOLID"}, &Reader::read_control_solid, "ESORT: tetrahedra of ELFORM 1 parts sorted to ELFORM 10"},
       {{"*CONTROL_BULK_VISCOSITY"}, &Reader::read_control_bulk_viscosity, "bulk viscosity (Q1, Q2)"},
       {{"*DATABASE_BINARY_D3PLOT"}, &Reader::read_database_binary_d3plot, "field snapshots (written as XDMF/HDF5 for ParaView)"},
       {{"*DATABASE_GLSTAT", "*DATABASE_RCFORC", "*DATABASE_NODOUT", "*DATABASE_ELOUT", "*DATABASE_SECFORC", "*DATABASE_MATSUM"}, &Reader::read_database_glstat, "ASCII outputs in LS-DYNA's formats as BINARY asks (2: the HDF5 history only), and the history's intervals"},
@@ -276,9 +280,16 @@ struct Reader {
     for (const Card& raw : b.cards) {
       Card c = fields_of(raw, kW10);
       long elform = c.integer_or(1, "ELFORM", 1);
-      if (elform != 1 && elform != 0)
+      if (elform == 0) elform = 1;
+      if (elform == 13) {  // LS-DYNA's nodal-pressure tetrahedron
+        substitute(c.where, "*SECTION_SOLID ELFORM 13", "ELFORM 10 (constant-strain tetrahedron, which locks where the "
+                                                        "part is nearly incompressible or bends)");
+        elform = 10;
+      } else if (elform != 1 && elform != 10) {
         substitute(c.where, "*SECTION_SOLID ELFORM " + std::to_string(elform), "ELFORM 1 (one-point hexahedron)");
-      sections[static_cast<int>(c.integer(0, "SECID"))] = {1, 0.0};
+        elform = 1;
+      }
+      sections[static_cast<int>(c.integer(0, "SECID"))] = {static_cast<int>(elform), 0.0};
     }
   }
 
@@ -898,6 +909,31 @@ struct Reader {
     }
   }
 
+  void read_control_solid(const Block& b, const std::string& kw) {
+    // ESORT FMATRIX NIPTETS SWLOCL PSFAIL T10JTOL ICOH TET13K; then PM1-10.
+    // NIPTETS, T10JTOL and TET13K set elements this reader refuses (10-node
+    // and nodal-pressure tetrahedra); SWLOCL the output's axes (ours are global).
+    for (size_t card = 0; card < b.cards.size(); ++card) {
+      const Card c = fields_of(b.cards[card], kW10);
+      for (size_t k = 0; k < c.fields.size(); ++k) {
+        if (c.fields[k].empty()) continue;
+        if (card == 0 && k == 0) {
+          const long esort = c.integer(0, "ESORT");
+          if (esort != 0 && esort != 1) c.fail("ESORT " + std::to_string(esort) + ": 0 or 1 (tetrahedra sorted to ELFORM 10)");
+          sort_tetrahedra = esort == 1;
+        } else if (card == 0 && (k == 2 || k == 5 || k == 7)) {
+        } else if (card == 0 && k == 3) {
+          if (c.integer(3, "SWLOCL") == 2) warn(c.where, "SWLOCL 2: solid stresses are written in global axes all the same");
+        } else if (c.real(k, "field") != 0.0) {
+          c.fail(kw + " field " + std::to_string(k + 1) + " ('" + c.fields[k] + "') is not read by this fe_server version "
+                 "and is not LS-DYNA's default: ignoring it would change the result");
+        }
+      }
+    }
+    warn(b.where, kw + ": ESORT is read (" + (sort_tetrahedra ? "1: tetrahedra of ELFORM 1 parts run as ELFORM 10" : "0") +
+                      "); its other fields hold LS-DYNA's defaults or set elements this deck cannot have");
+  }
+
   void read_control_bulk_viscosity(const Block& b, [[maybe_unused]] const std::string& kw) {
     if (!b.cards.empty()) {
       Card c = fields_of(b.cards[0], kW10);
@@ -1307,6 +1343,17 @@ struct Reader {
     warn_stiffness_cap(d, "SFS");
   }
 
+  // A face's distinct nodes, sorted, padded with −1: the same key for a
+  // triangle whichever corner its element repeats (n1 n2 n3 n3 of one
+  // tetrahedron is n3 n1 n2 n2 of its neighbour).
+  static std::array<int, 4> face_key(const Segment& s) {
+    std::array<int, 4> key{s.n[0], s.n[1], s.n[2], s.n[3]};
+    std::sort(key.begin(), key.end());
+    const auto end = std::unique(key.begin(), key.end());
+    std::fill(end, key.end(), -1);
+    return key;
+  }
+
   // The outer faces of the solids of parts `pids`: the faces only one
   // element has, their nodes ordered so the normal points out of it.
   std::vector<Segment> outer_faces_of(const std::set<int>& pids, const config::SourceLocation& where) {
@@ -1319,17 +1366,14 @@ struct Reader {
       for (const auto& f : kFace) {
         Segment s;
         for (int k = 0; k < 4; ++k) s.n[k] = e.n[f[k]];
-        std::array<int, 4> key{s.n[0], s.n[1], s.n[2], s.n[3]};
-        std::sort(key.begin(), key.end());
-        if (std::unique(key.begin(), key.end()) - key.begin() < 3) continue;  // a collapsed face of a wedge or tet
+        const std::array<int, 4> key = face_key(s);
+        if (key[2] < 0) continue;  // a collapsed face of a wedge or tet
         if (count[key]++ == 0) faces.push_back(s);
       }
     }
     std::vector<Segment> out;
     for (const Segment& s : faces) {
-      std::array<int, 4> key{s.n[0], s.n[1], s.n[2], s.n[3]};
-      std::sort(key.begin(), key.end());
-      if (count[key] != 1) continue;
+      if (count[face_key(s)] != 1) continue;
       Segment t = s;
       // A triangle keeps its three corners with n[3] == n[2].
       if (t.n[0] == t.n[1]) t = Segment{{t.n[1], t.n[2], t.n[3], t.n[3]}};
@@ -1578,6 +1622,14 @@ struct Reader {
     m.cross_sections.push_back(std::move(x));
   }
 
+  // The ELFORM of a solid part's section (1 when the part has none).
+  int solid_elform(int pid) const {
+    const auto p = m.parts.find(pid);
+    if (p == m.parts.end()) return 1;
+    const auto sec = sections.find(p->second.section);
+    return sec == sections.end() || (sec->second.first != 1 && sec->second.first != 10) ? 1 : sec->second.first;
+  }
+
   const Material& material_of(int pid, const Card& c) {
     auto p = m.parts.find(pid);
     if (p == m.parts.end()) c.fail("part " + std::to_string(pid) + " is not defined in *PART");
@@ -1601,19 +1653,37 @@ struct Reader {
       if (ids.size() > 8)
         c.fail("solid element " + std::to_string(e.id) + " has " + std::to_string(ids.size()) +
                " nodes: higher-order solids (10-node tetrahedra, 20-node hexahedra) are not supported");
-      if (ids.size() == 4) ids = {ids[0], ids[1], ids[2], ids[2], ids[3], ids[3], ids[3], ids[3]};  // tet4
+      // A tetrahedron: four nodes, or LS-DYNA's eight with N4 repeated
+      // (N4 = N5 = ... = N8); its corners in the order they first appear.
+      std::vector<int> distinct;
+      for (int id : ids)
+        if (std::find(distinct.begin(), distinct.end(), id) == distinct.end()) distinct.push_back(id);
+      e.tet4 = distinct.size() == 4 && (ids.size() == 4 || ids.size() == 8);
+      const int elform = solid_elform(e.part);
+      if (e.tet4) {
+        ids = {distinct[0], distinct[1], distinct[2], distinct[2], distinct[3], distinct[3], distinct[3], distinct[3]};
+        if (elform == 1 && !sort_tetrahedra && tet_in_hex_part.insert(e.part).second)
+          substitute(c.where, "the tetrahedra of part " + std::to_string(e.part) +
+                                  " (ELFORM 1: degenerate one-point hexahedra, whose centre point misplaces their "
+                                  "mass by a quarter; *CONTROL_SOLID ESORT 1 sorts them to ELFORM 10, as LS-DYNA does)",
+                      "ELFORM 10 (constant-strain tetrahedra)");
+      } else if (elform == 10) {
+        c.fail("solid element " + std::to_string(e.id) + " has " + std::to_string(distinct.size()) +
+               " distinct nodes, but part " + std::to_string(e.part) + " is ELFORM 10: a tetrahedron has 4");
+      }
       if (ids.size() == 6) ids = {ids[0], ids[1], ids[2], ids[2], ids[3], ids[4], ids[5], ids[5]};  // wedge
       if (ids.size() != 8) c.fail("a solid element needs 4, 6 or 8 nodes, got " + std::to_string(ids.size()));
       for (int k = 0; k < 8; ++k) e.n[k] = m.index_of(ids[static_cast<size_t>(k)], c.where);
-      // Lumped mass: an eighth of ρ·V to each corner (repeated
-      // corners of a degenerate element receive their shares too).
-      Mat83 b;
-      double volume = 0.0;
-      if (!hex8_gradients(hex8_gather(m.x0, e), b, volume))
+      // Lumped mass: ρ·V in the element's shares (an eighth to each slot of
+      // a hexahedron, repeated corners of a wedge too; a quarter to each
+      // corner of a tetrahedron).
+      const double volume = solid_volume(hex8_gather(m.x0, e), e);
+      if (!(volume > 0.0))
         c.fail("solid element " + std::to_string(e.id) + " is inverted or degenerate (volume " + std::to_string(volume) +
-               "): check its node order (1-2-3-4 counter-clockwise seen from 5-6-7-8)");
+               "): check its node order (" +
+               (e.tet4 ? "N1-N2-N3 counter-clockwise seen from N4" : "1-2-3-4 counter-clockwise seen from 5-6-7-8") + ")");
       const double rho = material_of(e.part, c).rho;
-      for (int k = 0; k < 8; ++k) m.mass[static_cast<size_t>(e.n[k])] += rho * volume / 8.0;
+      for (int k = 0; k < 8; ++k) m.mass[static_cast<size_t>(e.n[k])] += rho * volume * solid_mass_share(e, k);
       m.solids.push_back(e);
     }
     for (const Card& c : beam_cards) {

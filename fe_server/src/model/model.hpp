@@ -90,11 +90,14 @@ struct Part {
   config::SourceLocation where;
 };
 
-// Eight-node solid; a tet4 or a wedge is a degenerate hex (repeated nodes).
+// A solid: an eight-node hexahedron (a wedge as a degenerate one, repeated
+// nodes), or a four-node tetrahedron (tet4, ELFORM 10: element_tet4.hpp)
+// in the slots n1 n2 n3 n3 n4 n4 n4 n4.
 struct SolidElement {
   int id = 0, part = 0;
   int n[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // node indices
   double mass_scale = 1.0;  // density factor from selective mass scaling
+  bool tet4 = false;
 };
 
 // Four-node axisymmetric solid (element_axi4.hpp): *ELEMENT_SHELL of a part

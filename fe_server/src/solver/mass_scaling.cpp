@@ -4,6 +4,7 @@
 
 #include "elements/element_axi4.hpp"
 #include "elements/element_hex8.hpp"
+#include "elements/element_tet4.hpp"
 
 namespace fe {
 
@@ -24,18 +25,16 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
   for (auto& e : m.solids) {
     const Material& mat = m.materials.at(m.parts.at(e.part).material);
     const Mat83 x = hex8_gather(m.x0, e);
-    Mat83 b;
-    double volume = 0.0;
-    hex8_gradients(x, b, volume);
+    const double volume = solid_volume(x, e);
     auto& part = r.per_part[e.part];
     part.first += mat.rho * volume;
     if (mat.rigid) continue;
-    const double dt_e = hex8_stable_step(x, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2);
+    const double dt_e = solid_stable_step(x, e, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2);
     const double f = dt / (m.dt_scale * dt_e);
     if (f <= 1.0) continue;
     const double added = (f * f - 1.0) * mat.rho * volume;
     e.mass_scale = f * f;
-    for (int k = 0; k < 8; ++k) m.mass[static_cast<size_t>(e.n[k])] += added / 8.0;
+    for (int k = 0; k < 8; ++k) m.mass[static_cast<size_t>(e.n[k])] += added * solid_mass_share(e, k);
     part.second += added;
     ++r.elements_scaled;
   }

@@ -1,6 +1,7 @@
 #include "solver/solver.hpp"
 
 #include "elements/element_blocks.hpp"
+#include "elements/element_tet4.hpp"
 #include "loads/cavity_load.hpp"
 
 #include <algorithm>
@@ -150,7 +151,8 @@ StableStep Solver::stable_dt(const Model& m) {
   for (const auto& e : m.solids) {
     if (in_rigid_part(m, e.part)) continue;
     const Material& mat = m.materials.at(m.parts.at(e.part).material);
-    const double dt_e = hex8_stable_step(hex8_gather(m.x0, e), mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2);
+    const double dt_e =
+        solid_stable_step(hex8_gather(m.x0, e), e, mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2);
     if (dt_e > 0.0)  // 0: inverted, which the reader refuses
       consider(dt_e, "solid element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")", "solid", e.id);
   }

@@ -20,6 +20,7 @@
 #include <cstdio>
 
 #include "../fe_server/axi_decks.hpp"
+#include "../fe_server/block_decks.hpp"
 #include "../fe_server/impact_decks.hpp"
 #include "config/port_table.hpp"
 #include "input/deck_reader.hpp"
@@ -132,6 +133,20 @@ TEST(Ranks, TheBarImpactMatchesOneRank) {
   const State one = run(m, dt, fe::Domain::serial(), 400), many = run(m, dt, world(), 400);
   EXPECT_GT(one.e.internal, 0.0) << "the bars were loaded";
   expect_same(one, many, m, "hex8 bar impact");
+}
+
+// Tetrahedra over hexahedra in one block (tests/fe_server/block_decks.hpp),
+// stretched and sheared, as METIS cuts it and dealt out element by element
+// (every tetrahedron's neighbours on other ranks).
+TEST(Ranks, TetrahedraAndHexahedraMatchOneRank) {
+  fe::Model m = fe::parse_deck(fe_test::block_deck(8, 8, 8, 1e-3, true, 2e11, 0.3, 0.1, "10", 3).deck, "block.k");
+  for (size_t i = 0; i < m.x0.size(); ++i) m.v0[i] = fe::Vec3(0.3 * m.x0[i].y(), 0.0, 50.0 * m.x0[i].z());
+  const double dt = 0.9 * fe::Solver::stable_dt(m).dt;
+  const State one = run(m, dt, fe::Domain::serial(), 300), many = run(m, dt, world(), 300);
+  EXPECT_GT(one.e.internal, 0.0);
+  expect_same(one, many, m, "tet4 and hex8 block");
+  const fe::Partition p = dealt(m);
+  expect_same(one, run(m, dt, world(), 300, &p), m, "tet4 and hex8 block, dealt");
 }
 
 // The axisymmetric bar impact (2D contact), as METIS cuts it.

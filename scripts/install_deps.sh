@@ -7,7 +7,7 @@ packages=(
   libeigen3-dev libhdf5-dev libgsl-dev libzip-dev libgtest-dev libsodium-dev libxml2-dev
   libmuparser-dev
   libopenmpi-dev openmpi-bin libmetis-dev
-  libxml2-utils unzip hdf5-tools
+  libxml2-utils unzip hdf5-tools gmsh
   python3 python3-h5py python3-matplotlib python3-numpy python3-scipy
   g++-mingw-w64-x86-64-posix wine wine64
 )

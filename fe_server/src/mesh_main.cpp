@@ -1,5 +1,7 @@
-// fe_mesh: bodies of revolution → keyword mesh (nodes, elements, face sets).
+// fe_mesh: bodies of revolution → keyword mesh (nodes, elements, face sets);
+// or a gmsh mesh → keyword mesh (input/gmsh_import.hpp).
 //
+//   fe_mesh --from-gmsh part.msh -o mesh.k
 //   fe_mesh --sections "L,ro[,ri]; L,ro[,ri]; ..." [--size h] [--part PID] [--z0 Z]
 //           [--node-offset N] [--element-offset E] [--set-offset S] [--title T]
 //           [--gauge Z ...] [--axisymmetric [--radial-growth G] [--gauge-cut-only] [--radius R ...]] -o mesh.k
@@ -17,12 +19,19 @@
 
 #include "config/cli.hpp"
 #include "config/version.hpp"
+#include "config/keyword_reader.hpp"
+#include "input/gmsh_import.hpp"
 #include "input/mesher.hpp"
 
 namespace {
 
 const char* kUsage =
     "usage: fe_mesh --sections \"L,ro[,ri]/L,ro[,ri]/...\" -o mesh.k [options]\n"
+    "       fe_mesh --from-gmsh part.msh -o mesh.k\n"
+    "  --from-gmsh FILE    a gmsh mesh (ASCII .msh 4.1 or 2.2, e.g. gmsh -3 part.geo): physical volumes\n"
+    "                      become parts (PID = tag; tetrahedra ELFORM 10, hexahedra and prisms ELFORM 1),\n"
+    "                      physical surfaces segment and node sets (SID = tag, segments facing out);\n"
+    "                      the including deck gives the materials (MID = PID)\n"
     "  --sections T        the body's sections from z0 up: length, outer radius and optional inner\n"
     "                      radius, in metres; sections separated by '/' (or ';')\n"
     "  -o FILE             the keyword mesh to write (*NODE, elements, face and node sets)\n"
@@ -54,12 +63,13 @@ int main(int argc, char** argv) {
     }
   }
   fe::RevolutionMeshOptions opt;
-  std::string sections, out;
+  std::string sections, out, gmsh;
   bool axisymmetric = false;
   try {
     config::Args args(argc, argv);
     while (args.next()) {
       if (args.is("--sections")) sections = args.value();
+      else if (args.is("--from-gmsh")) gmsh = args.value();
       else if (args.is("--size")) opt.element_size = args.real();
       else if (args.is("--axial-size")) opt.axial_size = args.real();
       else if (args.is("--part")) opt.part = args.integer();
@@ -75,6 +85,17 @@ int main(int argc, char** argv) {
       else if (args.is("--radius")) opt.radii.push_back(args.real());
       else if (args.is("-o")) out = args.value();
       else args.unknown();
+    }
+    if (!gmsh.empty()) {
+      if (out.empty() || !sections.empty()) throw std::invalid_argument("--from-gmsh takes -o and no --sections");
+      const fe::GmshDeck deck = fe::gmsh_to_keywords(config::read_text_file(gmsh, "gmsh mesh"), gmsh);
+      std::ofstream f(out);
+      f << deck.keyword_text;
+      if (!f) throw std::runtime_error("cannot write " + out);
+      std::cout << "fe_mesh: " << deck.nodes << " nodes, " << deck.tetrahedra << " tetrahedra, " << deck.hexahedra
+                << " hexahedra, " << deck.prisms << " prisms, " << deck.segments << " segments -> " << out << "\n"
+                << deck.summary;
+      return 0;
     }
     if (sections.empty() || out.empty()) throw std::invalid_argument("--sections and -o are required");
     const auto table = fe::parse_sections(sections);

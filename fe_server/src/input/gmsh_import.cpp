@@ -1,0 +1,377 @@
+#include "input/gmsh_import.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include "config/keyword_reader.hpp"
+
+namespace fe {
+
+namespace {
+
+using config::InputError;
+using config::SourceLocation;
+
+// The file as numbered lines of whitespace-separated tokens.
+class Lines {
+ public:
+  Lines(const std::string& text, const std::string& name) : name_(name) {
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      lines_.push_back(line);
+    }
+  }
+  bool done() const { return at_ >= lines_.size(); }
+  // The next line's tokens; fails at the end of the file.
+  std::vector<std::string> next(const char* expected) {
+    if (done()) throw InputError(where(), std::string("the file ends where ") + expected + " was expected");
+    std::istringstream in(lines_[at_++]);
+    std::vector<std::string> t;
+    std::string s;
+    while (in >> s) t.push_back(s);
+    return t;
+  }
+  const std::string& raw() const { return lines_[at_ - 1]; }
+  SourceLocation where() const { return {name_, static_cast<int>(std::min(at_, lines_.size()))}; }
+  [[noreturn]] void fail(const std::string& message) const { throw InputError(where(), message); }
+  long integer(const std::vector<std::string>& t, size_t k, const char* what) const {
+    if (k >= t.size()) fail(std::string("missing ") + what);
+    char* end = nullptr;
+    const long v = std::strtol(t[k].c_str(), &end, 10);
+    if (end == t[k].c_str() || *end) fail(std::string(what) + " '" + t[k] + "' is not an integer");
+    return v;
+  }
+  double real(const std::vector<std::string>& t, size_t k, const char* what) const {
+    if (k >= t.size()) fail(std::string("missing ") + what);
+    char* end = nullptr;
+    const double v = std::strtod(t[k].c_str(), &end);
+    if (end == t[k].c_str() || *end || !std::isfinite(v)) fail(std::string(what) + " '" + t[k] + "' is not a finite number");
+    return v;
+  }
+
+ private:
+  std::string name_;
+  std::vector<std::string> lines_;
+  size_t at_ = 0;
+};
+
+struct Element {
+  long tag = 0;
+  int type = 0;
+  int dim = 0, entity = 0, physical = 0;  // physical: 2.2's own tag (4.1: from the entity)
+  std::vector<long> nodes;
+  int line = 0;
+};
+
+// Nodes per gmsh element type that this importer reads, and the dimension.
+int node_count(int type) {
+  switch (type) {
+    case 2: return 3;  // triangle
+    case 3: return 4;  // quadrangle
+    case 4: return 4;  // tetrahedron
+    case 5: return 8;  // hexahedron
+    case 6: return 6;  // prism
+    default: return 0;
+  }
+}
+// gmsh's element types by dimension: points 15; lines 1, 8, 26-28; faces
+// 2, 3, 9, 10, 16, 20-25; anything else is a volume (and, unless it is a
+// tetrahedron, hexahedron or prism of first order, refused).
+int dimension(int type) {
+  if (type == 15) return 0;
+  if (type == 1 || type == 8 || (type >= 26 && type <= 28)) return 1;
+  if (type == 2 || type == 3 || type == 9 || type == 10 || type == 16 || (type >= 20 && type <= 25)) return 2;
+  return 3;
+}
+
+// Each volume element's faces, counter-clockwise seen from outside (gmsh's
+// node orders; its hexahedra number as LS-DYNA's do).
+const std::vector<std::vector<int>>& faces_of(int type) {
+  static const std::vector<std::vector<int>> tet = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  static const std::vector<std::vector<int>> hex = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                                    {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  static const std::vector<std::vector<int>> prism = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4, 3}, {1, 2, 5, 4}, {2, 0, 3, 5}};
+  return type == 4 ? tet : type == 5 ? hex : prism;
+}
+
+std::vector<long> sorted(std::vector<long> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+std::string element_name(int type) {
+  static const std::map<int, std::string> names = {
+      {1, "2-node line"},         {8, "3-node line"},      {9, "6-node triangle"}, {10, "9-node quadrangle"},
+      {11, "10-node tetrahedron"}, {12, "27-node hexahedron"}, {13, "18-node prism"}, {7, "5-node pyramid"},
+      {14, "14-node pyramid"},     {16, "8-node quadrangle"}, {17, "20-node hexahedron"}, {18, "15-node prism"}};
+  const auto it = names.find(type);
+  return it == names.end() ? "element type " + std::to_string(type) : it->second;
+}
+
+struct Mesh {
+  std::map<long, std::array<double, 3>> nodes;
+  std::vector<Element> elements;
+  std::map<std::pair<int, int>, std::string> physical_names;       // (dim, tag) → name
+  std::map<std::pair<int, int>, std::vector<int>> entity_physicals;  // (dim, entity) → physical tags
+  double version = 0.0;
+};
+
+void read_section(Lines& in, const std::string& head, Mesh& mesh) {
+  auto expect_end = [&](const std::string& end) {
+    const auto t = in.next(end.c_str());
+    if (t.empty() || t[0] != end) in.fail("expected " + end + " here");
+  };
+  if (head == "$MeshFormat") {
+    const auto t = in.next("the format line");
+    mesh.version = in.real(t, 0, "the format version");
+    if (in.integer(t, 1, "the file type") != 0)
+      in.fail("a binary .msh: write it as ASCII (gmsh -save with Mesh.Binary = 0, or -bin 0 omitted)");
+    if (mesh.version != 4.1 && mesh.version != 2.2)
+      in.fail("format " + t[0] + ": fe_mesh reads gmsh's formats 4.1 and 2.2 (gmsh -format msh41 or msh22)");
+    expect_end("$EndMeshFormat");
+  } else if (head == "$PhysicalNames") {
+    const long n = in.integer(in.next("the count"), 0, "the number of names");
+    for (long k = 0; k < n; ++k) {
+      const auto t = in.next("a physical name");
+      const int dim = static_cast<int>(in.integer(t, 0, "the dimension")), tag = static_cast<int>(in.integer(t, 1, "the tag"));
+      const std::string& line = in.raw();
+      const size_t a = line.find('"'), b = line.rfind('"');
+      mesh.physical_names[{dim, tag}] = a != std::string::npos && b > a ? line.substr(a + 1, b - a - 1) : "";
+    }
+    expect_end("$EndPhysicalNames");
+  } else if (head == "$Entities") {
+    const auto counts = in.next("the entity counts");
+    for (int dim = 0; dim < 4; ++dim) {
+      const long n = in.integer(counts, static_cast<size_t>(dim), "an entity count");
+      for (long k = 0; k < n; ++k) {
+        const auto t = in.next("an entity");
+        const int tag = static_cast<int>(in.integer(t, 0, "the entity tag"));
+        const size_t at = dim == 0 ? 4 : 7;  // points: x y z; others: their bounding box
+        const long np = in.integer(t, at, "the number of physical tags");
+        std::vector<int>& ph = mesh.entity_physicals[{dim, tag}];
+        for (long p = 0; p < np; ++p) ph.push_back(static_cast<int>(std::labs(in.integer(t, at + 1 + static_cast<size_t>(p), "a physical tag"))));
+      }
+    }
+    expect_end("$EndEntities");
+  } else if (head == "$Nodes" && mesh.version == 4.1) {
+    const auto t = in.next("the node counts");
+    const long blocks = in.integer(t, 0, "the number of blocks");
+    for (long b = 0; b < blocks; ++b) {
+      const auto h = in.next("a node block");
+      if (in.integer(h, 2, "the parametric flag") != 0) in.fail("parametric nodes: save the mesh without them (Mesh.SaveParametric = 0)");
+      const long n = in.integer(h, 3, "the block's node count");
+      std::vector<long> tags;
+      for (long k = 0; k < n; ++k) tags.push_back(in.integer(in.next("a node tag"), 0, "the node tag"));
+      for (long k = 0; k < n; ++k) {
+        const auto x = in.next("node coordinates");
+        mesh.nodes[tags[static_cast<size_t>(k)]] = {in.real(x, 0, "x"), in.real(x, 1, "y"), in.real(x, 2, "z")};
+      }
+    }
+    expect_end("$EndNodes");
+  } else if (head == "$Nodes") {  // 2.2
+    const long n = in.integer(in.next("the node count"), 0, "the number of nodes");
+    for (long k = 0; k < n; ++k) {
+      const auto x = in.next("a node");
+      mesh.nodes[in.integer(x, 0, "the node tag")] = {in.real(x, 1, "x"), in.real(x, 2, "y"), in.real(x, 3, "z")};
+    }
+    expect_end("$EndNodes");
+  } else if (head == "$Elements") {
+    auto element = [&](const std::vector<std::string>& t, size_t first, Element e) {
+      e.line = in.where().line;
+      const int count = node_count(e.type);
+      e.dim = dimension(e.type);
+      if (e.dim >= 2 && count == 0)
+        in.fail("a " + element_name(e.type) + ": fe_mesh reads 4-node tetrahedra, 8-node hexahedra, 6-node prisms and "
+                "their 3- and 4-node faces (first-order meshes: Mesh.ElementOrder = 1, no pyramids)");
+      if (count == 0) return;  // points and lines: nothing to carry over
+      for (int k = 0; k < count; ++k) e.nodes.push_back(in.integer(t, first + static_cast<size_t>(k), "a node tag"));
+      mesh.elements.push_back(e);
+    };
+    if (mesh.version == 4.1) {
+      const long blocks = in.integer(in.next("the element counts"), 0, "the number of blocks");
+      for (long b = 0; b < blocks; ++b) {
+        const auto h = in.next("an element block");
+        Element proto;
+        proto.dim = static_cast<int>(in.integer(h, 0, "the entity dimension"));
+        proto.entity = static_cast<int>(in.integer(h, 1, "the entity tag"));
+        proto.type = static_cast<int>(in.integer(h, 2, "the element type"));
+        const long n = in.integer(h, 3, "the block's element count");
+        for (long k = 0; k < n; ++k) {
+          const auto t = in.next("an element");
+          Element e = proto;
+          e.tag = in.integer(t, 0, "the element tag");
+          element(t, 1, e);
+        }
+      }
+    } else {
+      const long n = in.integer(in.next("the element count"), 0, "the number of elements");
+      for (long k = 0; k < n; ++k) {
+        const auto t = in.next("an element");
+        Element e;
+        e.tag = in.integer(t, 0, "the element tag");
+        e.type = static_cast<int>(in.integer(t, 1, "the element type"));
+        const long tags = in.integer(t, 2, "the number of tags");
+        if (tags >= 1) e.physical = static_cast<int>(in.integer(t, 3, "the physical tag"));
+        if (tags >= 2) e.entity = static_cast<int>(in.integer(t, 4, "the entity tag"));
+        element(t, 3 + static_cast<size_t>(tags), e);
+      }
+    }
+    expect_end("$EndElements");
+  } else {  // a section this importer has no use for ($Periodic, $NodeData, ...)
+    const std::string end = "$End" + head.substr(1);
+    while (true) {
+      const auto t = in.next(end.c_str());
+      if (!t.empty() && t[0] == end) break;
+    }
+  }
+}
+
+}  // namespace
+
+GmshDeck gmsh_to_keywords(const std::string& text, const std::string& name) {
+  Lines in(text, name);
+  Mesh mesh;
+  bool format = false;
+  while (!in.done()) {
+    const auto t = in.next("a section");
+    if (t.empty()) continue;
+    if (t[0][0] != '$') in.fail("expected a section ($MeshFormat, $Nodes, ...), found '" + t[0] + "'");
+    if (!format && t[0] != "$MeshFormat") in.fail("a gmsh mesh begins with $MeshFormat");
+    format = true;
+    read_section(in, t[0], mesh);
+  }
+  if (!format) throw InputError({name, 1}, "an empty file: not a gmsh mesh");
+
+  // The physical groups of each element: 2.2 names one per element, 4.1
+  // those of its entity.
+  auto physicals_of = [&](const Element& e) -> std::vector<int> {
+    if (mesh.version == 2.2) return e.physical ? std::vector<int>{e.physical} : std::vector<int>{};
+    const auto it = mesh.entity_physicals.find({e.dim, e.entity});
+    return it == mesh.entity_physicals.end() ? std::vector<int>{} : it->second;
+  };
+  bool physical_volumes = false;
+  for (const Element& e : mesh.elements)
+    if (e.dim == 3 && !physicals_of(e).empty()) physical_volumes = true;
+
+  // Parts: PID → the kind of its elements (ELFORM 10 or 1) and title.
+  struct PartInfo {
+    int elform = 0;
+    std::string title;
+    size_t count = 0;
+  };
+  std::map<int, PartInfo> parts;
+  std::vector<std::pair<const Element*, int>> volume;  // element, part
+  std::map<std::vector<long>, std::vector<std::pair<size_t, int>>> face_owner;  // sorted nodes → (volume index, face)
+  std::set<long> used;
+  for (const Element& e : mesh.elements) {
+    if (e.dim != 3) continue;
+    const std::vector<int> ph = physicals_of(e);
+    if (physical_volumes && ph.empty()) continue;  // gmsh saves only the physical groups' elements anyway
+    if (ph.size() > 1)
+      throw InputError({name, e.line}, "volume entity " + std::to_string(e.entity) + " is in " + std::to_string(ph.size()) +
+                                           " physical volumes: an element belongs to one part");
+    const int pid = physical_volumes ? ph[0] : e.entity;
+    PartInfo& p = parts[pid];
+    const int elform = e.type == 4 ? 10 : 1;
+    if (p.elform && p.elform != elform)
+      throw InputError({name, e.line}, "part " + std::to_string(pid) +
+                                           " mixes tetrahedra with hexahedra or prisms: one ELFORM per part; put them in two physical volumes");
+    p.elform = elform;
+    ++p.count;
+    const auto nm = mesh.physical_names.find({3, pid});
+    p.title = physical_volumes && nm != mesh.physical_names.end() && !nm->second.empty() ? nm->second
+                                                                                          : "volume " + std::to_string(pid);
+    for (long n : e.nodes) {
+      if (!mesh.nodes.count(n)) throw InputError({name, e.line}, "element " + std::to_string(e.tag) + ": node " + std::to_string(n) + " is not in $Nodes");
+      used.insert(n);
+    }
+    const auto& fs = faces_of(e.type);
+    for (size_t f = 0; f < fs.size(); ++f) {
+      std::vector<long> key;
+      for (int k : fs[f]) key.push_back(e.nodes[static_cast<size_t>(k)]);
+      face_owner[sorted(key)].push_back({volume.size(), static_cast<int>(f)});
+    }
+    volume.push_back({&e, pid});
+  }
+  if (volume.empty()) throw InputError({name, 1}, "the mesh has no volume elements (mesh it in 3D: gmsh -3)");
+
+  // Surfaces: physical tag → segments oriented out of their element.
+  std::map<int, std::vector<std::vector<long>>> surfaces;
+  for (const Element& e : mesh.elements) {
+    if (e.dim != 2) continue;
+    for (int tag : physicals_of(e)) {
+      const auto owner = face_owner.find(sorted(e.nodes));
+      const auto nm = mesh.physical_names.find({2, tag});
+      const std::string what = "physical surface " + std::to_string(tag) +
+                               (nm != mesh.physical_names.end() ? " ('" + nm->second + "')" : std::string());
+      if (owner == face_owner.end())
+        throw InputError({name, e.line}, what + ": face " + std::to_string(e.tag) +
+                                             " is no face of a volume element (is the surface meshed on the volume?)");
+      if (owner->second.size() > 1)
+        throw InputError({name, e.line}, what + ": face " + std::to_string(e.tag) +
+                                             " lies between two volume elements: an inner face has no outside for a pressure or contact");
+      const auto [k, f] = owner->second[0];
+      const Element& v = *volume[k].first;
+      std::vector<long> seg;
+      for (int c : faces_of(v.type)[static_cast<size_t>(f)]) seg.push_back(v.nodes[static_cast<size_t>(c)]);
+      surfaces[tag].push_back(seg);
+    }
+  }
+
+  GmshDeck out;
+  std::ostringstream d, s;
+  d << "$ fe_mesh --from-gmsh " << name << ": " << used.size() << " nodes\n"
+    << "$ include it from a deck that defines each part's material (*MAT_... with MID = PID)\n*NODE\n";
+  d.precision(17);
+  for (long n : used) {
+    const auto& x = mesh.nodes.at(n);
+    d << n << "," << x[0] << "," << x[1] << "," << x[2] << "\n";
+  }
+  for (const auto& [pid, p] : parts) {
+    d << "*PART\n" << p.title << "\n" << pid << "," << pid << "," << pid << "\n*SECTION_SOLID\n" << pid << "," << p.elform << "\n";
+    s << "  part " << pid << " '" << p.title << "': " << p.count << (p.elform == 10 ? " tetrahedra" : " hexahedra/prisms")
+      << " (ELFORM " << p.elform << ")\n";
+  }
+  d << "*ELEMENT_SOLID\n";
+  for (const auto& [e, pid] : volume) {
+    d << e->tag << "," << pid;
+    if (e->type == 6) {  // a prism as LS-DYNA's degenerate hexahedron
+      const auto& n = e->nodes;
+      for (long id : {n[0], n[1], n[2], n[2], n[3], n[4], n[5], n[5]}) d << "," << id;
+    } else {
+      for (long id : e->nodes) d << "," << id;
+    }
+    d << "\n";
+    (e->type == 4 ? out.tetrahedra : e->type == 5 ? out.hexahedra : out.prisms) += 1;
+  }
+  for (const auto& [tag, segs] : surfaces) {
+    const auto nm = mesh.physical_names.find({2, tag});
+    const std::string title = nm != mesh.physical_names.end() ? nm->second : "surface " + std::to_string(tag);
+    d << "*SET_SEGMENT_TITLE\n" << title << "\n" << tag << "\n";
+    std::set<long> nodes;
+    for (const auto& g : segs) {
+      d << g[0] << "," << g[1] << "," << g[2] << "," << (g.size() == 4 ? g[3] : g[2]) << "\n";
+      nodes.insert(g.begin(), g.end());
+    }
+    d << "*SET_NODE_LIST_TITLE\n" << title << "\n" << tag << "\n";
+    size_t k = 0;
+    for (long n : nodes) d << n << (++k % 8 == 0 || k == nodes.size() ? "\n" : ",");
+    s << "  surface " << tag << " '" << title << "': " << segs.size() << " segments (segment set " << tag
+      << "), " << nodes.size() << " nodes (node set " << tag << ")\n";
+    out.segments += segs.size();
+  }
+  out.keyword_text = d.str();
+  out.nodes = used.size();
+  out.summary = s.str();
+  return out;
+}
+
+}  // namespace fe

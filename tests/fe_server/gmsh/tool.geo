@@ -8,5 +8,9 @@ Physical Volume("tool", 1) = {3};
 Physical Surface("top", 11) = Surface In BoundingBox{-1, -1, 0.1 - eps, 1, 1, 0.1 + eps};
 Physical Surface("bottom", 12) = Surface In BoundingBox{-1, -1, -eps, 1, 1, eps};
 Physical Surface("bore", 13) = Surface In BoundingBox{-0.008 - eps, -0.008 - eps, -eps, 0.008 + eps, 0.008 + eps, 0.1 + eps};
-Mesh.CharacteristicLengthMax = 0.008;
+// The element size: 8 mm for the committed tool.msh; gmsh -setnumber size S for others.
+If (!Exists(size))
+  size = 0.008;
+EndIf
+Mesh.CharacteristicLengthMax = size;
 Mesh.ElementOrder = 1;

@@ -42,7 +42,8 @@ double segment_size(const Segment& s, const std::vector<Vec3>& x) {
 
 PenaltyContact::PenaltyContact(const Model& model, const ContactDef& def, double dt,
                                const std::vector<double>& nodal_mass)
-    : mass_(nodal_mass), dt_(dt), sfs_(def.stiffness_factor), damping_(def.damping) {
+    : mass_(nodal_mass), dt_(dt), sfs_(def.stiffness_factor), damping_(def.damping), fs_(def.fs), fd_(def.fd),
+      dc_(def.dc), vc_(def.vc) {
   const auto& master = model.segment_sets.at(def.master_set);
   static const std::vector<Segment> none;
   const auto& slave = def.slave_nodes || def.single_surface ? none : model.segment_sets.at(def.slave_set);
@@ -79,6 +80,7 @@ PenaltyContact::PenaltyContact(const Model& model, const ContactDef& def, double
     sides_.push_back(Side{slave, nodes_of(master), {}, {}, {}, {}, {}, {}});
   }
   for (Side& s : sides_) {
+    s.friction.assign(s.nodes.size(), Vec3::Zero());
     // Lines by their first and by their second node; a vertex is where one
     // line's second node is the next one's first (the outward normal to the
     // right of n0 → n1: the body on the left).
@@ -276,6 +278,9 @@ int PenaltyContact::side_forces(Side& s, bool slave_nodes, const std::vector<Vec
   for (size_t i = 0; i < s.nodes.size(); ++i) {
     const size_t node = static_cast<size_t>(s.nodes[i]);
     size_t j = 0;
+    Vec3& ft = s.friction[i];
+    const Vec3 ft_old = ft;
+    ft.setZero();  // until this step finds the node pressed
     if (!touching(s, i, x, 0.5 * size_, true, c, j)) continue;
     const Segment& seg = s.segments[j];
     const int nc = corners(seg);
@@ -292,10 +297,21 @@ int PenaltyContact::side_forces(Side& s, bool slave_nodes, const std::vector<Vec
     const double gdot = (v[node] - v_seg).dot(c.n);
     const double F = k * (-c.g) - damping_ * 2.0 * std::sqrt(k * m_eff) * gdot;
     if (F <= 0.0) continue;
-    f[node] += F * c.n;
-    for (int k2 = 0; k2 < nc; ++k2) f[static_cast<size_t>(seg.n[k2])] -= c.w[k2] * F * c.n;
-    on_nodes += F * c.n;
-    on_segments -= F * c.n;
+    Vec3 force = F * c.n;
+    if (fs_ > 0.0 || fd_ > 0.0) {
+      const Vec3 rel = v[node] - v_seg, vt = rel - rel.dot(c.n) * c.n;
+      ft = ft_old - ft_old.dot(c.n) * c.n - k * dt_ * vt;  // the elastic trial, in the current plane
+      const double mu = fd_ + (fs_ - fd_) * std::exp(-dc_ * vt.norm());
+      double cap = mu * F;
+      if (vc_ > 0.0) cap = std::min(cap, vc_ * segment_area_vector(seg, x).norm());
+      const double trial = ft.norm();
+      if (trial > cap) ft *= cap / trial;  // sliding
+      force += ft;
+    }
+    f[node] += force;
+    for (int k2 = 0; k2 < nc; ++k2) f[static_cast<size_t>(seg.n[k2])] -= c.w[k2] * force;
+    on_nodes += force;
+    on_segments -= force;
     mass_in_contact += m_node;
     if (-c.g > max_penetration_) {
       max_penetration_ = -c.g;
@@ -384,6 +400,7 @@ void PenaltyContact::state(config::StateIO& io) {
     io.list("contact start", s.start);
     io.list("contact cand", s.cand);
     io.list("contact reach2", s.reach2);
+    if (fs_ > 0.0 || fd_ > 0.0) io.array("contact friction", s.friction);  // only where there is friction: older checkpoints read
   }
   io.value("contact max_penetration", max_penetration_);
 }

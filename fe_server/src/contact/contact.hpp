@@ -20,6 +20,15 @@
 // keeps sqrt(1.8² + 0.4) = 1.91 below central difference's limit of 2, so
 // a 100× stiffer SFS cannot make the energy grow.
 // Damping c = VDC·2·sqrt(k·m_eff).
+// Friction (Coulomb, as LS-DYNA's): each node in contact carries a
+// tangential force f_t that the relative sliding loads elastically with the
+// same k, f_t ← f_t − k·v_t·Δt (v_t the node's velocity relative to the
+// segment's foot, in the segment's plane; f_t first turned into the current
+// plane), and that is capped at μ·F_n with μ = FD + (FS − FD)·exp(−DC·|v_t|)
+// and, when VC > 0, at VC·A (A the touched segment's area): below the cap
+// the node sticks, at it it slides and the friction dissipates (in the
+// contact energy, which is the work the contact forces take). A node that
+// leaves contact lets its f_t go.
 // Candidate segments are searched every `search_interval` steps.
 #pragma once
 
@@ -103,6 +112,7 @@ class PenaltyContact {
     // not on it (test Axi4Mixed.ANodeBesideACornerIsNotOnTheFacePastIt).
     std::vector<std::array<double, 2>> past;
     std::vector<std::array<int, 2>> corner;  // the next line at a corner, per end; -1: none
+    std::vector<Vec3> friction;  // per node (of `nodes`): its tangential force, 0 out of contact
   };
   struct Contact {
     double g = 0.0;  // gap along n, negative behind the segment
@@ -132,6 +142,7 @@ class PenaltyContact {
   int side_forces(Side& s, bool slave_nodes, const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& f);
   const std::vector<double>& mass_;
   double dt_, sfs_, damping_, size_ = 0.0, max_penetration_ = 0.0;
+  double fs_ = 0.0, fd_ = 0.0, dc_ = 0.0, vc_ = 0.0;  // friction (ContactDef)
   int deepest_node_ = -1;
   mutable double fastest_step_ = 0.0;
   mutable int fastest_node_ = -1;

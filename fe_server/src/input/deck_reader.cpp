@@ -1008,9 +1008,13 @@ struct Reader {
     d.stiffness_factor = c1.real_or(2, "SFACT", 1.0);
     if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
     warn_stiffness_cap(d, "SFACT");
-    d.friction = c1.real_or(4, "FS", 0.0);
-    if (d.friction != 0.0) substitute(c1.where, "contact friction FS " + short_number(d.friction), "frictionless contact");
-    if (b.cards.size() > 2) d.damping = fields_of(b.cards[2], kW10).real_or(1, "VDC", 20.0) / 100.0;
+    friction(c1, 4, d);
+    if (b.cards.size() > 2) {
+      const Card c3 = fields_of(b.cards[2], kW10);
+      d.vc = c3.real_or(0, "VC", 0.0);
+      d.damping = c3.real_or(1, "VDC", 20.0) / 100.0;
+    }
+    check_friction(c1, d);
     m.contacts.push_back(d);
   }
 
@@ -1328,15 +1332,27 @@ struct Reader {
     slave_nodes = sstyp == 4;
   }
 
-  // A contact's card 2 (FS ... VDC: friction, not modelled yet, and the
-  // damping in % of critical, 20 when not given) and card 3 (SFS), shared by
-  // the 3D contacts.
+  // FS, FD and DC from fields k, k+1, k+2 of card c.
+  static void friction(const Card& c, size_t k, ContactDef& d) {
+    d.fs = c.real_or(k, "FS", 0.0);
+    d.fd = c.real_or(k + 1, "FD", 0.0);
+    d.dc = c.real_or(k + 2, "DC", 0.0);
+  }
+  static void check_friction(const Card& c, const ContactDef& d) {
+    if (d.fs < 0.0 || d.fd < 0.0 || d.dc < 0.0 || d.vc < 0.0)
+      c.fail("FS, FD, DC and VC must not be negative (LS-DYNA's FS < 0 friction tables are not supported)");
+  }
+
+  // A contact's card 2 (FS FD DC VC VDC: Coulomb friction, and the damping
+  // in % of critical, 20 when not given) and card 3 (SFS), shared by the 3D
+  // contacts.
   void contact_cards_2_and_3(const Block& b, ContactDef& d) {
     if (b.cards.size() > 1) {
       Card c2 = fields_of(b.cards[1], kW10);
-      d.friction = c2.real_or(0, "FS", 0.0);
+      friction(c2, 0, d);
+      d.vc = c2.real_or(3, "VC", 0.0);
       d.damping = c2.real_or(4, "VDC", 20.0) / 100.0;
-      if (d.friction != 0.0) substitute(c2.where, "contact friction FS " + short_number(d.friction), "frictionless contact");
+      check_friction(c2, d);
     }
     if (b.cards.size() > 2) d.stiffness_factor = fields_of(b.cards[2], kW10).real_or(0, "SFS", 1.0);
     if (d.stiffness_factor <= 0.0) d.stiffness_factor = 1.0;
@@ -1654,11 +1670,16 @@ struct Reader {
         c.fail("solid element " + std::to_string(e.id) + " has " + std::to_string(ids.size()) +
                " nodes: higher-order solids (10-node tetrahedra, 20-node hexahedra) are not supported");
       // A tetrahedron: four nodes, or LS-DYNA's eight with N4 repeated
-      // (N4 = N5 = ... = N8); its corners in the order they first appear.
+      // (N4 = N5 = ... = N8), or N3 = N4 and N5 = ... = N8 (as the slots
+      // hold it); its corners in the order they first appear. Other
+      // repetitions are degenerate hexahedra (checked for volume below).
       std::vector<int> distinct;
       for (int id : ids)
         if (std::find(distinct.begin(), distinct.end(), id) == distinct.end()) distinct.push_back(id);
-      e.tet4 = distinct.size() == 4 && (ids.size() == 4 || ids.size() == 8);
+      const bool top_collapsed =
+          ids.size() == 8 && ids[4] == ids[5] && ids[5] == ids[6] && ids[6] == ids[7];
+      e.tet4 = distinct.size() == 4 &&
+               (ids.size() == 4 || (top_collapsed && (ids[3] == ids[4] || ids[2] == ids[3])));
       const int elform = solid_elform(e.part);
       if (e.tet4) {
         ids = {distinct[0], distinct[1], distinct[2], distinct[2], distinct[3], distinct[3], distinct[3], distinct[3]};

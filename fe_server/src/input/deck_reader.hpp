@@ -15,8 +15,8 @@ namespace fe {
 
 struct DeckWarnings {
   std::vector<std::string> messages;
-  // A substitution that changes the physics (friction dropped, another
-  // hourglass type, another element formulation) is refused unless
+  // A substitution that changes the physics (another hourglass type,
+  // another element formulation) is refused unless
   // `approximate` (fe_server --approximate); then each is listed here too.
   bool approximate = false;
   std::vector<std::string> substitutions;

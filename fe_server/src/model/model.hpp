@@ -131,7 +131,10 @@ struct ContactDef {
   // elements. part_ids holds the parts (empty: all).
   bool single_surface = false;
   std::vector<int> part_ids;
-  double friction = 0.0;              // FS (not used yet: frictionless normal contact)
+  // Coulomb friction as LS-DYNA's: μ = FD + (FS − FD)·exp(−DC·|v_t|) of the
+  // sliding speed v_t, the friction force at most VC·A (the touched
+  // segment's area) when VC > 0 (contact.hpp).
+  double fs = 0.0, fd = 0.0, dc = 0.0, vc = 0.0;
   double damping = 0.2;               // VDC as a fraction of critical
   double stiffness_factor = 1.0;      // SFS
   config::SourceLocation where;

@@ -112,8 +112,8 @@ void tet4_cycle_cost() {
               per_element[1].front(), per_element[1].back(), dt[1]);
   std::printf("  per cell and simulated second: tet4 costs %.1fx hex8 (6 elements per cell, steps %.2fx as many)\n",
               6.0 * t / h * dt[0] / dt[1], dt[0] / dt[1]);
-  std::printf("csv:fe_cost,tet4,%zu,%.2f,%.2f,%.2f\n", tet.solids.size(), t, per_element[1][1], per_element[1].back());
-  std::printf("csv:fe_cost,hex8_block,%zu,%.2f,%.2f,%.2f\n", hex.solids.size(), h, per_element[0][1], per_element[0].back());
+  std::printf("csv:tet4_cost,%zu,%.2f,%.2f,%.4g,%zu,%.2f,%.2f,%.4g\n", hex.solids.size(), h, per_element[0].back(), dt[0],
+              tet.solids.size(), t, per_element[1].back(), dt[1]);
 }
 
 void bar_cycle_cost() {

@@ -522,6 +522,34 @@ def fatigue_section(fe_text):
     return L
 
 
+def tet4_section(fe_text):
+    """tet4 beside hex8 on one block, from `bench_fe tet4`'s csv line (three interleaved runs each)."""
+    r = csv_rows(fe_text, "tet4_cost")[0]
+    nh, h, h_max, dt_h, nt, t, t_max, dt_t = int(r[0]), float(r[1]), float(r[2]), float(r[3]), int(r[4]), float(r[5]), \
+        float(r[6]), float(r[7])
+    per_cell = 6.0 * t / h * dt_h / dt_t
+    return ["## tet4 beside hex8
+",
+            "`bench_fe tet4`: one block of 24³ cells (2 mm, steel, stretching), meshed as hexahedra and as six "
+            "tetrahedra per cell, stepped on one core, three interleaved runs each; the fastest of each run's five "
+            f"slices, the lowest of the three (the range in brackets); load average "
+            f"{' '.join(f'{x:.2f}' for x in os.getloadavg())} when written.\n",
+            "| element | elements | ns per element-cycle | stable step [s] |", "|---|---|---|---|",
+            f"| hex8 | {nh} | {h:.1f} ({h:.1f}-{h_max:.1f}) | {dt_h:.3g} |",
+            f"| tet4 | {nt} | {t:.1f} ({t:.1f}-{t_max:.1f}) | {dt_t:.3g} |",
+            f"\nA tetrahedral mesh of the same cells costs {per_cell:.1f}× the hexahedral one per simulated second: six "
+            f"elements per cell, each {t / h:.2f}× a hexahedron's cycle, and {dt_h / dt_t:.2f}× as many steps (the "
+            "tetrahedron's stable step is its own highest frequency's, shorter than the cube's). Where the geometry "
+            "allows hexahedra, they are the cheaper mesh; tetrahedra are for what CAD gives.\n"]
+
+
+def rewrite_tet4_section():
+    """--tet4: that section rewritten in RESULTS.md from a run of `bench_fe tet4`."""
+    out = subprocess.run([str(BUILD / "bench" / "bench_fe"), "tet4"], capture_output=True, text=True, timeout=600,
+                         check=True).stdout
+    replace_section("tet4 beside hex8", tet4_section(out))
+
+
 def replace_section(title, lines):
     """RESULTS.md's section `## title` replaced by `lines` (appended if absent)."""
     path = ROOT / "bench/RESULTS.md"
@@ -569,6 +597,9 @@ def main():
         return
     if "--fatigue" in sys.argv:
         rewrite_fatigue_section()
+        return
+    if "--tet4" in sys.argv:
+        rewrite_tet4_section()
         return
     OUT.mkdir(parents=True, exist_ok=True)
     started = time.monotonic()
@@ -777,6 +808,7 @@ def main():
     L += stability_section(smap, loop_text)
     L += hard_cases_section()
     L += fatigue_section(fe_text)
+    L += tet4_section(fe_text)
     L.append("## Cavitation that conserves oil\n")
     L.append("A piston circuit (supply 100 bar, 1 mm² orifice, 10 cm³ chamber, 5 kg piston on a return spring; "
              "`tests/tlm_host/cavitation_reference.py`, a CTest) against a continuous model with a void state. "

@@ -84,7 +84,10 @@ TEST(DeckReader, ErrorsAndWarningsNameTheLine) {
   EXPECT_NE(deck_error(bad).find("deck.k:17: node 7 is not defined"), std::string::npos) << deck_error(bad);
   // A keyword that is not read is an error unless it provably changes no
   // result (output requests; *CONTROL_ cards of defaults only).
-  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n*HOURGLASS\n1,4\n").find("deck.k:4: keyword *HOURGLASS is not supported"),
+  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n*HOURGLASS\n1,4\n")
+                .find("deck.k:4: *HOURGLASS is not supported by this fe_server version: per-part hourglass control"),
+            std::string::npos);
+  EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n*DEFINE_BOX\n1,0,1\n").find("deck.k:4: keyword *DEFINE_BOX is not supported"),
             std::string::npos);
   EXPECT_NE(deck_error("*KEYWORD\n*NODE\n1,0,0,0\n*CONTROL_IMPLICIT_GENERAL\n1,1e-3\n")
                 .find("deck.k:5: *CONTROL_IMPLICIT_GENERAL is not supported by this fe_server version and field 1 ('1')"),
@@ -110,12 +113,12 @@ TEST(DeckReader, ErrorsAndWarningsNameTheLine) {
   fe::DeckWarnings w;
   std::string unknown = std::string(kOscillator);
   unknown.insert(unknown.find("*END"), "*DATABASE_BNDOUT\n1e-4\n");
-  unknown.insert(unknown.find("*END"), "*CONTROL_SOLID\n0, 0,\n\n");  // defaults only
+  unknown.insert(unknown.find("*END"), "*CONTROL_ACCURACY\n0, 1,\n\n");  // defaults only (INN 1 is LS-DYNA's)
   fe::parse_deck(unknown, "deck.k", &w);
   ASSERT_EQ(w.messages.size(), 2u);
   EXPECT_NE(w.messages[0].find("deck.k:22: warning: *DATABASE_BNDOUT asks for LS-DYNA's output"), std::string::npos)
       << w.messages[0];
-  EXPECT_NE(w.messages[1].find("deck.k:24: warning: *CONTROL_SOLID is not supported; its cards hold only"),
+  EXPECT_NE(w.messages[1].find("deck.k:24: warning: *CONTROL_ACCURACY is not supported; its cards hold only"),
             std::string::npos)
       << w.messages[1];
 }

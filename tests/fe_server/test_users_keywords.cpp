@@ -152,6 +152,8 @@ TEST(UsersKeywords, RefusalsSayWhyAndWhatToDo) {
                                              "form"},
       {"*MAT_NULL_TITLE\nwater\n3,1000\n", "*MAT_NULL is not supported"},
       {"*SECTION_SHELL\n2,2\n0.001\n", "ELFORM 2: 3D shells are not modelled"},
+      {"*CONTROL_SOLID\n0,1\n", "*CONTROL_SOLID field 2 ('1') is not read by this fe_server version"},
+      {"*CONTROL_SOLID\n2\n", "ESORT 2: 0 or 1"},
   };
   for (const Case& c : cases) {
     const std::string e = deck_error(cube(mat + c.cards));

@@ -528,8 +528,7 @@ def tet4_section(fe_text):
     nh, h, h_max, dt_h, nt, t, t_max, dt_t = int(r[0]), float(r[1]), float(r[2]), float(r[3]), int(r[4]), float(r[5]), \
         float(r[6]), float(r[7])
     per_cell = 6.0 * t / h * dt_h / dt_t
-    return ["## tet4 beside hex8
-",
+    return ["## tet4 beside hex8\n",
             "`bench_fe tet4`: one block of 24³ cells (2 mm, steel, stretching), meshed as hexahedra and as six "
             "tetrahedra per cell, stepped on one core, three interleaved runs each; the fastest of each run's five "
             f"slices, the lowest of the three (the range in brackets); load average "

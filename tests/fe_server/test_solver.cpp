@@ -9,6 +9,7 @@
 #include <thread>
 #include <sstream>
 
+#include "deck_errors.hpp"
 #include "loads/cavity_load.hpp"
 #include "config/port_table.hpp"
 #include "input/deck_reader.hpp"
@@ -45,14 +46,7 @@ spring
 *END
 )";
 
-std::string deck_error(const std::string& text) {
-  try {
-    fe::parse_deck(text, "deck.k");
-  } catch (const config::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using fe_test::deck_error;
 
 }  // namespace
 

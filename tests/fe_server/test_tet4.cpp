@@ -17,6 +17,7 @@
 
 #include "block_decks.hpp"
 #include "config/keyword_reader.hpp"
+#include "deck_errors.hpp"
 #include "elements/element_tet4.hpp"
 #include "input/deck_reader.hpp"
 #include "solver/solver.hpp"
@@ -33,14 +34,7 @@ fe::Mat83 slots(const std::vector<fe::Vec3>& a, const fe::SolidElement& e) {
   return out;
 }
 
-std::string deck_error(const std::string& text) {
-  try {
-    fe::parse_deck(text, "deck.k");
-  } catch (const config::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using fe_test::deck_error;
 
 }  // namespace
 

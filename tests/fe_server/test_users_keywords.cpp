@@ -7,6 +7,7 @@
 #include <string>
 
 #include "config/keyword_reader.hpp"
+#include "deck_errors.hpp"
 #include "input/deck_reader.hpp"
 
 namespace {
@@ -19,14 +20,7 @@ std::string cube(const std::string& rest) {
          rest + "*END\n";
 }
 
-std::string deck_error(const std::string& text) {
-  try {
-    fe::parse_deck(text, "deck.k");
-  } catch (const config::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using fe_test::deck_error;
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 

@@ -275,16 +275,7 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void hex8_kernel(He
   }
   // Plastic lanes: the back stress turns with the body too, then the
   // radial return (element_plasticity.hpp).
-  for (int l = 0; l < W; ++l) {
-    if (!B.plastic[l]) continue;
-    const double w01 = 0.5 * (L[0][1][l] - L[1][0][l]), w12 = 0.5 * (L[1][2][l] - L[2][1][l]),
-                 w02 = 0.5 * (L[0][2][l] - L[2][0][l]);
-    double a[6], t[6];
-    for (int c = 0; c < 6; ++c) a[c] = B.alpha[c][l], t[c] = nsig[c][l];
-    jaumann_rotate(a, w01, w12, w02, dt);
-    radial_return(*B.plastic[l], 0.5 * B.two_mu[l], t, a, B.ep[l]);
-    for (int c = 0; c < 6; ++c) B.alpha[c][l] = a[c], nsig[c][l] = t[c];
-  }
+  plastic_lanes(B, L, nsig, dt);
   // Bulk viscosity, energies; s = σ − q·I, the stress the forces carry.
   double s[6][W];
   for (int l = 0; l < W; ++l) {

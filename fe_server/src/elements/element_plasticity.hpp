@@ -62,4 +62,22 @@ inline double radial_return(const Material& mat, double G, double sigma[6], doub
   return dep;
 }
 
+// The plastic lanes of a batch of solids (element_hex8.hpp's SolidBatch:
+// its plastic, two_mu, alpha and ep per lane): the back stress turns with
+// the body too (the spin of the velocity gradient L), then the trial stress
+// nsig returns to the yield surface, both in place.
+template <class Batch, int W>
+inline void plastic_lanes(Batch& B, const double (&L)[3][3][W], double (&nsig)[6][W], double dt) {
+  for (int l = 0; l < W; ++l) {
+    if (!B.plastic[l]) continue;
+    const double w01 = 0.5 * (L[0][1][l] - L[1][0][l]), w12 = 0.5 * (L[1][2][l] - L[2][1][l]),
+                 w02 = 0.5 * (L[0][2][l] - L[2][0][l]);
+    double a[6], t[6];
+    for (int c = 0; c < 6; ++c) a[c] = B.alpha[c][l], t[c] = nsig[c][l];
+    jaumann_rotate(a, w01, w12, w02, dt);
+    radial_return(*B.plastic[l], 0.5 * B.two_mu[l], t, a, B.ep[l]);
+    for (int c = 0; c < 6; ++c) B.alpha[c][l] = a[c], nsig[c][l] = t[c];
+  }
+}
+
 }  // namespace fe

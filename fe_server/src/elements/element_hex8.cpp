@@ -61,13 +61,11 @@ double hex8_characteristic_length(const Mat83& x, double volume) {
   return a_max > 0.0 ? volume / a_max : 0.0;
 }
 
-double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2) {
-  Mat83 b;
-  double volume = 0.0;
-  if (!hex8_gradients(x, b, volume)) return 0.0;
-  // B (6×24, engineering shear) and the 6×6 product B·Bᵀ.
-  Eigen::Matrix<double, 6, 24> B = Eigen::Matrix<double, 6, 24>::Zero();
-  for (int a = 0; a < 8; ++a) {
+template <int N>
+double stable_step_of_gradients(const Eigen::Matrix<double, N, 3>& b, double lambda, double mu, double rho, double q2) {
+  // B (6×3N, engineering shear) and the 6×6 product B·Bᵀ.
+  Eigen::Matrix<double, 6, 3 * N> B = Eigen::Matrix<double, 6, 3 * N>::Zero();
+  for (int a = 0; a < N; ++a) {
     const double bx = b(a, 0), by = b(a, 1), bz = b(a, 2);
     B(0, 3 * a) = bx, B(1, 3 * a + 1) = by, B(2, 3 * a + 2) = bz;
     B(3, 3 * a) = by, B(3, 3 * a + 1) = bx;
@@ -82,8 +80,17 @@ double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, do
   const Eigen::Matrix<double, 6, 6> L = D.llt().matrixL();
   const Eigen::Matrix<double, 6, 6> S = L.transpose() * G * L;
   const double lmax = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(S, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
-  const double omega = std::sqrt(8.0 * lmax / rho);
+  const double omega = std::sqrt(N * lmax / rho);
   return 2.0 / omega * (std::sqrt(1.0 + q2 * q2) - q2);
+}
+template double stable_step_of_gradients<4>(const Eigen::Matrix<double, 4, 3>&, double, double, double, double);
+template double stable_step_of_gradients<8>(const Eigen::Matrix<double, 8, 3>&, double, double, double, double);
+
+double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2) {
+  Mat83 b;
+  double volume = 0.0;
+  if (!hex8_gradients(x, b, volume)) return 0.0;
+  return stable_step_of_gradients<8>(b, lambda, mu, rho, q2);
 }
 
 Mat83 hex8_gather(const std::vector<Vec3>& a, const SolidElement& e) {

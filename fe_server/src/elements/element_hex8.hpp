@@ -51,6 +51,12 @@ double hex8_characteristic_length(const Mat83& x, double volume);
 // run at ω·Δt > 2. Returns 0 for an inverted element.
 double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2);
 
+// The same for any element of N nodes with constant gradients b (N×3) on
+// lumped masses ρV/N: ω_max² = (N/ρ)·λ_max(D·B·Bᵀ) (N = 8: the hexahedron
+// at its centre; N = 4: the tetrahedron, element_tet4.hpp).
+template <int N>
+double stable_step_of_gradients(const Eigen::Matrix<double, N, 3>& b, double lambda, double mu, double rho, double q2);
+
 // The hex8 elements' state in the solver: stress per element, and what is
 // resolved once for the deformable elements, in their order (`elements`):
 // material constants as arrays, each element's slot for its nodal forces

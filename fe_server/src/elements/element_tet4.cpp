@@ -1,7 +1,5 @@
 #include "elements/element_tet4.hpp"
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -35,22 +33,7 @@ double tet4_stable_step(const Mat83& x, double lambda, double mu, double rho, do
   Eigen::Matrix<double, 4, 3> b;
   double volume = 0.0;
   if (!tet4_gradients(x, b, volume)) return 0.0;
-  Eigen::Matrix<double, 6, 12> B = Eigen::Matrix<double, 6, 12>::Zero();
-  for (int a = 0; a < 4; ++a) {
-    const double bx = b(a, 0), by = b(a, 1), bz = b(a, 2);
-    B(0, 3 * a) = bx, B(1, 3 * a + 1) = by, B(2, 3 * a + 2) = bz;
-    B(3, 3 * a) = by, B(3, 3 * a + 1) = bx;
-    B(4, 3 * a + 1) = bz, B(4, 3 * a + 2) = by;
-    B(5, 3 * a) = bz, B(5, 3 * a + 2) = bx;
-  }
-  Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
-  D.topLeftCorner<3, 3>().setConstant(lambda);
-  for (int i = 0; i < 3; ++i) D(i, i) = lambda + 2.0 * mu, D(i + 3, i + 3) = mu;
-  const Eigen::Matrix<double, 6, 6> L = D.llt().matrixL();
-  const Eigen::Matrix<double, 6, 6> S = L.transpose() * (B * B.transpose()) * L;
-  const double lmax =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(S, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
-  return 2.0 / std::sqrt(4.0 * lmax / rho) * (std::sqrt(1.0 + q2 * q2) - q2);
+  return stable_step_of_gradients<4>(b, lambda, mu, rho, q2);
 }
 
 // Written lane by lane in arrays [..][W], every loop over lanes a vector

@@ -84,6 +84,8 @@ int usage(std::ostream& os, int rc) {
         "                        as viscous hourglass control, solid ELFORM as 1 or 10, ...),\n"
         "                        each listed in the log and the results' attribute approximations;\n"
         "                        without it such a deck is refused (exit 3) saying what it would become\n"
+        "  --check               read the deck (and --ports) as a run would, print what the model holds\n"
+        "                        and its stable step, and exit: 0 if it would run, 3 with every error\n"
         "  --allow-coarse-coupling  run TLM ports whose omega*T exceeds 0.71 (a frequency error above\n"
         "                        10 % by fe_server's estimate), and pressure ports whose table sends the\n"
         "                        host's impedance beyond omega*T = 1 (unstable); otherwise refused at\n"
@@ -244,6 +246,27 @@ void report_fatigue(const fe::History& history, double time, const std::string& 
   const std::string base = out.size() > 3 && out.compare(out.size() - 3, 3, ".h5") == 0 ? out.substr(0, out.size() - 3) : out;
   history.write_fatigue_table(base + "_fatigue.csv", time);
   if (!quiet) std::cout << "fe_server: " << report << "fe_server: every counted element in " << base << "_fatigue.csv\n";
+}
+
+// --check: what the deck holds and the step it allows, without a run.
+int check_summary(const fe::Model& m, const std::string& deck, const std::vector<config::PortTable>& tables) {
+  size_t tets = 0;
+  for (const auto& e : m.solids) tets += e.tet4;
+  const fe::StableStep step = fe::Solver::stable_dt(m);
+  std::cout << "fe_server --check " << deck << ": it would run\n"
+            << "  " << m.node_ids.size() << " nodes; " << m.solids.size() - tets << " hexahedra, " << tets
+            << " tetrahedra, " << m.axis.size() << " axisymmetric quads, " << m.bars.size() << " bars, "
+            << m.discretes.size() << " springs and dampers; " << m.parts.size() << " parts, " << m.materials.size()
+            << " materials, " << m.rigid_bodies.size() << " rigid bodies\n"
+            << "  " << m.contacts.size() << " contacts, " << m.ties.size() << " tied interfaces, "
+            << m.loading_sets.size() << " cavity surfaces (*USER_LOADING_SET), " << tables.size() << " port tables\n"
+            << "  total mass " << m.total_mass() << " kg; stable step " << step.dt * m.dt_scale << " s (TSSFAC "
+            << m.dt_scale << " of " << step.dt << " s, " << step.limited_by << ")";
+  if (tables.empty() && m.end_time > 0.0)
+    std::cout << "; to its end time " << m.end_time << " s: about " << std::ceil(m.end_time / (step.dt * m.dt_scale))
+              << " steps";
+  std::cout << "\n";
+  return fe::kExitOk;
 }
 
 int run_standalone(fe::Model& model, const std::string& out, bool quiet, int threads, const CheckpointOptions& ck) {
@@ -431,7 +454,7 @@ int run_main(int argc, char** argv) {
   fe::ServerOptions opt;
   std::string token_file;
   bool no_token = false;
-  bool accept_energy_error = false, allow_coarse_coupling = false, approximate = false;
+  bool accept_energy_error = false, allow_coarse_coupling = false, approximate = false, check_only = false;
   int threads = 0;  // 0: the default below
   int sessions = 1;
   CheckpointOptions ck;
@@ -454,6 +477,7 @@ int run_main(int argc, char** argv) {
       else if (args.is("--accept-energy-error")) accept_energy_error = true;
       else if (args.is("--allow-coarse-coupling")) allow_coarse_coupling = true;
       else if (args.is("--approximate")) approximate = true;
+      else if (args.is("--check")) check_only = true;
       else if (args.is("--checkpoint")) ck.path = args.value();
       else if (args.is("--checkpoint-every")) ck.every_s = 60.0 * args.real(1e-3, 1e6);
       else if (args.is("--restart")) ck.restart = args.value();
@@ -493,7 +517,7 @@ int run_main(int argc, char** argv) {
       if (!is_loopback(opt.listen_host))
         throw std::invalid_argument("--insecure-no-token is for loopback only, and --listen " + listen +
                                     " is not: give a token with --token-file");
-    } else if (!ports_paths.empty() && opt.token.empty()) {
+    } else if (!ports_paths.empty() && opt.token.empty() && !check_only) {  // --check serves no session
       throw std::invalid_argument("a session needs a token of at least " + std::to_string(config::kMinTokenLength) +
                                   " characters, on loopback too (every local user can reach a loopback port): "
                                   "head -c 24 /dev/urandom | base64 > token && chmod 600 token, then --token-file "
@@ -530,11 +554,21 @@ int run_main(int argc, char** argv) {
     if (ck.enabled()) ck.deck_digest = config::file_sha256(deck);
     if (ports_paths.empty()) {
       fe::check_units(model, {});
+      if (check_only) return check_summary(model, deck, tables);
       return run_standalone(model, out, opt.quiet, threads, ck);
     }
     for (const auto& p : ports_paths) tables.push_back(config::read_port_table(p));
     fe::check_units(model, tables);
     table = config::combine_port_tables(tables);
+    if (check_only) {  // what a session checks before its first step
+      fe::CavityPressureLoad load(model, table);  // every hydraulic port has its surfaces
+      fe::MechanicalLoad mech(model, table);
+      fe::PortMap ports(table, load, mech);
+      std::cout << fe::coupling_stability_text(fe::coupling_stability(model, table, 1.4e9), table, 1.4e9);
+      prepare_step(model, table.dt / table.subcycles, false);
+      const fe::Solver probe(model, table.dt / table.subcycles, dom);  // refuses an unstable step
+      return check_summary(model, deck, tables);
+    }
   } catch (const std::exception& e) {
     std::cerr << "fe_server: " << e.what() << "\n";
     return fe::kExitInput;

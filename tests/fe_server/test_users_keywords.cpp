@@ -4,11 +4,13 @@
 // why. Each form is read against its plain twin, field by field.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <string>
 
 #include "config/keyword_reader.hpp"
 #include "deck_errors.hpp"
 #include "input/deck_reader.hpp"
+#include "process.hpp"
 
 namespace {
 
@@ -160,4 +162,41 @@ TEST(UsersKeywords, RefusalsSayWhyAndWhatToDo) {
   // Frequency-domain outputs are LS-DYNA's own: not "unknown".
   EXPECT_TRUE(has(deck_error(cube(mat + "*DATABASE_FREQUENCY_BINARY_D3PSD\n1\n*FREQUENCY_DOMAIN_SSD\n1\n")),
                   "*FREQUENCY_DOMAIN_SSD is not supported by this fe_server version: frequency-domain"));
+}
+
+// fe_server --check reads a deck (and its port tables) as a run would and
+// says what it holds, or stops with every error, without a run: 0 for a
+// deck that would run, 3 (the input error's code) for one that would not,
+// and 3 for a coupling step the model's stable step cannot take.
+TEST(FeServerCheck, SaysWhatTheDeckHoldsOrWhyItWouldNotRun) {
+  const testing_support::TempDir dir;
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir.file(name)) << text;
+    return dir.file(name);
+  };
+  const std::string good = write("good.k", cube("*MAT_ELASTIC\n1,7850,2e11,0.3\n*SET_SEGMENT\n1\n5,6,7,8\n"
+                                                "*USER_LOADING_SET\n1,PRESSS,1\n*CONTROL_TERMINATION\n1e-4\n"));
+  {
+    testing_support::ChildProcess p({PCS_FE_SERVER_EXE, "--model", good, "--check"});
+    EXPECT_EQ(p.wait(30.0), 0) << p.output();
+    EXPECT_NE(p.output().find("it would run"), std::string::npos) << p.output();
+    EXPECT_NE(p.output().find("8 nodes; 1 hexahedra, 0 tetrahedra"), std::string::npos) << p.output();
+    EXPECT_NE(p.output().find("steps"), std::string::npos) << p.output();
+  }
+  {
+    const std::string bad = write("bad.k", cube("*MAT_NULL\n1,1000\n"));
+    testing_support::ChildProcess p({PCS_FE_SERVER_EXE, "--model", bad, "--check"});
+    EXPECT_EQ(p.wait(30.0), 3) << p.output();
+    EXPECT_NE(p.output().find("*MAT_NULL is not supported"), std::string::npos) << p.output();
+  }
+  {
+    // A 1 cm steel cube's stable step is about 1e-6 s: a 1e-5 s coupling step
+    // in one FE step cannot run.
+    const std::string ports = write("ports.cfg", "$FMU_SETTINGS\nmodel, cube\ntimestep, 1e-5\n$FMU_HOPSAN_PORTS\n"
+                                                 "1, top, Hydraulic\n$FMU_HOPSAN_SEND\n1, pressure\n"
+                                                 "$FMU_HOPSAN_RECEIVE\n1, flow\n");
+    testing_support::ChildProcess p({PCS_FE_SERVER_EXE, "--model", good, "--ports", ports, "--check"});
+    EXPECT_EQ(p.wait(30.0), 3) << p.output();
+    EXPECT_NE(p.output().find("exceeds the stable step"), std::string::npos) << p.output();
+  }
 }

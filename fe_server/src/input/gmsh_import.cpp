@@ -234,6 +234,143 @@ void read_section(Lines& in, const std::string& head, Mesh& mesh) {
   }
 }
 
+// What the front ends (gmsh's .msh, Abaqus' .inp) hand the writer: each
+// volume element's part (0: none) and each face element's surface groups,
+// the groups' names, and faces given as a volume element's face (Abaqus'
+// *SURFACE, already facing out).
+struct Groups {
+  std::vector<int> part_of;                  // per element of the mesh
+  std::vector<std::vector<int>> surfaces_of;  // per element of the mesh
+  std::map<int, std::string> part_names, surface_names;
+  struct Face {
+    int surface;
+    size_t element;
+    std::vector<int> corners;  // of the element's nodes, counter-clockwise seen from outside
+    int line;
+  };
+  std::vector<Face> faces;
+};
+
+GmshDeck keywords_of(const Mesh& mesh, const Groups& g, const std::string& name, const std::string& origin) {
+  // Parts: PID → the kind of its elements (ELFORM 10 or 1) and title.
+  struct PartInfo {
+    int elform = 0;
+    size_t count = 0;
+  };
+  std::map<int, PartInfo> parts;
+  std::vector<std::pair<const Element*, int>> volume;  // element, part
+  std::map<std::vector<long>, std::vector<std::pair<size_t, int>>> face_owner;  // sorted nodes → (volume index, face)
+  std::map<size_t, size_t> volume_index;  // mesh element → index into `volume`
+  std::set<long> used;
+  for (size_t k = 0; k < mesh.elements.size(); ++k) {
+    const Element& e = mesh.elements[k];
+    if (e.dim != 3 || g.part_of[k] == 0) continue;
+    const int pid = g.part_of[k];
+    PartInfo& p = parts[pid];
+    const int elform = e.type == 4 ? 10 : 1;
+    if (p.elform && p.elform != elform)
+      throw InputError({name, e.line}, "part " + std::to_string(pid) +
+                                           " mixes tetrahedra with hexahedra or prisms: one ELFORM per part; put them in two groups");
+    p.elform = elform;
+    ++p.count;
+    for (long n : e.nodes) {
+      if (!mesh.nodes.count(n)) throw InputError({name, e.line}, "element " + std::to_string(e.tag) + ": node " + std::to_string(n) + " is not defined");
+      used.insert(n);
+    }
+    const auto& fs = faces_of(e.type);
+    for (size_t f = 0; f < fs.size(); ++f) {
+      std::vector<long> key;
+      for (int c : fs[f]) key.push_back(e.nodes[static_cast<size_t>(c)]);
+      face_owner[sorted(key)].push_back({volume.size(), static_cast<int>(f)});
+    }
+    volume_index[k] = volume.size();
+    volume.push_back({&e, pid});
+  }
+  if (volume.empty()) throw InputError({name, 1}, "the mesh has no volume elements in a part (mesh it in 3D)");
+
+  // Surfaces: group → segments oriented out of their element.
+  std::map<int, std::vector<std::vector<long>>> surfaces;
+  auto surface_name = [&](int tag) {
+    const auto nm = g.surface_names.find(tag);
+    return "surface " + std::to_string(tag) + (nm != g.surface_names.end() ? " ('" + nm->second + "')" : std::string());
+  };
+  for (size_t k = 0; k < mesh.elements.size(); ++k) {
+    const Element& e = mesh.elements[k];
+    if (e.dim != 2) continue;
+    for (int tag : g.surfaces_of[k]) {
+      const auto owner = face_owner.find(sorted(e.nodes));
+      if (owner == face_owner.end())
+        throw InputError({name, e.line}, surface_name(tag) + ": face " + std::to_string(e.tag) +
+                                             " is no face of a volume element (is the surface meshed on the volume?)");
+      if (owner->second.size() > 1)
+        throw InputError({name, e.line}, surface_name(tag) + ": face " + std::to_string(e.tag) +
+                                             " lies between two volume elements: an inner face has no outside for a pressure or contact");
+      const auto [v, f] = owner->second[0];
+      const Element& ve = *volume[v].first;
+      std::vector<long> seg;
+      for (int c : faces_of(ve.type)[static_cast<size_t>(f)]) seg.push_back(ve.nodes[static_cast<size_t>(c)]);
+      surfaces[tag].push_back(seg);
+    }
+  }
+  for (const Groups::Face& f : g.faces) {
+    if (!volume_index.count(f.element))
+      throw InputError({name, f.line}, surface_name(f.surface) + ": element " + std::to_string(mesh.elements[f.element].tag) +
+                                           " is in no part");
+    std::vector<long> seg;
+    for (int c : f.corners) seg.push_back(mesh.elements[f.element].nodes[static_cast<size_t>(c)]);
+    surfaces[f.surface].push_back(seg);
+  }
+
+  GmshDeck out;
+  std::ostringstream d, s;
+  d << "$ fe_mesh " << origin << " " << name << ": " << used.size() << " nodes\n"
+    << "$ include it from a deck that defines each part's material (*MAT_... with MID = PID)\n*NODE\n";
+  d.precision(17);
+  for (long n : used) {
+    const auto& x = mesh.nodes.at(n);
+    d << n << "," << x[0] << "," << x[1] << "," << x[2] << "\n";
+  }
+  for (const auto& [pid, p] : parts) {
+    const auto nm = g.part_names.find(pid);
+    const std::string title = nm != g.part_names.end() && !nm->second.empty() ? nm->second : "volume " + std::to_string(pid);
+    d << "*PART\n" << title << "\n" << pid << "," << pid << "," << pid << "\n*SECTION_SOLID\n" << pid << "," << p.elform << "\n";
+    s << "  part " << pid << " '" << title << "': " << p.count << (p.elform == 10 ? " tetrahedra" : " hexahedra/prisms")
+      << " (ELFORM " << p.elform << ")\n";
+  }
+  d << "*ELEMENT_SOLID\n";
+  for (const auto& [e, pid] : volume) {
+    d << e->tag << "," << pid;
+    if (e->type == 6) {  // a prism as LS-DYNA's degenerate hexahedron
+      const auto& n = e->nodes;
+      for (long id : {n[0], n[1], n[2], n[2], n[3], n[4], n[5], n[5]}) d << "," << id;
+    } else {
+      for (long id : e->nodes) d << "," << id;
+    }
+    d << "\n";
+    (e->type == 4 ? out.tetrahedra : e->type == 5 ? out.hexahedra : out.prisms) += 1;
+  }
+  for (const auto& [tag, segs] : surfaces) {
+    const auto nm = g.surface_names.find(tag);
+    const std::string title = nm != g.surface_names.end() ? nm->second : "surface " + std::to_string(tag);
+    d << "*SET_SEGMENT_TITLE\n" << title << "\n" << tag << "\n";
+    std::set<long> nodes;
+    for (const auto& q : segs) {
+      d << q[0] << "," << q[1] << "," << q[2] << "," << (q.size() == 4 ? q[3] : q[2]) << "\n";
+      nodes.insert(q.begin(), q.end());
+    }
+    d << "*SET_NODE_LIST_TITLE\n" << title << "\n" << tag << "\n";
+    size_t k = 0;
+    for (long n : nodes) d << n << (++k % 8 == 0 || k == nodes.size() ? "\n" : ",");
+    s << "  surface " << tag << " '" << title << "': " << segs.size() << " segments (segment set " << tag << "), "
+      << nodes.size() << " nodes (node set " << tag << ")\n";
+    out.segments += segs.size();
+  }
+  out.keyword_text = d.str();
+  out.nodes = used.size();
+  out.summary = s.str();
+  return out;
+}
+
 }  // namespace
 
 GmshDeck gmsh_to_keywords(const std::string& text, const std::string& name) {
@@ -251,7 +388,7 @@ GmshDeck gmsh_to_keywords(const std::string& text, const std::string& name) {
   if (!format) throw InputError({name, 1}, "an empty file: not a gmsh mesh");
 
   // The physical groups of each element: 2.2 names one per element, 4.1
-  // those of its entity.
+  // those of its entity. Without physical volumes, each volume entity is a part.
   auto physicals_of = [&](const Element& e) -> std::vector<int> {
     if (mesh.version == 2.2) return e.physical ? std::vector<int>{e.physical} : std::vector<int>{};
     const auto it = mesh.entity_physicals.find({e.dim, e.entity});
@@ -260,118 +397,25 @@ GmshDeck gmsh_to_keywords(const std::string& text, const std::string& name) {
   bool physical_volumes = false;
   for (const Element& e : mesh.elements)
     if (e.dim == 3 && !physicals_of(e).empty()) physical_volumes = true;
-
-  // Parts: PID → the kind of its elements (ELFORM 10 or 1) and title.
-  struct PartInfo {
-    int elform = 0;
-    std::string title;
-    size_t count = 0;
-  };
-  std::map<int, PartInfo> parts;
-  std::vector<std::pair<const Element*, int>> volume;  // element, part
-  std::map<std::vector<long>, std::vector<std::pair<size_t, int>>> face_owner;  // sorted nodes → (volume index, face)
-  std::set<long> used;
-  for (const Element& e : mesh.elements) {
-    if (e.dim != 3) continue;
+  Groups g;
+  g.part_of.assign(mesh.elements.size(), 0);
+  g.surfaces_of.resize(mesh.elements.size());
+  for (size_t k = 0; k < mesh.elements.size(); ++k) {
+    const Element& e = mesh.elements[k];
     const std::vector<int> ph = physicals_of(e);
-    if (physical_volumes && ph.empty()) continue;  // gmsh saves only the physical groups' elements anyway
-    if (ph.size() > 1)
-      throw InputError({name, e.line}, "volume entity " + std::to_string(e.entity) + " is in " + std::to_string(ph.size()) +
-                                           " physical volumes: an element belongs to one part");
-    const int pid = physical_volumes ? ph[0] : e.entity;
-    PartInfo& p = parts[pid];
-    const int elform = e.type == 4 ? 10 : 1;
-    if (p.elform && p.elform != elform)
-      throw InputError({name, e.line}, "part " + std::to_string(pid) +
-                                           " mixes tetrahedra with hexahedra or prisms: one ELFORM per part; put them in two physical volumes");
-    p.elform = elform;
-    ++p.count;
-    const auto nm = mesh.physical_names.find({3, pid});
-    p.title = physical_volumes && nm != mesh.physical_names.end() && !nm->second.empty() ? nm->second
-                                                                                          : "volume " + std::to_string(pid);
-    for (long n : e.nodes) {
-      if (!mesh.nodes.count(n)) throw InputError({name, e.line}, "element " + std::to_string(e.tag) + ": node " + std::to_string(n) + " is not in $Nodes");
-      used.insert(n);
-    }
-    const auto& fs = faces_of(e.type);
-    for (size_t f = 0; f < fs.size(); ++f) {
-      std::vector<long> key;
-      for (int k : fs[f]) key.push_back(e.nodes[static_cast<size_t>(k)]);
-      face_owner[sorted(key)].push_back({volume.size(), static_cast<int>(f)});
-    }
-    volume.push_back({&e, pid});
-  }
-  if (volume.empty()) throw InputError({name, 1}, "the mesh has no volume elements (mesh it in 3D: gmsh -3)");
-
-  // Surfaces: physical tag → segments oriented out of their element.
-  std::map<int, std::vector<std::vector<long>>> surfaces;
-  for (const Element& e : mesh.elements) {
-    if (e.dim != 2) continue;
-    for (int tag : physicals_of(e)) {
-      const auto owner = face_owner.find(sorted(e.nodes));
-      const auto nm = mesh.physical_names.find({2, tag});
-      const std::string what = "physical surface " + std::to_string(tag) +
-                               (nm != mesh.physical_names.end() ? " ('" + nm->second + "')" : std::string());
-      if (owner == face_owner.end())
-        throw InputError({name, e.line}, what + ": face " + std::to_string(e.tag) +
-                                             " is no face of a volume element (is the surface meshed on the volume?)");
-      if (owner->second.size() > 1)
-        throw InputError({name, e.line}, what + ": face " + std::to_string(e.tag) +
-                                             " lies between two volume elements: an inner face has no outside for a pressure or contact");
-      const auto [k, f] = owner->second[0];
-      const Element& v = *volume[k].first;
-      std::vector<long> seg;
-      for (int c : faces_of(v.type)[static_cast<size_t>(f)]) seg.push_back(v.nodes[static_cast<size_t>(c)]);
-      surfaces[tag].push_back(seg);
+    if (e.dim == 3) {
+      if (ph.size() > 1)
+        throw InputError({name, e.line}, "volume entity " + std::to_string(e.entity) + " is in " +
+                                             std::to_string(ph.size()) + " physical volumes: an element belongs to one part");
+      g.part_of[k] = physical_volumes ? (ph.empty() ? 0 : ph[0]) : e.entity;
+    } else if (e.dim == 2) {
+      g.surfaces_of[k] = ph;
     }
   }
-
-  GmshDeck out;
-  std::ostringstream d, s;
-  d << "$ fe_mesh --from-gmsh " << name << ": " << used.size() << " nodes\n"
-    << "$ include it from a deck that defines each part's material (*MAT_... with MID = PID)\n*NODE\n";
-  d.precision(17);
-  for (long n : used) {
-    const auto& x = mesh.nodes.at(n);
-    d << n << "," << x[0] << "," << x[1] << "," << x[2] << "\n";
-  }
-  for (const auto& [pid, p] : parts) {
-    d << "*PART\n" << p.title << "\n" << pid << "," << pid << "," << pid << "\n*SECTION_SOLID\n" << pid << "," << p.elform << "\n";
-    s << "  part " << pid << " '" << p.title << "': " << p.count << (p.elform == 10 ? " tetrahedra" : " hexahedra/prisms")
-      << " (ELFORM " << p.elform << ")\n";
-  }
-  d << "*ELEMENT_SOLID\n";
-  for (const auto& [e, pid] : volume) {
-    d << e->tag << "," << pid;
-    if (e->type == 6) {  // a prism as LS-DYNA's degenerate hexahedron
-      const auto& n = e->nodes;
-      for (long id : {n[0], n[1], n[2], n[2], n[3], n[4], n[5], n[5]}) d << "," << id;
-    } else {
-      for (long id : e->nodes) d << "," << id;
-    }
-    d << "\n";
-    (e->type == 4 ? out.tetrahedra : e->type == 5 ? out.hexahedra : out.prisms) += 1;
-  }
-  for (const auto& [tag, segs] : surfaces) {
-    const auto nm = mesh.physical_names.find({2, tag});
-    const std::string title = nm != mesh.physical_names.end() ? nm->second : "surface " + std::to_string(tag);
-    d << "*SET_SEGMENT_TITLE\n" << title << "\n" << tag << "\n";
-    std::set<long> nodes;
-    for (const auto& g : segs) {
-      d << g[0] << "," << g[1] << "," << g[2] << "," << (g.size() == 4 ? g[3] : g[2]) << "\n";
-      nodes.insert(g.begin(), g.end());
-    }
-    d << "*SET_NODE_LIST_TITLE\n" << title << "\n" << tag << "\n";
-    size_t k = 0;
-    for (long n : nodes) d << n << (++k % 8 == 0 || k == nodes.size() ? "\n" : ",");
-    s << "  surface " << tag << " '" << title << "': " << segs.size() << " segments (segment set " << tag
-      << "), " << nodes.size() << " nodes (node set " << tag << ")\n";
-    out.segments += segs.size();
-  }
-  out.keyword_text = d.str();
-  out.nodes = used.size();
-  out.summary = s.str();
-  return out;
+  for (const auto& [key, nm] : mesh.physical_names)
+    (key.first == 3 ? g.part_names : g.surface_names)[key.second] = nm;
+  if (!physical_volumes) g.part_names.clear();
+  return keywords_of(mesh, g, name, "--from-gmsh");
 }
 
 }  // namespace fe

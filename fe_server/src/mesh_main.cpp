@@ -1,5 +1,5 @@
 // fe_mesh: bodies of revolution → keyword mesh (nodes, elements, face sets);
-// or a gmsh mesh → keyword mesh (input/gmsh_import.hpp).
+// or a gmsh mesh or an Abaqus input → keyword mesh (input/mesh_import.hpp).
 //
 //   fe_mesh --from-gmsh part.msh -o mesh.k
 //   fe_mesh --sections "L,ro[,ri]; L,ro[,ri]; ..." [--size h] [--part PID] [--z0 Z]
@@ -20,18 +20,20 @@
 #include "config/cli.hpp"
 #include "config/version.hpp"
 #include "config/keyword_reader.hpp"
-#include "input/gmsh_import.hpp"
+#include "input/mesh_import.hpp"
 #include "input/mesher.hpp"
 
 namespace {
 
 const char* kUsage =
     "usage: fe_mesh --sections \"L,ro[,ri]/L,ro[,ri]/...\" -o mesh.k [options]\n"
-    "       fe_mesh --from-gmsh part.msh -o mesh.k\n"
+    "       fe_mesh --from-gmsh part.msh -o mesh.k    (or --from-abaqus part.inp)\n"
     "  --from-gmsh FILE    a gmsh mesh (ASCII .msh 4.1 or 2.2, e.g. gmsh -3 part.geo): physical volumes\n"
     "                      become parts (PID = tag; tetrahedra ELFORM 10, hexahedra and prisms ELFORM 1),\n"
     "                      physical surfaces segment and node sets (SID = tag, segments facing out);\n"
     "                      the including deck gives the materials (MID = PID)\n"
+    "  --from-abaqus FILE  the same from an Abaqus .inp (flattened): solid sections' or solids' element\n"
+    "                      sets become parts, *SURFACEs and sets of face elements segment and node sets\n"
     "  --sections T        the body's sections from z0 up: length, outer radius and optional inner\n"
     "                      radius, in metres; sections separated by '/' (or ';')\n"
     "  -o FILE             the keyword mesh to write (*NODE, elements, face and node sets)\n"
@@ -63,13 +65,14 @@ int main(int argc, char** argv) {
     }
   }
   fe::RevolutionMeshOptions opt;
-  std::string sections, out, gmsh;
+  std::string sections, out, gmsh, abaqus;
   bool axisymmetric = false;
   try {
     config::Args args(argc, argv);
     while (args.next()) {
       if (args.is("--sections")) sections = args.value();
       else if (args.is("--from-gmsh")) gmsh = args.value();
+      else if (args.is("--from-abaqus")) abaqus = args.value();
       else if (args.is("--size")) opt.element_size = args.real();
       else if (args.is("--axial-size")) opt.axial_size = args.real();
       else if (args.is("--part")) opt.part = args.integer();
@@ -86,9 +89,12 @@ int main(int argc, char** argv) {
       else if (args.is("-o")) out = args.value();
       else args.unknown();
     }
-    if (!gmsh.empty()) {
-      if (out.empty() || !sections.empty()) throw std::invalid_argument("--from-gmsh takes -o and no --sections");
-      const fe::GmshDeck deck = fe::gmsh_to_keywords(config::read_text_file(gmsh, "gmsh mesh"), gmsh);
+    if (!gmsh.empty() || !abaqus.empty()) {
+      if (out.empty() || !sections.empty() || (!gmsh.empty() && !abaqus.empty()))
+        throw std::invalid_argument("--from-gmsh or --from-abaqus takes -o and no --sections");
+      const fe::GmshDeck deck =
+          gmsh.empty() ? fe::abaqus_to_keywords(config::read_text_file(abaqus, "Abaqus input"), abaqus)
+                       : fe::gmsh_to_keywords(config::read_text_file(gmsh, "gmsh mesh"), gmsh);
       std::ofstream f(out);
       f << deck.keyword_text;
       if (!f) throw std::runtime_error("cannot write " + out);

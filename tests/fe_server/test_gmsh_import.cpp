@@ -1,4 +1,4 @@
-// gmsh meshes as keyword meshes (input/gmsh_import.hpp). The tool-like
+// gmsh meshes as keyword meshes (input/mesh_import.hpp). The tool-like
 // hollow cylinder tests/fe_server/gmsh/tool.geo is meshed by gmsh 4.8.4
 // (Debian's) into tool.msh, committed; CTest's gmsh.tool_meshes_and_runs
 // meshes it afresh where gmsh is installed. Each check is one the mesh
@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <set>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -16,7 +18,7 @@
 #include "config/keyword_reader.hpp"
 #include "config/port_table.hpp"
 #include "input/deck_reader.hpp"
-#include "input/gmsh_import.hpp"
+#include "input/mesh_import.hpp"
 #include "loads/cavity_load.hpp"
 #include "model/model.hpp"
 #include "solver/solver.hpp"
@@ -24,6 +26,8 @@
 namespace {
 
 const std::string kTool = std::string(PCS_SOURCE_DIR) + "/tests/fe_server/gmsh/tool.msh";
+// The same gmsh mesh written as an Abaqus input (gmsh -3 tool.geo -format inp).
+const std::string kToolInp = std::string(PCS_SOURCE_DIR) + "/tests/fe_server/gmsh/tool.inp";
 
 std::string import_error(const std::string& text) {
   try {
@@ -176,4 +180,90 @@ TEST(GmshImport, RefusalsNameTheLine) {
   missing.replace(missing.find("$Nodes\n4\n"), 9, "$Nodes\n3\n");
   EXPECT_NE(import_error(missing).find("m.msh:18: element 2: node 4 is not defined"), std::string::npos) << import_error(missing);
   EXPECT_NE(import_error("$Nodes\n").find("m.msh:1: a gmsh mesh begins with $MeshFormat"), std::string::npos);
+}
+
+// The tool's mesh through both front ends: gmsh's .msh and the Abaqus input
+// gmsh wrote of the same mesh must give the same nodes, the same
+// tetrahedra and, set by set (matched by name), the same segments facing
+// the same way.
+TEST(AbaqusImport, TheSameMeshAsAnAbaqusInputReadsAsItsGmshTwin) {
+  const auto material = "*MAT_ELASTIC\n1,7850,2e11,0.3\n*END\n";
+  const fe::Model a = fe::parse_deck(
+      "*KEYWORD\n" + fe::gmsh_to_keywords(config::read_text_file(kTool, "mesh"), kTool).keyword_text + material, "a.k");
+  const fe::Model b = fe::parse_deck(
+      "*KEYWORD\n" + fe::abaqus_to_keywords(config::read_text_file(kToolInp, "mesh"), kToolInp).keyword_text + material,
+      "b.k");
+  ASSERT_EQ(a.node_ids.size(), b.node_ids.size());
+  for (size_t i = 0; i < a.node_ids.size(); ++i) {
+    const size_t j = static_cast<size_t>(b.node_index.at(a.node_ids[i]));
+    EXPECT_LT((a.x0[i] - b.x0[j]).norm(), 1e-12) << "node " << a.node_ids[i];
+  }
+  ASSERT_EQ(a.solids.size(), b.solids.size());
+  std::set<std::array<int, 8>> ea, eb;
+  for (const auto& e : a.solids) {
+    std::array<int, 8> n;
+    for (int k = 0; k < 8; ++k) n[static_cast<size_t>(k)] = a.node_ids[static_cast<size_t>(e.n[k])];
+    ea.insert(n);
+  }
+  for (const auto& e : b.solids) {
+    std::array<int, 8> n;
+    for (int k = 0; k < 8; ++k) n[static_cast<size_t>(k)] = b.node_ids[static_cast<size_t>(e.n[k])];
+    eb.insert(n);
+  }
+  EXPECT_TRUE(ea == eb) << "the same tetrahedra, node for node";
+  // Segment sets by title: 11/12/13 from gmsh's physical tags, 1/2/3 from the input's order.
+  for (const auto& [ta, tb] : {std::pair<int, int>{11, 1}, {12, 2}, {13, 3}}) {
+    const auto &sa = a.segment_sets.at(ta), &sb = b.segment_sets.at(tb);
+    ASSERT_EQ(sa.size(), sb.size()) << ta;
+    fe::Vec3 va = fe::Vec3::Zero(), vb = fe::Vec3::Zero();
+    double aa = 0.0, ab = 0.0;
+    for (const auto& seg : sa) va += fe::segment_area_vector(seg, a.x0), aa += fe::segment_area_vector(seg, a.x0).norm();
+    for (const auto& seg : sb) vb += fe::segment_area_vector(seg, b.x0), ab += fe::segment_area_vector(seg, b.x0).norm();
+    EXPECT_NEAR(aa, ab, 1e-12 * aa) << ta;
+    EXPECT_LT((va - vb).norm(), 1e-12 * aa) << ta << ": the same way out";
+  }
+}
+
+// A hexahedron in an Abaqus input: *SOLID SECTION names the part, a
+// *SURFACE of all six faces S1-S6 faces out of it (the faces close: their
+// area vectors sum to 0, each points away from the centre), an element set
+// by GENERATE, a data line continued after a trailing comma; what is not a
+// mesh is listed as not converted; what it refuses names the line.
+TEST(AbaqusImport, FacesByNumberFaceOutAndRefusalsNameTheLine) {
+  const std::string inp =
+      "*HEADING\ncube\n*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n5,0,0,1\n6,1,0,1\n7,1,1,1\n8,0,1,1\n"
+      "*ELEMENT, TYPE=C3D8R\n7, 1, 2, 3, 4,\n5, 6, 7, 8\n*ELSET, ELSET=block, GENERATE\n7, 7, 1\n"
+      "*SOLID SECTION, ELSET=block, MATERIAL=steel\n*SURFACE, NAME=skin\nblock, S1\nblock, S2\nblock, S3\n"
+      "7, S4\n7, S5\n7, S6\n*MATERIAL, NAME=steel\n*ELASTIC\n2e11, 0.3\n";
+  const fe::GmshDeck d = fe::abaqus_to_keywords(inp, "c.inp");
+  EXPECT_NE(d.summary.find("part 1 'block': 1 hexahedra"), std::string::npos) << d.summary;
+  EXPECT_NE(d.summary.find("not converted (fe_mesh takes the mesh only): *ELASTIC *MATERIAL"), std::string::npos) << d.summary;
+  const fe::Model m = fe::parse_deck("*KEYWORD\n" + d.keyword_text + "*MAT_ELASTIC\n1,7850,2e11,0.3\n*END\n", "c.k");
+  const auto& skin = m.segment_sets.at(1);
+  ASSERT_EQ(skin.size(), 6u);
+  fe::Vec3 sum = fe::Vec3::Zero();
+  for (const auto& seg : skin) {
+    const fe::Vec3 a = fe::segment_area_vector(seg, m.x0);
+    fe::Vec3 c = fe::Vec3::Zero();
+    for (int k = 0; k < 4; ++k) c += 0.25 * m.x0[static_cast<size_t>(seg.n[k])];
+    EXPECT_GT(a.dot(c - fe::Vec3(0.5, 0.5, 0.5)), 0.0) << "out of the cube";
+    EXPECT_NEAR(a.norm(), 1.0, 1e-12);
+    sum += a;
+  }
+  EXPECT_LT(sum.norm(), 1e-12);
+  auto error = [](const std::string& text) {
+    try {
+      fe::abaqus_to_keywords(text, "e.inp");
+    } catch (const config::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("*NODE\n1,0,0,0\n*ELEMENT, TYPE=C3D10\n").find("e.inp:3: element type C3D10"), std::string::npos);
+  EXPECT_NE(error("*PART, NAME=p\n").find("e.inp:1: *PART: an input of parts and an assembly"), std::string::npos);
+  EXPECT_NE(error(inp + "*SURFACE, NAME=s2\nnowhere, S1\n").find("e.inp:29: element set nowhere is not defined"),
+            std::string::npos)
+      << error(inp + "*SURFACE, NAME=s2\nnowhere, S1\n");
+  EXPECT_NE(error("*NODE\n1,0,0,0\n*ELEMENT, TYPE=C3D4\n1, 1, 1, 1\n").find("e.inp:4: element 1: 3 nodes where C3D4 has 4"),
+            std::string::npos);
 }

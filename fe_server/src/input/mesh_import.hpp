@@ -1,3 +1,5 @@
+// Meshes from meshers as keyword meshes: gmsh's and Abaqus' (below).
+//
 // A gmsh mesh (.msh, ASCII, format 4.1 or 2.2: what gmsh writes, e.g.
 // `gmsh -3 part.geo -format msh41`) as a keyword mesh for *INCLUDE:
 //
@@ -32,5 +34,15 @@ struct GmshDeck {
 
 // Throws config::InputError (file:line) for what it refuses.
 GmshDeck gmsh_to_keywords(const std::string& text, const std::string& name);
+
+// The same from an Abaqus input (.inp, flattened: no *PART/*ASSEMBLY), as
+// most meshers write it: *NODE, *ELEMENT (C3D4, C3D8/R/I, C3D6; 3- and
+// 4-node face elements), *ELSET (GENERATE too), *SURFACE of element faces
+// (S1..), *SOLID SECTION. Parts: the solid sections' element sets; without
+// sections the *ELSETs of solids (gmsh's physical volumes), else the sets
+// named on *ELEMENT lines; PIDs 1.. in that order, the set's name the title.
+// Surfaces: each *SURFACE, then each element set of face elements, SIDs 1..
+// in that order. Materials, steps and loads are not converted (listed).
+GmshDeck abaqus_to_keywords(const std::string& text, const std::string& name);
 
 }  // namespace fe

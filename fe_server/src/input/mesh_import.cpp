@@ -1,6 +1,8 @@
-#include "input/gmsh_import.hpp"
+#include "input/mesh_import.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <cstdlib>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -372,6 +374,266 @@ GmshDeck keywords_of(const Mesh& mesh, const Groups& g, const std::string& name,
 }
 
 }  // namespace
+
+namespace {
+
+std::string upper(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+std::string trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
+  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+// A data line's comma-separated fields (a trailing comma leaves no field).
+std::vector<std::string> fields(const std::string& line) {
+  std::vector<std::string> f;
+  std::string cur;
+  std::istringstream in(line);
+  while (std::getline(in, cur, ',')) f.push_back(trim(cur));
+  while (!f.empty() && f.back().empty()) f.pop_back();
+  return f;
+}
+
+// Abaqus' element types this reader takes, as gmsh's type codes.
+int abaqus_type(const std::string& t) {
+  static const std::map<std::string, int> types = {
+      {"C3D4", 4},  {"C3D8", 5},  {"C3D8R", 5}, {"C3D8I", 5}, {"C3D6", 6},  {"CPS3", 2},  {"CPE3", 2},
+      {"S3", 2},    {"S3R", 2},   {"M3D3", 2},  {"STRI3", 2}, {"R3D3", 2},  {"SFM3D3", 2}, {"CPS4", 3},
+      {"CPE4", 3},  {"S4", 3},    {"S4R", 3},   {"M3D4", 3},  {"M3D4R", 3}, {"R3D4", 3},  {"SFM3D4", 3}};
+  const auto it = types.find(upper(t));
+  return it == types.end() ? 0 : it->second;
+}
+
+// Abaqus' faces S1.. of its solids as sets of the element's corners (from 0).
+const std::vector<std::vector<int>>& abaqus_faces(int type) {
+  static const std::vector<std::vector<int>> tet = {{0, 1, 2}, {0, 1, 3}, {1, 2, 3}, {0, 2, 3}};
+  static const std::vector<std::vector<int>> hex = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 4, 5},
+                                                    {1, 2, 5, 6}, {2, 3, 6, 7}, {0, 3, 4, 7}};
+  static const std::vector<std::vector<int>> prism = {{0, 1, 2}, {3, 4, 5}, {0, 1, 3, 4}, {1, 2, 4, 5}, {0, 2, 3, 5}};
+  return type == 4 ? tet : type == 5 ? hex : prism;
+}
+
+}  // namespace
+
+GmshDeck abaqus_to_keywords(const std::string& text, const std::string& name) {
+  Mesh mesh;
+  std::map<long, size_t> element_index;             // element id → index in mesh.elements
+  std::vector<std::pair<std::string, std::vector<long>>> elsets;  // in order of definition
+  std::map<std::string, size_t> elset_index;
+  std::set<std::string> line_elsets;                // elsets named on *ELEMENT lines
+  std::vector<std::pair<std::string, int>> sections;  // *SOLID SECTION elsets, with their lines
+  struct SurfaceLine {
+    std::string surface, target, face;
+    int line;
+  };
+  std::vector<SurfaceLine> surface_lines;
+  std::vector<std::string> surface_order;
+  std::map<std::string, size_t> ignored;  // keywords not converted → count
+  std::istringstream in(text);
+  std::string raw, keyword;
+  std::map<std::string, std::string> options;
+  int line = 0;
+  int type = 0;
+  std::vector<std::string> pending;  // an element's fields across continued lines
+  int pending_line = 0;
+  auto elset = [&](const std::string& n) -> std::vector<long>& {
+    const std::string key = upper(n);
+    if (!elset_index.count(key)) {
+      elset_index[key] = elsets.size();
+      elsets.push_back({n, {}});
+    }
+    return elsets[elset_index[key]].second;
+  };
+  auto fail = [&](const std::string& m) { throw InputError({name, line}, m); };
+  auto integer = [&](const std::string& f, const char* what) {
+    char* end = nullptr;
+    const long v = std::strtol(f.c_str(), &end, 10);
+    if (f.empty() || *end) fail(std::string(what) + " '" + f + "' is not an integer");
+    return v;
+  };
+  auto real = [&](const std::string& f, const char* what) {
+    char* end = nullptr;
+    const double v = std::strtod(f.c_str(), &end);
+    if (f.empty() || *end || !std::isfinite(v)) fail(std::string(what) + " '" + f + "' is not a finite number");
+    return v;
+  };
+  while (std::getline(in, raw)) {
+    ++line;
+    if (!raw.empty() && raw.back() == '\r') raw.pop_back();
+    const std::string t = trim(raw);
+    if (t.empty() || t.rfind("**", 0) == 0) continue;
+    if (t[0] == '*') {
+      if (!pending.empty()) fail("element " + pending[0] + " (line " + std::to_string(pending_line) + ") lacks nodes");
+      const auto f = fields(t);
+      keyword = upper(f[0]);
+      options.clear();
+      for (size_t k = 1; k < f.size(); ++k) {
+        const size_t eq = f[k].find('=');
+        options[upper(trim(f[k].substr(0, eq)))] = eq == std::string::npos ? "" : trim(f[k].substr(eq + 1));
+      }
+      if (keyword == "*PART" || keyword == "*INSTANCE" || keyword == "*ASSEMBLY")
+        fail(keyword + ": an input of parts and an assembly; write it flattened (Abaqus/CAE: without parts and "
+                       "assembly) or mesh with gmsh");
+      if (keyword == "*ELEMENT") {
+        type = abaqus_type(options["TYPE"]);
+        if (type == 0)
+          fail("element type " + options["TYPE"] + ": fe_mesh reads C3D4, C3D8(R, I), C3D6 and 3- and 4-node faces "
+               "(first order; C3D10 and C3D20 are second order)");
+        if (options.count("ELSET")) line_elsets.insert(upper(options["ELSET"])), elset(options["ELSET"]);
+      } else if (keyword == "*SOLID SECTION") {
+        if (!options.count("ELSET")) fail("*SOLID SECTION without ELSET");
+        sections.push_back({options["ELSET"], line});
+      } else if (keyword == "*SURFACE") {
+        if (options.count("TYPE") && upper(options["TYPE"]) != "ELEMENT") fail("*SURFACE, TYPE=" + options["TYPE"] + ": only element-face surfaces are read");
+        if (!options.count("NAME")) fail("*SURFACE without NAME");
+        surface_order.push_back(options["NAME"]);
+      } else if (keyword != "*NODE" && keyword != "*ELSET" && keyword != "*HEADING") {
+        ++ignored[keyword];
+      }
+      continue;
+    }
+    if (keyword == "*NODE") {
+      const auto f = fields(t);
+      if (f.size() < 3) fail("a node needs its id and coordinates");
+      mesh.nodes[integer(f[0], "the node id")] = {real(f[1], "x"), real(f[2], "y"), f.size() > 3 ? real(f[3], "z") : 0.0};
+    } else if (keyword == "*ELEMENT") {
+      const bool more = t.back() == ',';
+      if (pending.empty()) pending_line = line;
+      for (const auto& f : fields(t)) pending.push_back(f);
+      const size_t need = static_cast<size_t>(node_count(type)) + 1;
+      if (pending.size() < need && more) continue;
+      if (pending.size() != need)
+        throw InputError({name, pending_line}, "element " + pending[0] + ": " + std::to_string(pending.size() - 1) +
+                                                   " nodes where " + options["TYPE"] + " has " + std::to_string(need - 1));
+      Element e;
+      e.tag = integer(pending[0], "the element id");
+      e.type = type;
+      e.dim = dimension(type);
+      e.line = pending_line;
+      for (size_t k = 1; k < need; ++k) e.nodes.push_back(integer(pending[k], "a node id"));
+      if (element_index.count(e.tag)) throw InputError({name, pending_line}, "element " + pending[0] + " defined twice");
+      element_index[e.tag] = mesh.elements.size();
+      mesh.elements.push_back(e);
+      if (options.count("ELSET")) elset(options["ELSET"]).push_back(e.tag);
+      pending.clear();
+    } else if (keyword == "*ELSET") {
+      if (!options.count("ELSET")) fail("*ELSET without ELSET=");
+      auto& set = elset(options["ELSET"]);
+      const auto f = fields(t);
+      if (options.count("GENERATE")) {
+        if (f.size() < 2) fail("GENERATE needs first, last[, step]");
+        const long a = integer(f[0], "first"), b = integer(f[1], "last"), step = f.size() > 2 ? integer(f[2], "step") : 1;
+        if (step <= 0 || b < a) fail("GENERATE " + t + ": an empty or endless range");
+        for (long id = a; id <= b; id += step) set.push_back(id);
+      } else {
+        for (const auto& x : f) {
+          if (!x.empty() && (std::isdigit(static_cast<unsigned char>(x[0])) || x[0] == '-')) set.push_back(integer(x, "an element id"));
+          else if (elset_index.count(upper(x))) {
+            const auto other = elsets[elset_index[upper(x)]].second;
+            set.insert(set.end(), other.begin(), other.end());
+          } else fail("element set " + x + " is not defined above");
+        }
+      }
+    } else if (keyword == "*SURFACE") {
+      const auto f = fields(t);
+      if (f.size() != 2) fail("a surface line is an element set (or element) and a face, S1 to S6");
+      surface_lines.push_back({surface_order.back(), f[0], upper(f[1]), line});
+    }
+  }
+  if (!pending.empty()) throw InputError({name, pending_line}, "element " + pending[0] + " lacks nodes");
+
+  Groups g;
+  g.part_of.assign(mesh.elements.size(), 0);
+  g.surfaces_of.resize(mesh.elements.size());
+  auto members = [&](const std::string& set, int at) -> const std::vector<long>& {
+    const auto it = elset_index.find(upper(set));
+    if (it == elset_index.end()) throw InputError({name, at}, "element set " + set + " is not defined");
+    return elsets[it->second].second;
+  };
+  auto index_of = [&](long id, int at) {
+    const auto it = element_index.find(id);
+    if (it == element_index.end()) throw InputError({name, at}, "element " + std::to_string(id) + " is not defined");
+    return it->second;
+  };
+  // Parts: the solid sections' element sets; else the element sets of
+  // volume elements written as *ELSET (gmsh's physical volumes); else
+  // those named on *ELEMENT lines.
+  std::vector<std::pair<std::string, int>> part_sets = sections;
+  auto volume_only = [&](const std::vector<long>& ids) {
+    for (long id : ids)
+      if (!element_index.count(id) || mesh.elements[element_index[id]].dim != 3) return false;
+    return !ids.empty();
+  };
+  if (part_sets.empty())
+    for (const bool listed : {true, false}) {  // listed: written as *ELSET
+      for (const auto& [n, ids] : elsets)
+        if ((line_elsets.count(upper(n)) == 0) == listed && volume_only(ids)) part_sets.push_back({n, 0});
+      if (!part_sets.empty()) break;
+    }
+  int pid = 0;
+  for (const auto& [set, at] : part_sets) {
+    g.part_names[++pid] = set;
+    for (long id : members(set, at)) {
+      const size_t k = index_of(id, at);
+      if (mesh.elements[k].dim != 3) continue;
+      if (g.part_of[k] != 0)
+        throw InputError({name, mesh.elements[k].line}, "element " + std::to_string(id) + " is in two parts (" +
+                                                            g.part_names[g.part_of[k]] + " and " + set + ")");
+      g.part_of[k] = pid;
+    }
+  }
+  // Surfaces: *SURFACE's faces, and element sets of face elements.
+  int sid = 0;
+  std::map<std::string, int> surface_tag;
+  for (const std::string& n : surface_order) surface_tag[upper(n)] = ++sid, g.surface_names[sid] = n;
+  for (const SurfaceLine& sl : surface_lines) {
+    if (sl.face.size() < 2 || sl.face[0] != 'S') throw InputError({name, sl.line}, "face " + sl.face + ": S1 to S6");
+    const int face = std::atoi(sl.face.c_str() + 1) - 1;
+    std::vector<long> ids;
+    if (std::isdigit(static_cast<unsigned char>(sl.target[0]))) ids.push_back(std::atol(sl.target.c_str()));
+    else ids = members(sl.target, sl.line);
+    for (long id : ids) {
+      const size_t k = index_of(id, sl.line);
+      const Element& e = mesh.elements[k];
+      if (e.dim != 3) throw InputError({name, sl.line}, "element " + std::to_string(id) + " is no solid: its faces S1.. are not solid faces");
+      const auto& faces = abaqus_faces(e.type);
+      if (face < 0 || face >= static_cast<int>(faces.size()))
+        throw InputError({name, sl.line}, "face " + sl.face + " of element " + std::to_string(id) + ": it has S1 to S" + std::to_string(faces.size()));
+      // The same corners in the outward order of faces_of.
+      std::vector<int> want = faces[static_cast<size_t>(face)];
+      for (const auto& f : faces_of(e.type)) {
+        std::vector<int> have = f;
+        std::sort(have.begin(), have.end());
+        if (have == want) g.faces.push_back({surface_tag[upper(sl.surface)], k, f, sl.line});
+      }
+    }
+  }
+  // (As for parts: the *ELSETs of faces if there are any, else the sets
+  // named on *ELEMENT lines; gmsh writes both for one physical surface.)
+  auto faces_only = [&](const std::vector<long>& ids) {
+    for (long id : ids)
+      if (!element_index.count(id) || mesh.elements[element_index[id]].dim != 2) return false;
+    return !ids.empty();
+  };
+  for (const bool listed : {true, false}) {
+    bool any = false;
+    for (const auto& [n, ids] : elsets) {
+      if ((line_elsets.count(upper(n)) == 0) != listed || !faces_only(ids)) continue;
+      any = true;
+      g.surface_names[++sid] = n;
+      for (long id : ids) g.surfaces_of[element_index[id]].push_back(sid);
+    }
+    if (any) break;
+  }
+  GmshDeck deck = keywords_of(mesh, g, name, "--from-abaqus");
+  if (!ignored.empty()) {
+    deck.summary += "  not converted (fe_mesh takes the mesh only):";
+    for (const auto& [k, n] : ignored) deck.summary += " " + k + (n > 1 ? " ×" + std::to_string(n) : "");
+    deck.summary += "\n";
+  }
+  return deck;
+}
 
 GmshDeck gmsh_to_keywords(const std::string& text, const std::string& name) {
   Lines in(text, name);

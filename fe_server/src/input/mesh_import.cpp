@@ -20,6 +20,21 @@ namespace {
 using config::InputError;
 using config::SourceLocation;
 
+// A field as an integer or a finite number, else an error at `at`.
+long integer_at(const std::string& f, const char* what, const SourceLocation& at) {
+  char* end = nullptr;
+  const long v = std::strtol(f.c_str(), &end, 10);
+  if (f.empty() || end == f.c_str() || *end) throw InputError(at, std::string(what) + " '" + f + "' is not an integer");
+  return v;
+}
+double real_at(const std::string& f, const char* what, const SourceLocation& at) {
+  char* end = nullptr;
+  const double v = std::strtod(f.c_str(), &end);
+  if (f.empty() || end == f.c_str() || *end || !std::isfinite(v))
+    throw InputError(at, std::string(what) + " '" + f + "' is not a finite number");
+  return v;
+}
+
 // The file as numbered lines of whitespace-separated tokens.
 class Lines {
  public:
@@ -46,17 +61,11 @@ class Lines {
   [[noreturn]] void fail(const std::string& message) const { throw InputError(where(), message); }
   long integer(const std::vector<std::string>& t, size_t k, const char* what) const {
     if (k >= t.size()) fail(std::string("missing ") + what);
-    char* end = nullptr;
-    const long v = std::strtol(t[k].c_str(), &end, 10);
-    if (end == t[k].c_str() || *end) fail(std::string(what) + " '" + t[k] + "' is not an integer");
-    return v;
+    return integer_at(t[k], what, where());
   }
   double real(const std::vector<std::string>& t, size_t k, const char* what) const {
     if (k >= t.size()) fail(std::string("missing ") + what);
-    char* end = nullptr;
-    const double v = std::strtod(t[k].c_str(), &end);
-    if (end == t[k].c_str() || *end || !std::isfinite(v)) fail(std::string(what) + " '" + t[k] + "' is not a finite number");
-    return v;
+    return real_at(t[k], what, where());
   }
 
  private:
@@ -446,18 +455,8 @@ GmshDeck abaqus_to_keywords(const std::string& text, const std::string& name) {
     return elsets[elset_index[key]].second;
   };
   auto fail = [&](const std::string& m) { throw InputError({name, line}, m); };
-  auto integer = [&](const std::string& f, const char* what) {
-    char* end = nullptr;
-    const long v = std::strtol(f.c_str(), &end, 10);
-    if (f.empty() || *end) fail(std::string(what) + " '" + f + "' is not an integer");
-    return v;
-  };
-  auto real = [&](const std::string& f, const char* what) {
-    char* end = nullptr;
-    const double v = std::strtod(f.c_str(), &end);
-    if (f.empty() || *end || !std::isfinite(v)) fail(std::string(what) + " '" + f + "' is not a finite number");
-    return v;
-  };
+  auto integer = [&](const std::string& f, const char* what) { return integer_at(f, what, {name, line}); };
+  auto real = [&](const std::string& f, const char* what) { return real_at(f, what, {name, line}); };
   while (std::getline(in, raw)) {
     ++line;
     if (!raw.empty() && raw.back() == '\r') raw.pop_back();

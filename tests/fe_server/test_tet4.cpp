@@ -220,6 +220,11 @@ TEST(Tet4, TheReaderReadsBothFormsAndSaysWhatItWillNot) {
             std::string::npos);
   EXPECT_NE(deck_error(nodes + "*SECTION_SOLID\n1,13\n*ELEMENT_SOLID\n1,1,1,2,3,4\n").find("ELFORM 13 would run as ELFORM 10"),
             std::string::npos);
+  // A pyramid as a degenerate hexahedron loses a quarter of its mass too:
+  // refused, not run.
+  EXPECT_NE(deck_error(nodes + "*NODE\n5,1,1,0\n*SECTION_SOLID\n1,1\n*ELEMENT_SOLID\n1,1,1,2,5,3,4,4,4,4\n")
+                .find("solid element 1 is a pyramid"),
+            std::string::npos);
 }
 
 // A single-surface contact on a tetrahedral block finds its outer faces

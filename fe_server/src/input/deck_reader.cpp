@@ -1692,6 +1692,13 @@ struct Reader {
         c.fail("solid element " + std::to_string(e.id) + " has " + std::to_string(distinct.size()) +
                " distinct nodes, but part " + std::to_string(e.part) + " is ELFORM 10: a tetrahedron has 4");
       }
+      // A pyramid (its top face a point over four corners) as a one-point
+      // hexahedron would lose a quarter of its mass (8·det J at the centre:
+      // 1/4 where the unit pyramid has 1/3), as tetrahedra did.
+      if (distinct.size() == 5 && top_collapsed)
+        c.fail("solid element " + std::to_string(e.id) + " is a pyramid (5 nodes, N5 = ... = N8): as a degenerate "
+               "one-point hexahedron it would lose a quarter of its mass; split it into two tetrahedra (ELFORM 10) "
+               "or mesh without pyramids");
       if (ids.size() == 6) ids = {ids[0], ids[1], ids[2], ids[2], ids[3], ids[4], ids[5], ids[5]};  // wedge
       if (ids.size() != 8) c.fail("a solid element needs 4, 6 or 8 nodes, got " + std::to_string(ids.size()));
       for (int k = 0; k < 8; ++k) e.n[k] = m.index_of(ids[static_cast<size_t>(k)], c.where);

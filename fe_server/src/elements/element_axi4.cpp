@@ -75,7 +75,8 @@ double axi4_characteristic_length(const Mat42& x, double area) {
   return d > 0.0 ? area / d : 0.0;
 }
 
-double axi4_stable_step(const Mat42& x, double lambda, double mu, double rho, double q2, const bool fixed_r[4]) {
+double axi4_stable_step(const Mat42& x, double lambda, double mu, double rho, double q2, const bool fixed_r[4],
+                        double beta) {
   Axi4Geometry g;
   if (!axi4_geometry(x, g)) return 0.0;
   // B: rows rr, yy, ry (engineering shear), θθ; columns r and y of each node.
@@ -103,7 +104,7 @@ double axi4_stable_step(const Mat42& x, double lambda, double mu, double rho, do
   const double lmax =
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 8, 8>>(S, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
   if (!(lmax > 0.0)) return 0.0;
-  return 2.0 / std::sqrt(lmax) * (std::sqrt(1.0 + q2 * q2) - q2);
+  return damped_stable_step(std::sqrt(lmax), q2, beta);
 }
 
 Axi4State::Axi4State(const Model& m, const std::vector<int>* owner, int rank)
@@ -113,12 +114,13 @@ Axi4State::Axi4State(const Model& m, const std::vector<int>* owner, int rank)
       constants(m.axis.size()) {
   for (size_t e = 0; e < m.axis.size(); ++e) {
     const AxiElement& el = m.axis[e];
-    const Material& mat = m.materials.at(m.parts.at(el.part).material);
+    const Part& part = m.parts.at(el.part);
+    const Material& mat = m.materials.at(part.material);
     if (!mat.rigid && (!owner || (*owner)[e] == rank)) elements.push_back(static_cast<int>(e)), part_slot.push_back(fe::part_slot(m, el.part));
     Axi4Geometry g;
     axi4_geometry(axi4_gather(m.x0, el), g);
     constants[e] = {mat.lambda(), mat.mu(), mat.rho, mat.wave_speed(),
-                    axi4_hourglass_coefficient(g, m.hourglass_q, mat.rho, mat.wave_speed()),
+                    axi4_hourglass_coefficient(g, m.hourglass_q, mat.rho, mat.wave_speed()), part.stiffness_damping,
                     mat.plastic ? &mat : nullptr};
   }
   Lanes idle{};
@@ -131,6 +133,7 @@ Axi4State::Axi4State(const Model& m, const std::vector<int>* owner, int rank)
     for (int a = 0; a < 4; ++a) L.node[a][l] = m.axis[e].n[a];
     const Constants& c = constants[e];
     L.lambda[l] = c.lambda, L.two_mu[l] = 2.0 * c.mu, L.rho[l] = c.rho, L.c[l] = c.wave_speed, L.ch[l] = c.hourglass;
+    L.beta[l] = c.beta;
     {
       const AxiElement& el = m.axis[e];
       const Mat42 x0 = axi4_gather(m.x0, el);
@@ -139,7 +142,7 @@ Axi4State::Axi4State(const Model& m, const std::vector<int>* owner, int rank)
       bool fixed_r[4];
       for (int a = 0; a < 4; ++a) fixed_r[a] = m.fixed[static_cast<size_t>(el.n[a])][0];
       const double len0 = axi4_characteristic_length(x0, g.area);
-      const double step0 = axi4_stable_step(x0, c.lambda, c.mu, c.rho, m.bulk_q2, fixed_r) * std::sqrt(el.mass_scale);
+      const double step0 = axi4_stable_step(x0, c.lambda, c.mu, c.rho * el.mass_scale, m.bulk_q2, fixed_r, c.beta);
       L.spl[l] = len0 > 0.0 && step0 > 0.0 ? step0 / len0 : 1e300;
     }
     L.count = static_cast<int>(l) + 1;
@@ -164,7 +167,7 @@ constexpr int W = static_cast<int>(kAxi4Lanes);
 // (past the end of the list) carry a unit square at r = 1..2 at rest.
 struct Axi4Batch {
   double r[4][W], y[4][W], vr[4][W], vy[4][W];
-  double lambda[W], two_mu[W], rho[W], c[W], ch[W], sig[4][W];
+  double lambda[W], two_mu[W], rho[W], c[W], ch[W], beta[W], sig[4][W];
   double spl[W];  // stable step per unit of characteristic length
   // Plastic lanes (the Plastic kernel only): material (nullptr: elastic),
   // effective plastic strain and back stress (rr, yy, θθ, ry), in place.
@@ -229,7 +232,11 @@ __attribute__((always_inline)) inline void axi4_kernel_impl(Axi4Batch& B, double
     const double len = diag2 > 0.0 ? area / std::sqrt(diag2) : 0.0;
     B.limit[l] = B.spl[l] * len;
     const double q = trD < 0.0 ? B.rho[l] * len * (q1 * len * trD * trD - q2 * B.c[l] * trD) : 0.0;
-    const double s_rr = n0 - q, s_yy = n1 - q, s_tt = n2 - q, s_ry = n3;
+    // Stiffness damping β·C:D (Part::stiffness_damping), carried by the
+    // forces and not stored: its power V·β·D:C:D is dissipated.
+    const double bt = B.beta[l];
+    const double g0 = bt * (lt + tm * d_rr), g1 = bt * (lt + tm * d_yy), g2 = bt * (lt + tm * d_tt), g3 = bt * tm * d_ry;
+    const double s_rr = n0 - q + g0, s_yy = n1 - q + g1, s_tt = n2 - q + g2, s_ry = n3 + g3;
     // Hourglass (viscous FB), one mode: γ = h − (h·r)·b_r − (h·y)·b_y.
     double gamma[4], qr = 0.0, qy = 0.0;
     for (int a = 0; a < 4; ++a) {
@@ -245,7 +252,7 @@ __attribute__((always_inline)) inline void axi4_kernel_impl(Axi4Batch& B, double
     B.sig[0][l] = n0, B.sig[1][l] = n1, B.sig[2][l] = n2, B.sig[3][l] = n3;
     B.internal[l] = volume * sd * dt;
     B.hourglass[l] = ch * (qr * qr + qy * qy) * dt;
-    B.damping_power[l] = -q * trD * volume;
+    B.damping_power[l] = (-q * trD + g0 * d_rr + g1 * d_yy + g2 * d_tt + 2.0 * g3 * d_ry) * volume;
   }
 }
 
@@ -267,7 +274,7 @@ void axi4_block(const Model& m, Axi4State& st, const std::vector<Vec3>& x, const
         B.r[a][l] = p.x(), B.y[a][l] = p.y(), B.vr[a][l] = u.x(), B.vy[a][l] = u.y();
       }
     std::copy_n(K.lambda, W, B.lambda), std::copy_n(K.two_mu, W, B.two_mu), std::copy_n(K.rho, W, B.rho);
-    std::copy_n(K.c, W, B.c), std::copy_n(K.ch, W, B.ch);
+    std::copy_n(K.c, W, B.c), std::copy_n(K.ch, W, B.ch), std::copy_n(K.beta, W, B.beta);
     std::copy_n(K.spl, W, B.spl);
     for (int l = 0; l < n; ++l) {
       const Eigen::Matrix<double, 6, 1>& s = st.sigma[static_cast<size_t>(st.elements[k0 + static_cast<size_t>(l)])];

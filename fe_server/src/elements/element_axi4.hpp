@@ -78,9 +78,10 @@ double axi4_characteristic_length(const Mat42& x, double area);
 // Stable step of the element on its own lumped masses (Irons and Treharne, as
 // for the hex8): Δt = 2/ω_max with ω_max² = λ_max(M⁻¹·K), K = V·Bᵀ·D·B over
 // the rr, yy, ry and θθ strains, DOFs in `fixed_r` (nodes on the axis)
-// removed; then reduced for the linear bulk viscosity Q2. 0 if degenerate.
+// removed; then reduced for the linear bulk viscosity Q2 and the part's
+// stiffness damping β (damped_stable_step). 0 if degenerate.
 double axi4_stable_step(const Mat42& x, double lambda, double mu, double rho, double q2,
-                        const bool fixed_r[4]);
+                        const bool fixed_r[4], double beta = 0.0);
 
 // Elements per task, and per batch of the kernel (side by side in vector lanes).
 constexpr size_t kAxi4Block = 512, kAxi4Lanes = 8;
@@ -93,6 +94,7 @@ struct Axi4State {
   struct Constants {
     double lambda, mu, rho, wave_speed;
     double hourglass;  // axi4_hourglass_coefficient of the initial shape
+    double beta;       // its part's stiffness damping β, s (0: none)
     const Material* plastic;  // the plastic material, nullptr if elastic
   };
   std::vector<Eigen::Matrix<double, 6, 1>> sigma;  // rr, yy (axial), θθ (hoop), ry, 0, 0
@@ -107,6 +109,7 @@ struct Axi4State {
   struct Lanes {
     int node[4][kAxi4Lanes];
     double lambda[kAxi4Lanes], two_mu[kAxi4Lanes], rho[kAxi4Lanes], c[kAxi4Lanes], ch[kAxi4Lanes];
+    double beta[kAxi4Lanes];  // stiffness damping β (idle lanes: 0)
     // Its initial stable step over its initial characteristic length (s/m):
     // the step it allows later is this times its length then. Idle: huge.
     double spl[kAxi4Lanes];

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <vector>
 
@@ -15,6 +16,18 @@
 #include "parallel/thread_pool.hpp"
 
 namespace fe {
+
+// The central-difference stable step of a mode of angular frequency ω
+// damped at ζ of critical, (2/ω)·(√(1 + ζ²) − ζ). An element's highest mode
+// takes ζ = Q2 + β·ω/2: the linear bulk viscosity's Q2 (as LS-DYNA counts
+// it, though it acts on volume changes only: on the safe side) and the
+// stiffness damping β·K of its part (Part::stiffness_damping), which damps
+// a mode of frequency ω at β·ω/2. 0 for ω ≤ 0.
+inline double damped_stable_step(double omega, double q2, double beta) {
+  if (!(omega > 0.0)) return 0.0;
+  const double zeta = q2 + 0.5 * beta * omega;
+  return 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+}
 
 // Energy partials of one block and its first inverted element.
 struct BlockResult {

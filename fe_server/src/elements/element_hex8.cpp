@@ -62,7 +62,8 @@ double hex8_characteristic_length(const Mat83& x, double volume) {
 }
 
 template <int N>
-double stable_step_of_gradients(const Eigen::Matrix<double, N, 3>& b, double lambda, double mu, double rho, double q2) {
+double stable_step_of_gradients(const Eigen::Matrix<double, N, 3>& b, double lambda, double mu, double rho, double q2,
+                                double beta) {
   // B (6×3N, engineering shear) and the 6×6 product B·Bᵀ.
   Eigen::Matrix<double, 6, 3 * N> B = Eigen::Matrix<double, 6, 3 * N>::Zero();
   for (int a = 0; a < N; ++a) {
@@ -81,16 +82,16 @@ double stable_step_of_gradients(const Eigen::Matrix<double, N, 3>& b, double lam
   const Eigen::Matrix<double, 6, 6> S = L.transpose() * G * L;
   const double lmax = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(S, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
   const double omega = std::sqrt(N * lmax / rho);
-  return 2.0 / omega * (std::sqrt(1.0 + q2 * q2) - q2);
+  return damped_stable_step(omega, q2, beta);
 }
-template double stable_step_of_gradients<4>(const Eigen::Matrix<double, 4, 3>&, double, double, double, double);
-template double stable_step_of_gradients<8>(const Eigen::Matrix<double, 8, 3>&, double, double, double, double);
+template double stable_step_of_gradients<4>(const Eigen::Matrix<double, 4, 3>&, double, double, double, double, double);
+template double stable_step_of_gradients<8>(const Eigen::Matrix<double, 8, 3>&, double, double, double, double, double);
 
-double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2) {
+double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2, double beta) {
   Mat83 b;
   double volume = 0.0;
   if (!hex8_gradients(x, b, volume)) return 0.0;
-  return stable_step_of_gradients<8>(b, lambda, mu, rho, q2);
+  return stable_step_of_gradients<8>(b, lambda, mu, rho, q2, beta);
 }
 
 Mat83 hex8_gather(const std::vector<Vec3>& a, const SolidElement& e) {
@@ -120,7 +121,8 @@ Hex8State::Hex8State(const Model& m, const std::vector<int>* owner, int rank)
   }
   for (const int index : elements) {
     const SolidElement& el = m.solids[static_cast<size_t>(index)];
-    const Material& mat = m.materials.at(m.parts.at(el.part).material);
+    const Part& part = m.parts.at(el.part);
+    const Material& mat = m.materials.at(part.material);
     const Mat83 x0 = hex8_gather(m.x0, el);
     const double volume = solid_volume(x0, el);
     hourglass.push_back(el.tet4 ? 0.0 : m.hourglass_q * mat.rho * mat.wave_speed() * std::cbrt(volume * volume) / 4.0);
@@ -129,7 +131,8 @@ Hex8State::Hex8State(const Model& m, const std::vector<int>* owner, int rank)
     // the step it allows later is this times its length then (the wave
     // speed taken as constant).
     const double len0 = solid_characteristic_length(x0, el);
-    const double step0 = solid_stable_step(x0, el, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2) * std::sqrt(el.mass_scale);
+    const double step0 =
+        solid_stable_step(x0, el, mat.lambda(), mat.mu(), mat.rho * el.mass_scale, m.bulk_q2, part.stiffness_damping);
     step_per_length.push_back(len0 > 0.0 && step0 > 0.0 ? step0 / len0 : 1e300);
     const int slot = fe::part_slot(m, el.part);
     part_slot.push_back(slot);
@@ -137,7 +140,8 @@ Hex8State::Hex8State(const Model& m, const std::vector<int>* owner, int rank)
     std::copy(el.n, el.n + 8, n.begin());
     nodes.push_back(n);
     if (parts.size() <= static_cast<size_t>(slot)) parts.resize(static_cast<size_t>(slot) + 1);
-    parts[static_cast<size_t>(slot)] = {mat.lambda(), 2.0 * mat.mu(), mat.rho, mat.wave_speed(), mat.plastic ? &mat : nullptr};
+    parts[static_cast<size_t>(slot)] = {mat.lambda(), 2.0 * mat.mu(), mat.rho, mat.wave_speed(), part.stiffness_damping,
+                                        mat.plastic ? &mat : nullptr};
   }
   force.assign(24 * elements.size(), 0.0);
   block = hex8_block_size(elements.size());
@@ -299,9 +303,12 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void hex8_kernel(He
     const double len = a_max > 0.0 ? V / a_max : 0.0;
     B.limit[l] = B.spl[l] * len;
     const double q = trD < 0.0 ? B.rho[l] * len * (q1 * len * trD * trD - q2 * B.c[l] * trD) : 0.0;
-    B.damping_power[l] = -q * trD * V;
+    const double d[6] = {d0, d1, d2, d01, d12, d20};
+    double g[6];
+    B.damping_power[l] = (stiffness_damping_stress(B.beta[l], B.lambda[l], B.two_mu[l], d, g) - q * trD) * V;
     B.sig[0][l] = n0, B.sig[1][l] = n1, B.sig[2][l] = n2, B.sig[3][l] = n3, B.sig[4][l] = n4, B.sig[5][l] = n5;
-    s[0][l] = n0 - q, s[1][l] = n1 - q, s[2][l] = n2 - q, s[3][l] = n3, s[4][l] = n4, s[5][l] = n5;
+    s[0][l] = n0 - q + g[0], s[1][l] = n1 - q + g[1], s[2][l] = n2 - q + g[2];
+    s[3][l] = n3 + g[3], s[4][l] = n4 + g[4], s[5][l] = n5 + g[5];
   }
   // Hourglass (viscous FB): q_αi = Σ_a v_ai γ_αa with γ_α = h_α − (h_α·x_j) b_j,
   // i.e. q_αi = (h_α·v_i) − Σ_j (h_α·x_j) L_ij; f_ai −= c_h Σ_α γ_αa q_αi, whose
@@ -365,7 +372,7 @@ void solid_batch(const Model& m, Hex8State& st, const std::vector<Vec3>& x, cons
         for (int i = 0; i < 3; ++i) B.x[a][i][l] = xa[i], B.v[a][i][l] = va[i];
       }
       const Hex8State::PartConstants& pc = st.parts[static_cast<size_t>(st.part_slot[k])];
-      B.lambda[l] = pc.lambda, B.two_mu[l] = pc.two_mu, B.rho[l] = pc.rho, B.c[l] = pc.wave_speed;
+      B.lambda[l] = pc.lambda, B.two_mu[l] = pc.two_mu, B.rho[l] = pc.rho, B.c[l] = pc.wave_speed, B.beta[l] = pc.beta;
       B.ch[l] = st.hourglass[k];
       B.spl[l] = st.step_per_length[k];
       for (int c = 0; c < 6; ++c) B.sig[c][l] = st.sigma[e](c);
@@ -377,7 +384,7 @@ void solid_batch(const Model& m, Hex8State& st, const std::vector<Vec3>& x, cons
     } else {  // an idle lane: a unit cube at rest
       for (int a = 0; a < 8; ++a)
         for (int i = 0; i < 3; ++i) B.x[a][i][l] = 0.5 * kXi[a][i], B.v[a][i][l] = 0.0;
-      B.lambda[l] = B.two_mu[l] = B.rho[l] = B.c[l] = B.ch[l] = 0.0;
+      B.lambda[l] = B.two_mu[l] = B.rho[l] = B.c[l] = B.ch[l] = B.beta[l] = 0.0;
       B.spl[l] = 1e300;
       for (int c = 0; c < 6; ++c) B.sig[c][l] = 0.0;
       B.plastic[l] = nullptr;

@@ -49,13 +49,14 @@ double hex8_characteristic_length(const Mat83& x, double volume);
 // For a cube of edge L this is L/c at ν = 0 but 0.73·L/c at ν = 0.3: the
 // volume/face-area length alone (L/c) lets a corner node's breathing mode
 // run at ω·Δt > 2. Returns 0 for an inverted element.
-double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2);
+double hex8_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2, double beta = 0.0);
 
 // The same for any element of N nodes with constant gradients b (N×3) on
 // lumped masses ρV/N: ω_max² = (N/ρ)·λ_max(D·B·Bᵀ) (N = 8: the hexahedron
 // at its centre; N = 4: the tetrahedron, element_tet4.hpp).
 template <int N>
-double stable_step_of_gradients(const Eigen::Matrix<double, N, 3>& b, double lambda, double mu, double rho, double q2);
+double stable_step_of_gradients(const Eigen::Matrix<double, N, 3>& b, double lambda, double mu, double rho, double q2,
+                                double beta = 0.0);
 
 // The hex8 elements' state in the solver: stress per element, and what is
 // resolved once for the deformable elements, in their order (`elements`):
@@ -70,6 +71,7 @@ struct Hex8State {
   // What the kernel needs of a part: its material's constants.
   struct PartConstants {
     double lambda = 0.0, two_mu = 0.0, rho = 0.0, wave_speed = 0.0;
+    double beta = 0.0;  // the part's stiffness damping β, s (Part::stiffness_damping)
     const Material* plastic = nullptr;  // the plastic material, nullptr if elastic
   };
   std::vector<PartConstants> parts;  // by part slot (element_blocks.hpp)
@@ -98,6 +100,17 @@ struct Hex8State {
 // idle behind any interruption: the same time on 2 threads.) Depends on
 // the element count only, never on the thread count: the sums stay
 // bit-identical for any count.
+// Stiffness damping (Part::stiffness_damping): the damping stress
+// g = β·C:D of the strain rate d (Voigt xx yy zz xy yz zx, tensor shears),
+// which the forces carry on top of the stress and which is not stored;
+// returns its power per volume g:D (shears counted twice). β = 0: g = 0.
+inline double stiffness_damping_stress(double beta, double lambda, double two_mu, const double d[6], double g[6]) {
+  const double la = lambda * (d[0] + d[1] + d[2]);
+  for (int c = 0; c < 3; ++c) g[c] = beta * (la + two_mu * d[c]);
+  for (int c = 3; c < 6; ++c) g[c] = beta * two_mu * d[c];
+  return g[0] * d[0] + g[1] * d[1] + g[2] * d[2] + 2.0 * (g[3] * d[3] + g[4] * d[4] + g[5] * d[5]);
+}
+
 constexpr size_t kHex8Lanes = 8;
 size_t hex8_block_size(size_t elements);
 
@@ -109,7 +122,7 @@ size_t hex8_block_size(size_t elements);
 struct SolidBatch {
   static constexpr int W = static_cast<int>(kHex8Lanes);
   double x[8][3][W], v[8][3][W];
-  double lambda[W], two_mu[W], rho[W], c[W], ch[W], sig[6][W];
+  double lambda[W], two_mu[W], rho[W], c[W], ch[W], beta[W], sig[6][W];
   double spl[W];    // the element's stable step per unit of its characteristic length (idle lanes: huge)
   double limit[W];  // out: its current stable step
   // Plastic lanes: their material (nullptr: elastic), effective plastic

@@ -29,11 +29,11 @@ double tet4_characteristic_length(const Mat83& x) {
   return 1.0 / b.rowwise().norm().maxCoeff();  // |b_a| = 1/h_a
 }
 
-double tet4_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2) {
+double tet4_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2, double beta) {
   Eigen::Matrix<double, 4, 3> b;
   double volume = 0.0;
   if (!tet4_gradients(x, b, volume)) return 0.0;
-  return stable_step_of_gradients<4>(b, lambda, mu, rho, q2);
+  return stable_step_of_gradients<4>(b, lambda, mu, rho, q2, beta);
 }
 
 // Written lane by lane in arrays [..][W], every loop over lanes a vector
@@ -113,8 +113,9 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void tet4_kernel(So
                       (B.sig[5][l] + nsig[5][l]) * d[5];
     B.internal[l] = V[l] * sd * dt;
     B.hourglass[l] = 0.0;
-    B.damping_power[l] = -q * trD * V[l];
-    for (int c = 0; c < 6; ++c) B.sig[c][l] = nsig[c][l], s[c][l] = c < 3 ? nsig[c][l] - q : nsig[c][l];
+    double g[6];
+    B.damping_power[l] = (stiffness_damping_stress(B.beta[l], B.lambda[l], B.two_mu[l], d, g) - q * trD) * V[l];
+    for (int c = 0; c < 6; ++c) B.sig[c][l] = nsig[c][l], s[c][l] = (c < 3 ? nsig[c][l] - q : nsig[c][l]) + g[c];
   }
   // Forces f_a = −V·s·b_a at the corners (s in Voigt order xx yy zz xy yz
   // zx); the other slots are not written (the element loop adds none).
@@ -144,8 +145,9 @@ double solid_mass_share(const SolidElement& e, int slot) {
   return std::find(std::begin(kTet4Corners), std::end(kTet4Corners), slot) != std::end(kTet4Corners) ? 0.25 : 0.0;
 }
 
-double solid_stable_step(const Mat83& x, const SolidElement& e, double lambda, double mu, double rho, double q2) {
-  return e.tet4 ? tet4_stable_step(x, lambda, mu, rho, q2) : hex8_stable_step(x, lambda, mu, rho, q2);
+double solid_stable_step(const Mat83& x, const SolidElement& e, double lambda, double mu, double rho, double q2,
+                         double beta) {
+  return e.tet4 ? tet4_stable_step(x, lambda, mu, rho, q2, beta) : hex8_stable_step(x, lambda, mu, rho, q2, beta);
 }
 
 double solid_characteristic_length(const Mat83& x, const SolidElement& e) {

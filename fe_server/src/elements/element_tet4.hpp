@@ -37,7 +37,7 @@ double tet4_characteristic_length(const Mat83& x);
 // (element_hex8.hpp). For the regular tetrahedron of edge a at ν = 0.3
 // this is 0.52·a/c; the smallest altitude over c (0.82·a/c) would be
 // unstable. Returns 0 for an inverted element.
-double tet4_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2);
+double tet4_stable_step(const Mat83& x, double lambda, double mu, double rho, double q2, double beta = 0.0);
 
 // One batch of tetrahedra (the same update as the hexahedra's: Jaumann
 // rate, J2 return where plastic, bulk viscosity; no hourglass), forces in
@@ -50,7 +50,8 @@ void tet4_kernel(SolidBatch& B, double dt, double q1, double q2);
 // stable step and the characteristic length.
 double solid_volume(const Mat83& x, const SolidElement& e);
 double solid_mass_share(const SolidElement& e, int slot);
-double solid_stable_step(const Mat83& x, const SolidElement& e, double lambda, double mu, double rho, double q2);
+double solid_stable_step(const Mat83& x, const SolidElement& e, double lambda, double mu, double rho, double q2,
+                         double beta = 0.0);
 double solid_characteristic_length(const Mat83& x, const SolidElement& e);
 
 }  // namespace fe

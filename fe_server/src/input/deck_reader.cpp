@@ -64,7 +64,8 @@ struct Reader {
     Card c1, c2;  // c2: *DAMPING_PART_MASS's scale factors (FLAG = 1), else empty
     bool part = false;
   };
-  std::vector<DampingCards> damping_cards;  // *BOUNDARY_PRESCRIBED_MOTION card, and whether _SET
+  std::vector<DampingCards> damping_cards;  // *DAMPING_GLOBAL, *DAMPING_PART_MASS
+  std::vector<std::pair<Card, bool>> stiffness_damping_cards;  // *DAMPING_PART_STIFFNESS card, and whether _SET
   std::vector<std::pair<Card, Card>> fatigue_cards;  // *PCS_FATIGUE_PART: card 1, card 2 (or empty)
   Card body_parts_card;  // *LOAD_BODY_PARTS PSID
   bool has_body_parts = false;
@@ -220,6 +221,7 @@ struct Reader {
       {{"*LOAD_BODY_X", "*LOAD_BODY_Y", "*LOAD_BODY_Z"}, &Reader::read_load_body_x, "body accelerations along x, y or z"},
       {{"*DAMPING_GLOBAL"}, &Reader::read_damping_global, "mass-proportional damping of the whole model"},
       {{"*DAMPING_PART_MASS"}, &Reader::read_damping_part_mass, "mass-proportional damping of a part"},
+      {{"*DAMPING_PART_STIFFNESS", "*DAMPING_PART_STIFFNESS_SET"}, &Reader::read_damping_part_stiffness, "stiffness-proportional (Rayleigh) damping of a part or part set, COEF < 0 (β)"},
       {{"*PCS_FATIGUE_PART"}, &Reader::read_pcs_fatigue_part, "our own card: the fatigue of a part's elements, counted during the run (S-N curve, mean-stress correction, notch factor)"},
       {{"*LOAD_NODE_POINT", "*LOAD_NODE_SET"}, &Reader::read_load_node_point, "point loads on nodes or node sets"},
       {{"*LOAD_SEGMENT", "*LOAD_SEGMENT_SET"}, &Reader::read_load_segment, "pressure loads on segments or segment sets"},
@@ -772,6 +774,46 @@ struct Reader {
     }
   }
 
+  void read_damping_part_stiffness(const Block& b, const std::string& kw) {
+    // PID (or PSID) COEF, a card per part or set.
+    for (const Card& card : b.cards) stiffness_damping_cards.push_back({fields_of(card, kW10), kw == "*DAMPING_PART_STIFFNESS_SET"});
+  }
+
+  // COEF < 0 is the classical Rayleigh stiffness damping C = β·K with
+  // β = |COEF| (LS-DYNA's 950 formulation, which later versions keep for a
+  // negative COEF). COEF > 0 is LS-DYNA's own high-frequency formulation
+  // ("an approximate fraction of critical damping"), whose details LSTC do
+  // not publish: running it as β would be a different damping under the
+  // same number, so it is refused with what to give instead.
+  void stiffness_damping(const Card& c, bool is_set) {
+    const double coef = c.real(1, "COEF");
+    if (coef > 0.0)
+      c.fail("COEF " + c.fields.at(1) + " > 0 asks for LS-DYNA's proprietary high-frequency stiffness damping, which "
+             "is not reproduced; give COEF = -beta, the Rayleigh coefficient of C = beta*K in s, with beta = "
+             "2*zeta/omega for the fraction zeta of critical damping at the angular frequency omega you mean "
+             "(0.5 % at 4 kHz: COEF = -3.98e-7)");
+    if (!std::isfinite(coef)) c.fail("COEF must be a finite number");
+    std::vector<int> pids;
+    if (is_set) {
+      const long psid = c.integer(0, "PSID");
+      auto it = m.part_sets.find(static_cast<int>(psid));
+      if (it == m.part_sets.end()) c.fail("part set " + std::to_string(psid) + " is not defined");
+      pids.assign(it->second.begin(), it->second.end());
+    } else {
+      pids.push_back(static_cast<int>(c.integer(0, "PID")));
+    }
+    for (const int pid : pids) {
+      auto part = m.parts.find(pid);
+      if (part == m.parts.end()) c.fail("PID " + std::to_string(pid) + " is not a *PART");
+      if (m.materials.at(part->second.material).rigid)
+        c.fail("part " + std::to_string(pid) + " is rigid: stiffness damping acts on deformation, which a rigid body has none of");
+      if (std::any_of(m.bars.begin(), m.bars.end(), [&](const BarElement& e) { return e.part == pid; }))
+        c.fail("part " + std::to_string(pid) + " holds bar elements: stiffness damping is applied by the solid and "
+               "axisymmetric elements only (damp a bar with a *MAT_SPRING_ELASTIC's damper beside it)");
+      part->second.stiffness_damping = -coef;
+    }
+  }
+
   void read_pcs_fatigue_part(const Block& b, [[maybe_unused]] const std::string& kw) {
     // Two cards per part: PID SA_REF N_REF M SE HAIBACH STRESS MEAN, then SU KF GATE DT.
     if (b.cards.empty() || b.cards.size() % 2 != 0)
@@ -1128,6 +1170,9 @@ struct Reader {
         {"*FREQUENCY_DOMAIN_", "frequency-domain analyses are not available: fe_server integrates in time"},
         {"*CONSTRAINED_JOINT_", "joints are not modelled: tie the parts (*CONTACT_TIED_...) or merge them as rigid "
                                 "bodies (*CONSTRAINED_RIGID_BODIES)"},
+        {"*DAMPING_FREQUENCY_RANGE", "Arup's frequency-independent damping is LS-DYNA's own formulation and is not "
+                                     "reproduced: give Rayleigh damping, *DAMPING_PART_STIFFNESS with COEF = -beta "
+                                     "(and *DAMPING_PART_MASS), tuned to the band you mean"},
         {"*HOURGLASS", "per-part hourglass control is not read: *CONTROL_HOURGLASS sets it for the whole model"},
     };
     return kReasons;
@@ -1456,6 +1501,7 @@ struct Reader {
       m.nodal_loads.push_back(l);
     }
     for (const DampingCards& d : damping_cards) mass_damping(d);
+    for (const auto& [c, is_set] : stiffness_damping_cards) stiffness_damping(c, is_set);
     for (const auto& [c1, c2] : fatigue_cards) fatigue_part(c1, c2);
     if (has_body_parts) {
       // LS-DYNA: the body loads act on the parts of this set only.

@@ -87,6 +87,12 @@ struct Part {
   std::string title;
   int section = 0, material = 0;
   double bar_area = 0.0;  // m², for 1D bar (truss) sections
+  // *DAMPING_PART_STIFFNESS with COEF < 0: Rayleigh stiffness-proportional
+  // damping C = β·K, β = |COEF| in s. The elements add the damping stress
+  // β·C:D (C the elastic tangent, D the strain rate) to the stress their
+  // forces carry, not to the stress they store; a mode of angular frequency
+  // ω is damped at ζ = β·ω/2 of critical. 0: none.
+  double stiffness_damping = 0.0;
   config::SourceLocation where;
 };
 

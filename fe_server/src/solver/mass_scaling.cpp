@@ -29,7 +29,9 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
     auto& part = r.per_part[e.part];
     part.first += mat.rho * volume;
     if (mat.rigid) continue;
-    const double dt_e = solid_stable_step(x, e, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2);
+    // With stiffness damping a heavier element is damped less at its highest
+    // mode, so f² times the density gives at least f times the step.
+    const double dt_e = solid_stable_step(x, e, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2, m.parts.at(e.part).stiffness_damping);
     const double f = dt / (m.dt_scale * dt_e);
     if (f <= 1.0) continue;
     const double added = (f * f - 1.0) * mat.rho * volume;
@@ -63,7 +65,8 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
     auto& part = r.per_part[e.part];
     part.first += mass.sum();
     if (mat.rigid) continue;
-    const double dt_e = axi4_stable_step(x, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2, fixed_r);
+    const double dt_e =
+        axi4_stable_step(x, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2, fixed_r, m.parts.at(e.part).stiffness_damping);
     const double f = dt / (m.dt_scale * dt_e);
     if (f <= 1.0) continue;
     e.mass_scale = f * f;

@@ -152,7 +152,8 @@ StableStep Solver::stable_dt(const Model& m) {
     if (in_rigid_part(m, e.part)) continue;
     const Material& mat = m.materials.at(m.parts.at(e.part).material);
     const double dt_e =
-        solid_stable_step(hex8_gather(m.x0, e), e, mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2);
+        solid_stable_step(hex8_gather(m.x0, e), e, mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2,
+                          m.parts.at(e.part).stiffness_damping);
     if (dt_e > 0.0)  // 0: inverted, which the reader refuses
       consider(dt_e, "solid element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")", "solid", e.id);
   }
@@ -162,7 +163,8 @@ StableStep Solver::stable_dt(const Model& m) {
     bool fixed_r[4];
     for (int k = 0; k < 4; ++k) fixed_r[k] = m.fixed[static_cast<size_t>(e.n[k])][0];
     const double dt_e =
-        axi4_stable_step(axi4_gather(m.x0, e), mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2, fixed_r);
+        axi4_stable_step(axi4_gather(m.x0, e), mat.lambda(), mat.mu(), mat.rho * e.mass_scale, m.bulk_q2, fixed_r,
+                         m.parts.at(e.part).stiffness_damping);
     if (dt_e > 0.0)
       consider(dt_e, "axisymmetric element " + std::to_string(e.id) + " (part " + std::to_string(e.part) + ")", "shell",
                e.id);

@@ -7,6 +7,7 @@
 #   scripts/run_hammer.sh [--scene rig|elastic|rigid] [--modes "tlm10 ..."]
 #                         [--conditions "150:6.0 150:5.4 100:6.0 100:5.4"]
 #                         [--stop S] [--jobs N] [--out out/hammer]
+#                         [--deck FILE]
 #
 # Scenes: rig (default; scenes/hammer_rig: the hammer reworked against the
 # thesis' rig, its flow following the restrictor and the pressure as
@@ -29,6 +30,9 @@
 # Jobs: conditions run side by side (default 2: each co-simulation's
 # fe_server computes on one core while its tlm_host waits on the socket).
 # Each run gets its own fe_server with a fresh token on an ephemeral port.
+# Deck: a variant of the scene's deck (a study: damping, mesh, contact
+# settings), relative to the built scene's directory (build/scenes/<scene>,
+# where the meshes it includes are) or absolute; default deck.k.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${PCS_BUILD_DIR:-$root/build}
@@ -38,6 +42,7 @@ conditions="150:6.0 150:5.4 100:6.0 100:5.4"
 stop=
 jobs=2
 out=$root/out/hammer
+deck=deck.k
 while [ $# -gt 0 ]; do
   case "$1" in
     --scene) scene_name=$2; shift 2 ;;
@@ -46,6 +51,7 @@ while [ $# -gt 0 ]; do
     --stop) stop=$2; shift 2 ;;
     --jobs) jobs=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
+    --deck) deck=$2; shift 2 ;;
     *) echo "run_hammer.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
   esac
 done
@@ -67,6 +73,7 @@ esac
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "run_hammer.sh: --jobs '$jobs': a positive integer" >&2; exit 2; }
 scene=$build/scenes/$scene_dir
 [ -f "$scene/deck.k" ] || { echo "run_hammer.sh: $scene/deck.k missing: build first (scripts/build.sh)" >&2; exit 2; }
+(cd "$scene" && [ -f "$deck" ]) || { echo "run_hammer.sh: --deck '$deck': no such file in $scene" >&2; exit 2; }
 mkdir -p "$out"
 
 run_mode() {  # condition directory, mode, common --set arguments...
@@ -98,7 +105,7 @@ run_mode() {  # condition directory, mode, common --set arguments...
   local PCS_TOKEN
   PCS_TOKEN=$(od -An -N16 -tx1 /dev/urandom | tr -d ' \n')
   export PCS_TOKEN
-  (cd "$scene" && exec "$build/fe_server/fe_server" --model deck.k --ports "$ports" \
+  (cd "$scene" && exec "$build/fe_server/fe_server" --model "$deck" --ports "$ports" \
      --listen 127.0.0.1:0 --port-file "$run/port" --out "$run/fe.h5" --accept-timeout 60) \
      > "$run/fe_server.log" 2>&1 &
   local server=$!

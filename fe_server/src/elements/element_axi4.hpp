@@ -115,6 +115,7 @@ struct Axi4State {
     double spl[kAxi4Lanes];
     int count;         // lanes in use
     bool any_plastic;  // a lane of a plastic material
+    bool any_damped;   // a lane with stiffness damping
   };
   std::vector<Lanes> lanes;
   std::vector<double> force;

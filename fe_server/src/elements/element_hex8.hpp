@@ -131,6 +131,7 @@ struct SolidBatch {
   double ep[W], alpha[6][W];
   // Out:
   double f[8][3][W], volume[W], internal[W], hourglass[W], damping_power[W];
+  bool any_damped = false;  // a lane with stiffness damping (beta ≠ 0): the damped kernel
 };
 
 // One step of every hex8: stress update over dt from the velocities v

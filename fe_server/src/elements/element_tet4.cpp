@@ -39,8 +39,8 @@ double tet4_stable_step(const Mat83& x, double lambda, double mu, double rho, do
 // Written lane by lane in arrays [..][W], every loop over lanes a vector
 // operation, and cloned as the hexahedron's kernel is (element_hex8.cpp:
 // the clones give the same bits).
-__attribute__((target_clones("avx512f", "avx2", "default"))) void tet4_kernel(SolidBatch& B, double dt, double q1,
-                                                                                double q2) {
+template <bool Damped>
+__attribute__((always_inline)) inline void tet4_kernel_impl(SolidBatch& B, double dt, double q1, double q2) {
   constexpr int W = SolidBatch::W;
   constexpr int c0 = kTet4Corners[0], c1 = kTet4Corners[1], c2 = kTet4Corners[2], c3 = kTet4Corners[3];
   // Gradients: b1..b3 from the edges' cross products over 6V, b0 = −Σ.
@@ -113,9 +113,13 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void tet4_kernel(So
                       (B.sig[5][l] + nsig[5][l]) * d[5];
     B.internal[l] = V[l] * sd * dt;
     B.hourglass[l] = 0.0;
-    double g[6];
-    B.damping_power[l] = (stiffness_damping_stress(B.beta[l], B.lambda[l], B.two_mu[l], d, g) - q * trD) * V[l];
-    for (int c = 0; c < 6; ++c) B.sig[c][l] = nsig[c][l], s[c][l] = (c < 3 ? nsig[c][l] - q : nsig[c][l]) + g[c];
+    B.damping_power[l] = -q * trD * V[l];
+    for (int c = 0; c < 6; ++c) B.sig[c][l] = nsig[c][l], s[c][l] = c < 3 ? nsig[c][l] - q : nsig[c][l];
+    if constexpr (Damped) {
+      double g[6];
+      B.damping_power[l] += stiffness_damping_stress(B.beta[l], B.lambda[l], B.two_mu[l], d, g) * V[l];
+      for (int c = 0; c < 6; ++c) s[c][l] += g[c];
+    }
   }
   // Forces f_a = −V·s·b_a at the corners (s in Voigt order xx yy zz xy yz
   // zx); the other slots are not written (the element loop adds none).
@@ -126,6 +130,17 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void tet4_kernel(So
       B.f[kTet4Corners[a]][1][l] = -V[l] * (s[3][l] * bx + s[1][l] * by + s[4][l] * bz);
       B.f[kTet4Corners[a]][2][l] = -V[l] * (s[5][l] * bx + s[4][l] * by + s[2][l] * bz);
     }
+}
+__attribute__((target_clones("avx512f", "avx2", "default"))) void tet4_kernel_plain(SolidBatch& B, double dt, double q1,
+                                                                                      double q2) {
+  tet4_kernel_impl<false>(B, dt, q1, q2);
+}
+__attribute__((target_clones("avx512f", "avx2", "default"))) void tet4_kernel_damped(SolidBatch& B, double dt, double q1,
+                                                                                       double q2) {
+  tet4_kernel_impl<true>(B, dt, q1, q2);
+}
+void tet4_kernel(SolidBatch& B, double dt, double q1, double q2) {
+  B.any_damped ? tet4_kernel_damped(B, dt, q1, q2) : tet4_kernel_plain(B, dt, q1, q2);
 }
 
 double solid_volume(const Mat83& x, const SolidElement& e) {

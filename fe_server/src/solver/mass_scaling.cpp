@@ -1,5 +1,6 @@
 #include "solver/mass_scaling.hpp"
 
+#include <cmath>
 #include <cstdio>
 
 #include "elements/element_axi4.hpp"
@@ -7,6 +8,26 @@
 #include "elements/element_tet4.hpp"
 
 namespace fe {
+
+namespace {
+
+// The factor f on the step of an element (its density times f²) that
+// brings its stable step up to `target`; `step0` is its step without
+// stiffness damping (bulk viscosity's Q2 only). Undamped the step goes as
+// √ρ, so f = target/step0. With stiffness damping β the highest mode is
+// damped less as it slows, so that ratio of the damped steps would add more
+// mass than needed: f comes from the frequency ω that allows the target
+// exactly, (2/ω)·(√(1 + ζ²) − ζ) = T with ζ = Q2 + β·ω/2, which squared is
+// the quadratic (T²/4 + β·T/2)·ω² + Q2·T·ω − 1 = 0, and ω ∝ 1/√ρ.
+double step_factor(double step0, double target, double q2, double beta) {
+  if (beta == 0.0 || !(step0 > 0.0)) return target / step0;
+  const double omega0 = 2.0 * (std::sqrt(1.0 + q2 * q2) - q2) / step0;
+  const double a = 0.25 * target * target + 0.5 * beta * target, b = q2 * target;
+  const double omega = (-b + std::sqrt(b * b + 4.0 * a)) / (2.0 * a);
+  return omega0 / omega;
+}
+
+}  // namespace
 
 std::string MassScalingReport::summary() const {
   std::string s;
@@ -29,10 +50,8 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
     auto& part = r.per_part[e.part];
     part.first += mat.rho * volume;
     if (mat.rigid) continue;
-    // With stiffness damping a heavier element is damped less at its highest
-    // mode, so f² times the density gives at least f times the step.
-    const double dt_e = solid_stable_step(x, e, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2, m.parts.at(e.part).stiffness_damping);
-    const double f = dt / (m.dt_scale * dt_e);
+    const double dt_e = solid_stable_step(x, e, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2);
+    const double f = step_factor(dt_e, dt / m.dt_scale, m.bulk_q2, m.parts.at(e.part).stiffness_damping);
     if (f <= 1.0) continue;
     const double added = (f * f - 1.0) * mat.rho * volume;
     e.mass_scale = f * f;
@@ -65,9 +84,8 @@ MassScalingReport apply_mass_scaling(Model& m, double dt) {
     auto& part = r.per_part[e.part];
     part.first += mass.sum();
     if (mat.rigid) continue;
-    const double dt_e =
-        axi4_stable_step(x, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2, fixed_r, m.parts.at(e.part).stiffness_damping);
-    const double f = dt / (m.dt_scale * dt_e);
+    const double dt_e = axi4_stable_step(x, mat.lambda(), mat.mu(), mat.rho, m.bulk_q2, fixed_r);
+    const double f = step_factor(dt_e, dt / m.dt_scale, m.bulk_q2, m.parts.at(e.part).stiffness_damping);
     if (f <= 1.0) continue;
     e.mass_scale = f * f;
     for (int k = 0; k < 4; ++k) m.mass[static_cast<size_t>(e.n[k])] += (f * f - 1.0) * mass(k);

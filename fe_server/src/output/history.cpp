@@ -46,6 +46,10 @@ History::History(const std::string& path, const Model& model, const config::Port
   }
   for (const char* e : {"kinetic", "internal", "hourglass", "contact", "damping", "external_work", "balance_error"})
     writer_.add_series(std::string("energy/") + e, "J");
+  // Each part's hourglass energy (parts in id order; 0 for a part without
+  // deformable solids): where the zero-energy modes take energy.
+  if (!model.solids.empty() || !model.axis.empty())
+    for (const auto& [pid, part] : model.parts) writer_.add_series("energy/hourglass_part/" + std::to_string(pid), "J");
   if (!model.history_nodes.empty()) {
     stream_[1] = writer_.add_stream();
     writer_.add_series("time_nodes", "s", stream_[1]);
@@ -205,6 +209,8 @@ void History::record(const Solver& s, const std::vector<double>& inputs,
     }
     for (double v : {e.kinetic, e.internal, e.hourglass, e.contact, e.damping, e.external_work, e.balance_error})
       row_[k++] = v;
+    if (!model_.solids.empty() || !model_.axis.empty())
+      for (size_t j = 0; j < model_.parts.size(); ++j) row_[k++] = j < e.part_hourglass.size() ? e.part_hourglass[j] : 0.0;
     writer_.append(row_, stream_[0]);
   }
   if (!model_.history_nodes.empty() && n % every_[1] == 0) {

@@ -14,7 +14,11 @@ whose answers are known:
 - the time shift against the reference is found where there is one, and is
   none where the cycles drift apart;
 - the fatigue hot spots: each part's most damaged element, per blow, with
-  the blows and hours to crack initiation."""
+  the blows and hours to crack initiation;
+- the hourglass energy per cycle (and per part) between the first and last
+  impact, and its check against 5 % of ½mv²; the ringing before each blow,
+  the rms about its mean of a gauge's stress (a sine of amplitude a: a/√2),
+  blind to the blow itself and to a static preload."""
 import pathlib
 import sys
 import tempfile
@@ -108,4 +112,36 @@ with tempfile.TemporaryDirectory() as tmp:
           f"1e7 blows to initiation, {1e7 / 25 / 3600:.1f} h at 25 Hz: {spots[1]['hours']}")
     check(spots[5]["blows_to_initiation"] == float("inf"), "no damage: no initiation")
     check(abs(spots[2]["r_mm"] - 32.0) < 1e-9 and abs(spots[2]["range_MPa"] - 260.0) < 1e-9, "position in mm, range in MPa")
+# Hourglass per cycle and ringing: impacts every 40 ms; the hourglass energy
+# grows by 30 J a cycle (piston 10, anvil 20); the tool's gauge carries a
+# -50 MPa preload, a 4 kHz ring of 2 MPa and, at each impact, a -200 MPa
+# pulse of 110 us that the window before the next impact leaves out.
+with tempfile.TemporaryDirectory() as tmp:
+    impacts = [0.30, 0.34, 0.38, 0.42]
+    path = pathlib.Path(tmp) / "fe.h5"
+    with h5py.File(path, "w") as f:
+        tg = np.arange(0.25, 0.45, 1e-4)
+        f["time"] = tg
+        f["energy/hourglass"] = 750.0 * tg
+        f["energy/hourglass_part/1"] = 250.0 * tg
+        f["energy/hourglass_part/4"] = 500.0 * tg
+        f["energy/hourglass_part/3"] = 0.0 * tg
+        te = np.arange(0.25, 0.45, 4e-6)
+        f["time_elements"] = te
+        stress = -50e6 + 2e6 * np.sin(2 * np.pi * 4000.0 * te)
+        for ti in impacts:
+            stress[(te >= ti) & (te < ti + 110e-6)] = -200e6
+        f[f"sections/{h.SECTION}/fy"] = stress * h.AREA
+        f[f"sections/{h.SECTION}/vy"] = 0.0 * te
+    with h5py.File(path) as f:
+        hg, parts = h.hourglass_per_cycle(f, impacts)
+        check(abs(hg - 30.0) < 1e-6 and abs(parts[1] - 10.0) < 1e-6 and abs(parts[4] - 20.0) < 1e-6 and 3 not in parts,
+              f"30 J a cycle, piston 10, anvil 20, the spool none: {hg}, {parts}")
+        ring = h.ringing(f, impacts, h.SECTION, h.AREA)
+        check(abs(ring - 2.0 / np.sqrt(2.0)) < 0.01, f"a 2 MPa ring is 1.414 MPa rms, preload and pulses left out: {ring}")
+        check(h.ringing(f, impacts, "999", h.AREA) is None, "no such gauge: no figure")
+    rows = h.hourglass_check({"hg": 30.0, "hg_parts": parts, "W_kin": 400.0})
+    check(rows[0][3] is False and "7.5 %" in rows[0][1] and rows[0][1].index("anvil") < rows[0][1].index("piston"),
+          f"7.5 % of 400 J fails, the anvil named first: {rows}")
+    check(h.hourglass_check({"hg": 19.0, "hg_parts": {}, "W_kin": 400.0})[0][3] is True, "4.75 % holds")
 sys.exit(1 if failures else 0)

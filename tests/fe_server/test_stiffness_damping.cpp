@@ -205,6 +205,17 @@ TEST(StiffnessDamping, TheReaderTakesBetaAndRefusesWhatItWouldGetWrong) {
       "*KEYWORD\n*NODE\n1,0,0,0\n2,0,0,1.0\n*PART\nbar\n1,1,1\n*SECTION_BEAM\n1,3\n1e-4\n*MAT_ELASTIC\n1,7850,2.1e11,0\n"
       "*ELEMENT_BEAM\n1,1,1,2\n*DAMPING_PART_STIFFNESS\n1,-1e-7\n";
   EXPECT_NE(fe_test::deck_error(bar, "d.k").find("part 1 holds bar elements"), std::string::npos);
+  EXPECT_NE(fe_test::deck_error(rod + "*DAMPING_PART_STIFFNESS\n1,-1e-7\n1,-2e-7\n", "d.k").find("given stiffness damping twice"),
+            std::string::npos);
+  const std::string spring = rod + "*PART\nspring\n2,2,2\n*SECTION_DISCRETE\n2,0\n*MAT_SPRING_ELASTIC\n2,1e6\n"
+                                   "*ELEMENT_DISCRETE\n90,2,1,3\n*DAMPING_PART_STIFFNESS\n2,-1e-7\n";
+  const std::string none = fe_test::deck_error(spring, "d.k");
+  EXPECT_NE(none.find("part 2 has no solid or axisymmetric elements"), std::string::npos) << none;
+  // The same spring part given mass damping: an error at its line, where the
+  // reader looked its material up among the solids' and threw map::at.
+  const std::string mass = fe_test::deck_error(rod + "*PART\nspring\n2,2,2\n*SECTION_DISCRETE\n2,0\n*MAT_SPRING_ELASTIC\n2,1e6\n"
+                                               "*ELEMENT_DISCRETE\n90,2,1,3\n*DEFINE_CURVE\n5\n0,1\n1,1\n*DAMPING_PART_MASS\n2,5\n", "d.k");
+  EXPECT_NE(mass.find("part 2 is a spring or damper part"), std::string::npos) << mass;
   const std::string range = fe_test::deck_error(rod + "*DAMPING_FREQUENCY_RANGE\n0.01,100,3000,0\n", "d.k");
   EXPECT_NE(range.find("frequency-independent damping is LS-DYNA's own formulation"), std::string::npos) << range;
 }

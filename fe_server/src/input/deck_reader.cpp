@@ -66,6 +66,7 @@ struct Reader {
   };
   std::vector<DampingCards> damping_cards;  // *DAMPING_GLOBAL, *DAMPING_PART_MASS
   std::vector<std::pair<Card, bool>> stiffness_damping_cards;  // *DAMPING_PART_STIFFNESS card, and whether _SET
+  std::set<int> damped_parts;  // the parts *DAMPING_PART_STIFFNESS has given a value
   std::vector<std::pair<Card, Card>> fatigue_cards;  // *PCS_FATIGUE_PART: card 1, card 2 (or empty)
   Card body_parts_card;  // *LOAD_BODY_PARTS PSID
   bool has_body_parts = false;
@@ -805,11 +806,17 @@ struct Reader {
     for (const int pid : pids) {
       auto part = m.parts.find(pid);
       if (part == m.parts.end()) c.fail("PID " + std::to_string(pid) + " is not a *PART");
-      if (m.materials.at(part->second.material).rigid)
-        c.fail("part " + std::to_string(pid) + " is rigid: stiffness damping acts on deformation, which a rigid body has none of");
       if (std::any_of(m.bars.begin(), m.bars.end(), [&](const BarElement& e) { return e.part == pid; }))
         c.fail("part " + std::to_string(pid) + " holds bar elements: stiffness damping is applied by the solid and "
                "axisymmetric elements only (damp a bar with a *MAT_SPRING_ELASTIC's damper beside it)");
+      if (std::none_of(m.solids.begin(), m.solids.end(), [&](const SolidElement& e) { return e.part == pid; }) &&
+          std::none_of(m.axis.begin(), m.axis.end(), [&](const AxiElement& e) { return e.part == pid; }))
+        c.fail("part " + std::to_string(pid) + " has no solid or axisymmetric elements: stiffness damping would do "
+               "nothing there");
+      if (m.materials.at(part->second.material).rigid)
+        c.fail("part " + std::to_string(pid) + " is rigid: stiffness damping acts on deformation, which a rigid body has none of");
+      if (!damped_parts.insert(pid).second)
+        c.fail("part " + std::to_string(pid) + " is given stiffness damping twice: one value per part");
       part->second.stiffness_damping = -coef;
     }
   }
@@ -1255,6 +1262,9 @@ struct Reader {
       const long pid = c.integer(0, "PID");
       auto part = m.parts.find(static_cast<int>(pid));
       if (part == m.parts.end()) c.fail("PID " + std::to_string(pid) + " is not a *PART");
+      if (!m.materials.count(part->second.material))
+        c.fail("part " + std::to_string(pid) + " is a spring or damper part: mass damping acts on the nodes of "
+               "solid, axisymmetric or bar parts");
       if (m.materials.at(part->second.material).rigid)
         c.fail("part " + std::to_string(pid) + " is rigid: mass damping of rigid bodies is not supported");
       md.all_nodes = false;

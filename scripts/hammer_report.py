@@ -228,7 +228,7 @@ def primary_pulses(fe, impact_times):
 def hourglass_per_cycle(fe, impact_times):
     """The FE's hourglass energy per impact cycle [J] between the first and
     the last impact, and per part where fe.h5 has it
-    (energy/hourglass_part/<id>): the viscous hourglass control dissipates
+    (part_energy/hourglass/<id>): the viscous hourglass control dissipates
     what the zero-energy modes take. None without two impacts."""
     if "energy" not in fe or "hourglass" not in fe["energy"] or len(impact_times) < 2:
         return None
@@ -236,8 +236,8 @@ def hourglass_per_cycle(fe, impact_times):
     i0, i1 = (min(int(np.searchsorted(t, x)), len(t) - 1) for x in (impact_times[0], impact_times[-1]))
     cycles = len(impact_times) - 1
     per_part = {}
-    if "hourglass_part" in fe["energy"]:
-        for pid, series in fe["energy/hourglass_part"].items():
+    if "part_energy/hourglass" in fe:
+        for pid, series in fe["part_energy/hourglass"].items():
             e = (series[i1] - series[i0]) / cycles
             if e > 0.0:
                 per_part[int(pid)] = float(e)

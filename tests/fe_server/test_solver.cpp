@@ -528,11 +528,11 @@ TEST(History, DecimatedHistoriesHoldTheEveryStepValuesAtTheirTimes) {
     for (double x : v) largest = std::max(largest, std::fabs(x));
     EXPECT_GT(largest, 0.0) << c.series << ": the compared values are not all zero";
   }
-  // Each part's hourglass energy (energy/hourglass_part/<id>) sums to the
+  // Each part's hourglass energy (part_energy/hourglass/<id>) sums to the
   // model's, row by row, and the impact puts some in each part.
   const auto all = h5io::read_series(dir + "/every.h5", "energy/hourglass");
-  const auto p1 = h5io::read_series(dir + "/every.h5", "energy/hourglass_part/1");
-  const auto p2 = h5io::read_series(dir + "/every.h5", "energy/hourglass_part/2");
+  const auto p1 = h5io::read_series(dir + "/every.h5", "part_energy/hourglass/1");
+  const auto p2 = h5io::read_series(dir + "/every.h5", "part_energy/hourglass/2");
   ASSERT_EQ(p1.size(), all.size());
   for (size_t r = 0; r < all.size(); ++r) ASSERT_NEAR(p1[r] + p2[r], all[r], 1e-12 * std::fabs(all.back())) << "row " << r;
   EXPECT_GT(p1.back(), 0.0);

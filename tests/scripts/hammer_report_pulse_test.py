@@ -123,9 +123,9 @@ with tempfile.TemporaryDirectory() as tmp:
         tg = np.arange(0.25, 0.45, 1e-4)
         f["time"] = tg
         f["energy/hourglass"] = 750.0 * tg
-        f["energy/hourglass_part/1"] = 250.0 * tg
-        f["energy/hourglass_part/4"] = 500.0 * tg
-        f["energy/hourglass_part/3"] = 0.0 * tg
+        f["part_energy/hourglass/1"] = 250.0 * tg
+        f["part_energy/hourglass/4"] = 500.0 * tg
+        f["part_energy/hourglass/3"] = 0.0 * tg
         te = np.arange(0.25, 0.45, 4e-6)
         f["time_elements"] = te
         stress = -50e6 + 2e6 * np.sin(2 * np.pi * 4000.0 * te)

@@ -47,9 +47,10 @@ History::History(const std::string& path, const Model& model, const config::Port
   for (const char* e : {"kinetic", "internal", "hourglass", "contact", "damping", "external_work", "balance_error"})
     writer_.add_series(std::string("energy/") + e, "J");
   // Each part's hourglass energy (parts in id order; 0 for a part without
-  // deformable solids): where the zero-energy modes take energy.
+  // deformable solids): where the zero-energy modes take energy. A group of
+  // its own: readers take every member of energy/ for a series.
   if (!model.solids.empty() || !model.axis.empty())
-    for (const auto& [pid, part] : model.parts) writer_.add_series("energy/hourglass_part/" + std::to_string(pid), "J");
+    for (const auto& [pid, part] : model.parts) writer_.add_series("part_energy/hourglass/" + std::to_string(pid), "J");
   if (!model.history_nodes.empty()) {
     stream_[1] = writer_.add_stream();
     writer_.add_series("time_nodes", "s", stream_[1]);

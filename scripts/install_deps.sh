@@ -8,7 +8,7 @@ packages=(
   libmuparser-dev
   libopenmpi-dev openmpi-bin libmetis-dev
   libxml2-utils unzip hdf5-tools gmsh
-  python3 python3-h5py python3-matplotlib python3-numpy python3-scipy
+  python3 python3-h5py python3-matplotlib python3-numpy python3-pandas python3-scipy
   g++-mingw-w64-x86-64-posix wine wine64
 )
 missing=()

@@ -126,7 +126,14 @@ size_t TimeSeriesWriter::add_series(const std::string& name, const std::string& 
   H5Sclose(space);
   if (d < 0) fail("cannot create dataset '" + name + "'", path_);
   put_string_attribute(d, "unit", unit, path_);
-  streams_[stream].series.push_back(d);
+  // A stream's first series is its time; every other series names it, so a
+  // reader pairs each series with its own time axis without guessing by length.
+  Stream& s = streams_[stream];
+  if (s.series.empty())
+    s.time_name = "/" + name;
+  else
+    put_string_attribute(d, "time", s.time_name, path_);
+  s.series.push_back(d);
   return streams_[stream].series.size() - 1;
 }
 
@@ -267,12 +274,15 @@ std::vector<std::pair<std::string, size_t>> list_series(const std::string& file)
   return out;
 }
 
-std::string read_attribute(const std::string& file, const std::string& name) {
+std::string read_attribute(const std::string& file, const std::string& name, const std::string& object) {
   hid_t f = open_for_reading(file);
   if (f < 0) fail("cannot open file", file);
   std::string out;
-  if (H5Aexists(f, name.c_str()) > 0) {
-    hid_t a = H5Aopen(f, name.c_str(), H5P_DEFAULT);
+  hid_t o = -1;
+  H5E_BEGIN_TRY { o = H5Oopen(f, object.c_str(), H5P_DEFAULT); }
+  H5E_END_TRY;
+  if (o >= 0 && H5Aexists(o, name.c_str()) > 0) {
+    hid_t a = H5Aopen(o, name.c_str(), H5P_DEFAULT);
     hid_t type = H5Aget_type(a);
     size_t size = H5Tget_size(type);
     std::string buf(size + 1, '\0');
@@ -283,6 +293,7 @@ std::string read_attribute(const std::string& file, const std::string& name) {
     H5Tclose(type);
     H5Aclose(a);
   }
+  if (o >= 0) H5Oclose(o);
   H5Fclose(f);
   return out;
 }

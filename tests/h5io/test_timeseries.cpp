@@ -52,3 +52,30 @@ TEST(TimeSeriesWriter, MemoryStaysFlatWhileASeriesGrows) {
   ASSERT_EQ(back.size(), kRows);
   EXPECT_EQ(back.back(), 1e-3 * static_cast<double>(kRows - 1) + 63.0);
 }
+
+// Each series names its own time axis. fe_server writes three streams at
+// three rates (ports and energies, history nodes, sections); their lengths
+// can be equal (time and time_nodes both every 100 us in the rig deck), so a
+// reader that paired series with axes by length would pair them wrongly.
+// Here two streams of the same length: each series must name its own.
+TEST(TimeSeriesWriter, EverySeriesNamesTheTimeAxisOfItsStream) {
+  testing_support::TempDir dir;
+  const std::string path = dir.file("axes.h5");
+  {
+    h5io::TimeSeriesWriter w(path);
+    w.add_series("time", "s");
+    w.add_series("ports/a.p", "Pa");
+    const size_t s1 = w.add_stream();
+    w.add_series("time_elements", "s", s1);
+    w.add_series("sections/1/fy", "N", s1);
+    for (int i = 0; i < 3; ++i) {
+      w.append({1e-3 * i, 1e5}, 0);
+      w.append({2e-3 * i, 10.0}, s1);
+    }
+  }
+  EXPECT_EQ(h5io::read_attribute(path, "time", "/ports/a.p"), "/time");
+  EXPECT_EQ(h5io::read_attribute(path, "time", "/sections/1/fy"), "/time_elements");
+  EXPECT_EQ(h5io::read_attribute(path, "unit", "/sections/1/fy"), "N");
+  EXPECT_EQ(h5io::read_attribute(path, "time", "/time_elements"), "") << "an axis names no axis";
+  EXPECT_EQ(h5io::read_attribute(path, "time", "/no/such"), "");
+}

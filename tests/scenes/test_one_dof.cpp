@@ -117,6 +117,19 @@ TEST(OneDofScene, SettlesInTheStaticEquilibrium) {
   auto t = h5io::read_series(r.fe_out, "time");
   auto x = h5io::read_series(r.fe_out, "ports/cavity.x");
   auto p = h5io::read_series(r.host_out, "nodes/chamber.P2/p");
+  // The host logs the FMU's outputs with the units its model description
+  // declares (they were logged without any), each on the host's time axis.
+  const auto fmu_outputs = [&] {
+    std::vector<std::string> v;
+    for (const auto& [name, rows] : h5io::list_series(r.host_out))
+      if (name.find(".x") != std::string::npos && name.rfind("components/", 0) == 0) v.push_back(name);
+    return v;
+  }();
+  ASSERT_FALSE(fmu_outputs.empty()) << "the FMU's cavity.x is logged";
+  for (const auto& name : fmu_outputs) {
+    EXPECT_EQ(h5io::read_attribute(r.host_out, "unit", name), "m") << name;
+    EXPECT_EQ(h5io::read_attribute(r.host_out, "time", name), "/time") << name;
+  }
   // The spring was preloaded to balance p0 at x = 0; the extra pressure moves
   // the face against its normal by (p_supply − p0)·A/k.
   const double x_eq = -(p_supply - a.p0) * a.A / a.k;

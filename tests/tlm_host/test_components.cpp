@@ -250,9 +250,34 @@ TEST(FmuImporter, ReadsTheGeneratedModelDescriptionAndCleansUp) {
     ASSERT_NE(md.find("cavity.q"), nullptr);
     EXPECT_EQ(md.find("cavity.q")->causality, "output");
     EXPECT_EQ(md.find("cavity.q")->type, "Real");
+    EXPECT_EQ(md.find("cavity.q")->unit, "m3/s") << "host.h5 logs the FMU's outputs with this unit";
     EXPECT_EQ(md.find("server.host")->type, "String");
+    EXPECT_EQ(md.find("server.host")->unit, "");
   }
   EXPECT_FALSE(std::ifstream(dir + "/modelDescription.xml").good()) << "the temporary folder must be removed";
+}
+
+// A Real's unit is its own attribute or, in another exporter's FMU, its
+// declaredType's (FMI 2.0 §2.2.7); the host logs each FMU output with it.
+TEST(FmuImporter, TakesARealsUnitFromItselfOrItsDeclaredType) {
+  const std::string xml =
+      "<?xml version=\"1.0\"?>\n<fmiModelDescription fmiVersion=\"2.0\" modelName=\"m\" guid=\"{g}\">\n"
+      "<CoSimulation modelIdentifier=\"m\"/>\n<UnitDefinitions><Unit name=\"Pa\"/></UnitDefinitions>\n"
+      "<TypeDefinitions><SimpleType name=\"Pressure\"><Real quantity=\"Pressure\" unit=\"Pa\"/></SimpleType>"
+      "</TypeDefinitions>\n<ModelVariables>\n"
+      "<ScalarVariable name=\"a.p\" valueReference=\"0\" causality=\"output\"><Real declaredType=\"Pressure\"/>"
+      "</ScalarVariable>\n"
+      "<ScalarVariable name=\"a.q\" valueReference=\"1\" causality=\"output\"><Real unit=\"m3/s\"/></ScalarVariable>\n"
+      "<ScalarVariable name=\"a.p2\" valueReference=\"2\" causality=\"output\">"
+      "<Real declaredType=\"Pressure\" unit=\"bar\"/></ScalarVariable>\n"
+      "<ScalarVariable name=\"n\" valueReference=\"3\" causality=\"output\"><Integer/></ScalarVariable>\n"
+      "</ModelVariables>\n</fmiModelDescription>\n";
+  const auto md = tlm::parse_model_description(xml, "test.xml");
+  ASSERT_NE(md.find("a.p"), nullptr);
+  EXPECT_EQ(md.find("a.p")->unit, "Pa") << "from its declaredType";
+  EXPECT_EQ(md.find("a.q")->unit, "m3/s");
+  EXPECT_EQ(md.find("a.p2")->unit, "bar") << "its own unit overrides the type's";
+  EXPECT_EQ(md.find("n")->unit, "");
 }
 
 // *LOG (or --log) keeps the results to what a study reads: the rig scene's

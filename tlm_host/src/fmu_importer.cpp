@@ -134,6 +134,7 @@ extern "C" void pcs_fmu_logger(fmi2ComponentEnvironment env, fmi2String instance
 
 ModelDescription parse_model_description(const std::string& xml, const std::string& source) {
   ModelDescription md;
+  std::map<std::string, std::string> type_units;  // SimpleType name → its Real unit
   auto tags = scan_tags(xml, source);
   bool root = false;
   for (size_t i = 0; i < tags.size(); ++i) {
@@ -148,6 +149,9 @@ ModelDescription parse_model_description(const std::string& xml, const std::stri
       md.model_identifier = t.attrs.count("modelIdentifier") ? t.attrs.at("modelIdentifier") : "";
     } else if (t.name == "DefaultExperiment" && t.attrs.count("stepSize")) {
       md.default_step = std::atof(t.attrs.at("stepSize").c_str());
+    } else if (t.name == "SimpleType" && t.attrs.count("name") && i + 1 < tags.size() && tags[i + 1].name == "Real" &&
+               tags[i + 1].attrs.count("unit")) {
+      type_units[t.attrs.at("name")] = tags[i + 1].attrs.at("unit");
     } else if (t.name == "ScalarVariable") {
       FmuScalar v;
       v.name = t.attrs.count("name") ? t.attrs.at("name") : "";
@@ -156,6 +160,15 @@ ModelDescription parse_model_description(const std::string& xml, const std::stri
       v.causality = t.attrs.count("causality") ? t.attrs.at("causality") : "local";
       // The type is the first child element: Real, Integer, Boolean, String or Enumeration.
       if (i + 1 < tags.size() && tags[i + 1].name[0] != '/') v.type = tags[i + 1].name;
+      // FMI 2.0 §2.2.7: a Real's unit is its own attribute, else its declaredType's (TypeDefinitions
+      // come before ModelVariables).
+      if (v.type == "Real") {
+        const auto& a = tags[i + 1].attrs;
+        if (a.count("unit"))
+          v.unit = a.at("unit");
+        else if (a.count("declaredType") && type_units.count(a.at("declaredType")))
+          v.unit = type_units.at(a.at("declaredType"));
+      }
       md.variables.push_back(v);
     }
   }

@@ -19,6 +19,7 @@ struct FmuScalar {
   unsigned value_reference = 0;
   std::string causality;  // input, output, parameter, ...
   std::string type;       // Real, Integer, Boolean, String
+  std::string unit;       // a Real's unit, its own or its declaredType's; empty if none
 };
 
 struct ModelDescription {

@@ -38,6 +38,9 @@ class TimeSeriesWriter {
   TimeSeriesWriter& operator=(const TimeSeriesWriter&) = delete;
 
   // Declare a series before the first append; `name` may contain '/' groups.
+  // A stream's first series is its time axis (unit s); each later series of
+  // the stream gets a string attribute `time` with that axis' absolute path
+  // ("/time", "/time_elements"), beside its `unit`.
   // Returns its column index within its stream.
   size_t add_series(const std::string& name, const std::string& unit, size_t stream = 0);
   // Another name for a series (an HDF5 soft link: `alias` reads as
@@ -72,6 +75,7 @@ class TimeSeriesWriter {
  private:
   struct Stream {
     std::vector<hid_t> series;
+    std::string time_name;  // the first series' absolute path
     std::vector<double> buffer;  // chunk_ rows × columns, column-major
     size_t buffered = 0;
     size_t rows_written = 0;
@@ -93,7 +97,8 @@ class TimeSeriesWriter {
 std::vector<double> read_series(const std::string& file, const std::string& dataset);
 // Every 1-D dataset of the file with its length (rows), by path.
 std::vector<std::pair<std::string, size_t>> list_series(const std::string& file);
-// Read a string attribute of the root group; empty if absent.
-std::string read_attribute(const std::string& file, const std::string& name);
+// Read a string attribute of the root group, or of the group or dataset
+// `object` (a series' "unit" or "time"); empty if either is absent.
+std::string read_attribute(const std::string& file, const std::string& name, const std::string& object = "/");
 
 }  // namespace h5io

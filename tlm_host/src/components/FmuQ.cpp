@@ -59,7 +59,7 @@ void FmuQ::configure(ParameterSet& prm) {
   if (hports_.empty()) throw config::InputError(prm.where(), name_ + ": the FMU has no hydraulic port (no output named L.q)");
   if (!portspecs.empty()) check_hopsan_portspecs(portspecs, prm.where());
   for (const auto& v : md.variables)
-    if (v.causality == "output" && v.type == "Real") outputs_.push_back({v.name, v.value_reference, 0.0});
+    if (v.causality == "output" && v.type == "Real") outputs_.push_back({v.name, v.value_reference, 0.0, v.unit});
   if (!hopsan_names) {
     for (auto& hp : hports_) add_signal_output(ports_[hp.port].name + ".p_node", &hp.p_node);
     // Every output is also a signal ("piston.cavity.x" can drive a chamber or a groove).
@@ -221,7 +221,7 @@ void FmuQ::finalize() {
 }
 
 void FmuQ::log_variables(std::vector<LogVariable>& out) {
-  for (const auto& o : outputs_) out.push_back({o.name, "", &o.value});
+  for (const auto& o : outputs_) out.push_back({o.name, o.unit, &o.value});
 }
 
 }  // namespace tlm

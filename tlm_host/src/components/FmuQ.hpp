@@ -60,6 +60,7 @@ class FmuQ : public Component {
     std::string name;
     unsigned vr = 0;
     double value = 0.0;
+    std::string unit;  // the model description's, logged with the series
   };
   // Inputs for the coming step from each port's node (pressure or c, Zc).
   void send_inputs();

@@ -730,12 +730,20 @@ def rig_section(results):
 
 
 def main():
-    out = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "out/hammer")
+    args = sys.argv[1:]
+    scene_name = None  # --scene NAME: the runs' scene, where a study's port table lies outside it
+    if "--scene" in args:
+        i = args.index("--scene")
+        if i + 1 >= len(args) or args[i + 1] not in GEOMETRY:
+            sys.exit(f"hammer_report.py: --scene: expected one of {', '.join(GEOMETRY)}")
+        scene_name = args[i + 1]
+        del args[i:i + 2]
+    out = pathlib.Path(args[0] if args else "out/hammer")
     conds = sorted((d for d in out.glob("*bar_*mm") if (d / "reference.json").exists()),
                    key=lambda d: (-int(d.name.split("bar")[0]), -float(d.name.split("_")[1][:-2])))
     if not conds:
         sys.exit(f"hammer_report.py: no runs under {out}")
-    use_scene(scene_of(conds))
+    use_scene(scene_name or scene_of(conds))
     results = [(cond, evaluate(cond)) for cond in conds]
     is_elastic = any(col.get("elastic") for _, cols in results for col in cols.values())
     scene = ("the elastic piston, tool, housing and anvil (axisymmetric) on the test rig, preloaded, with the "

@@ -7,7 +7,7 @@
 #   scripts/run_hammer.sh [--scene rig|elastic|rigid] [--modes "tlm10 ..."]
 #                         [--conditions "150:6.0 150:5.4 100:6.0 100:5.4"]
 #                         [--stop S] [--jobs N] [--out out/hammer]
-#                         [--deck FILE]
+#                         [--deck FILE] [--ports FILE]
 #
 # Scenes: rig (default; scenes/hammer_rig: the hammer reworked against the
 # thesis' rig, its flow following the restrictor and the pressure as
@@ -33,6 +33,10 @@
 # Deck: a variant of the scene's deck (a study: damping, mesh, contact
 # settings), relative to the built scene's directory (build/scenes/<scene>,
 # where the meshes it includes are) or absolute; default deck.k.
+# Ports: a variant of the scene's port table (rig and elastic scenes: a
+# study of the coupling step or the FE steps per coupling step, which the
+# deck's mass scaling must then follow); the FMU is generated from it into
+# the output folder. Relative to the current directory or absolute.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${PCS_BUILD_DIR:-$root/build}
@@ -43,6 +47,7 @@ stop=
 jobs=2
 out=$root/out/hammer
 deck=deck.k
+ports_variant=
 while [ $# -gt 0 ]; do
   case "$1" in
     --scene) scene_name=$2; shift 2 ;;
@@ -52,6 +57,7 @@ while [ $# -gt 0 ]; do
     --jobs) jobs=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --deck) deck=$2; shift 2 ;;
+    --ports) ports_variant=$2; shift 2 ;;
     *) echo "run_hammer.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
   esac
 done
@@ -75,23 +81,33 @@ scene=$build/scenes/$scene_dir
 [ -f "$scene/deck.k" ] || { echo "run_hammer.sh: $scene/deck.k missing: build first (scripts/build.sh)" >&2; exit 2; }
 (cd "$scene" && [ -f "$deck" ]) || { echo "run_hammer.sh: --deck '$deck': no such file in $scene" >&2; exit 2; }
 mkdir -p "$out"
+variant_fmu=
+if [ -n "$ports_variant" ]; then
+  [ "$scene_name" != rigid ] || { echo "run_hammer.sh: --ports: the rigid scene has a port table per mode" >&2; exit 2; }
+  [ -f "$ports_variant" ] || { echo "run_hammer.sh: --ports '$ports_variant': no such file" >&2; exit 2; }
+  ports_variant=$(cd "$(dirname "$ports_variant")" && pwd)/$(basename "$ports_variant")
+  variant_fmu=$(cd "$out" && pwd)/variant.fmu
+  "$build/fmugen/fmugen" "$ports_variant" -o "$variant_fmu" --no-win64 > "$out/fmugen.log" 2>&1 ||
+    { cat "$out/fmugen.log" >&2; echo "run_hammer.sh: --ports '$ports_variant': fmugen refused it" >&2; exit 2; }
+fi
 
 run_mode() {  # condition directory, mode, common --set arguments...
   local dir=$1 mode=$2; shift 2
   local ports fmu host_step=()
   if [ "$scene_name" != rigid ]; then
     [ "$mode" = tlm10 ] || { echo "run_hammer.sh: mode '$mode': the $scene_name scene runs tlm10 (TLM, 10 us)" >&2; return 2; }
-    ports=$root/scenes/$scene_dir/ports.cfg; fmu=$scene_dir.fmu
+    ports=$root/scenes/$scene_dir/ports.cfg; fmu=$scene/$scene_dir.fmu
+    [ -z "$ports_variant" ] || { ports=$ports_variant; fmu=$variant_fmu; }
     # A row every 20 us (the impact velocity is read from the row before
     # contact: 0.02 m/s at most), keeping the whole job under 0.5 GB.
     host_step=(--set simulation.timestep=1e-5 --set simulation.log_every=2)
   else
     case "$mode" in
-      pressure) ports=ports.cfg; fmu=hammer.fmu ;;
-      tlm) ports=ports_tlm.cfg; fmu=hammer_tlm.fmu ;;
-      tlm10) ports=ports_tlm10.cfg; fmu=hammer_tlm10.fmu
+      pressure) ports=ports.cfg; fmu=$scene/hammer.fmu ;;
+      tlm) ports=ports_tlm.cfg; fmu=$scene/hammer_tlm.fmu ;;
+      tlm10) ports=ports_tlm10.cfg; fmu=$scene/hammer_tlm10.fmu
              host_step=(--set simulation.timestep=1e-5 --set simulation.log_every=1) ;;
-      pressure10) ports=ports_pressure10.cfg; fmu=hammer_p10.fmu
+      pressure10) ports=ports_pressure10.cfg; fmu=$scene/hammer_p10.fmu
              host_step=(--set simulation.timestep=1e-5 --set simulation.log_every=1) ;;
       *) echo "run_hammer.sh: mode '$mode': expected pressure, tlm, tlm10 or pressure10" >&2; return 2 ;;
     esac
@@ -114,7 +130,7 @@ run_mode() {  # condition directory, mode, common --set arguments...
   [ -s "$run/port" ] || { cat "$run/fe_server.log" >&2; return 1; }
   local start wall
   start=$(date +%s.%N)
-  "$build/tlm_host/tlm_host" "$host_model" --fmu "$scene/$fmu" \
+  "$build/tlm_host/tlm_host" "$host_model" --fmu "$fmu" \
     --server "127.0.0.1:$(cat "$run/port")" "$@" "${host_step[@]}" \
     --out "$run/host.h5" --report "$run/host.json" > "$run/tlm_host.log"
   wall=$(echo "$(date +%s.%N) - $start" | bc)
@@ -189,4 +205,4 @@ for c in $conditions; do
   printf 'run_hammer.sh: %s wrote %.1f MB per simulated second\n' "$(basename "$d")" \
     "$(echo "$(du -sb "$d" | cut -f1) / $stop / 1000000" | bc -l)"
 done
-/usr/bin/python3 "$root/scripts/hammer_report.py" "$out"
+/usr/bin/python3 "$root/scripts/hammer_report.py" "$out" --scene "$scene_dir"

@@ -43,4 +43,17 @@ for exe in "$FE_SERVER" "$TLM_HOST" "$TLM_FIT" "$FMUGEN" "$FE_MESH" "$BENCH_TLM"
   [ -n "$exe" ] || continue
   expect 0 "^$(basename "$exe") [0-9][0-9.]* (percussion co-simulation; coupling protocol [0-9][0-9]*)$" "$exe" --version
 done
+# The main job's study options: a variant that is not there, or does not
+# fit the scene, stops before any run with exit 2 and says which.
+root=$(cd "$(dirname "$0")/../.." && pwd)
+build=$(cd "$(dirname "$FE_SERVER")/.." && pwd)
+tmp=$(mktemp -d)
+if [ -f "$build/scenes/hammer_rig/deck.k" ]; then
+  expect 2 "--ports '/nonexistent/ports.cfg': no such file" env PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --ports /nonexistent/ports.cfg --out "$tmp/a"
+  expect 2 "--deck 'nope.k': no such file" env PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --deck nope.k --out "$tmp/b"
+  expect 2 "--ports: the rigid scene has a port table per mode" env PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --scene rigid --ports "$root/scenes/hammer_rig/ports.cfg" --out "$tmp/c"
+  printf 'not a port table\n' > "$tmp/bad.cfg"
+  expect 2 "fmugen refused it" env PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --ports "$tmp/bad.cfg" --out "$tmp/d"
+fi
+rm -rf "$tmp"
 exit $fail

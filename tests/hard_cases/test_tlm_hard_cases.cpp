@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "components/HydraulicVolumeC.hpp"
+#include "components/hydraulic/HydraulicVolumeC.hpp"
 #include "h5io/timeseries.hpp"
 #include "model.hpp"
 #include "process.hpp"

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "components/HydraulicTurbulentOrificeQ.hpp"
+#include "components/hydraulic/HydraulicTurbulentOrificeQ.hpp"
 #include "components/rigid_body.hpp"
 #include "fmu_importer.hpp"
 #include "h5io/timeseries.hpp"

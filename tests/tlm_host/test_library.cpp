@@ -7,9 +7,9 @@
 #include <cmath>
 #include <fstream>
 
-#include "components/HydraulicTurbulentOrificeQ.hpp"
-#include "components/HydraulicVolumeC.hpp"
-#include "components/SpoolValveQ.hpp"
+#include "components/hydraulic/HydraulicTurbulentOrificeQ.hpp"
+#include "components/hydraulic/HydraulicVolumeC.hpp"
+#include "components/hydraulic/SpoolValveQ.hpp"
 #include "h5io/timeseries.hpp"
 #include "model.hpp"
 #include "process.hpp"

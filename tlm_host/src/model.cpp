@@ -17,7 +17,7 @@
 #include <filesystem>
 #include <future>
 
-#include "components/FmuQ.hpp"
+#include "components/cosim/FmuQ.hpp"
 
 namespace tlm {
 

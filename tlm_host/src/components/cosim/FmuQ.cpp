@@ -1,4 +1,4 @@
-#include "FmuQ.hpp"
+#include "components/cosim/FmuQ.hpp"
 
 #include "config/port_table.hpp"
 #include "socketlib/socketlib.h"

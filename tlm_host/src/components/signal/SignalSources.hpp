@@ -12,7 +12,7 @@
 // t_step acts on the step that ends there.
 #pragma once
 
-#include "bilinear.hpp"
+#include "components/bilinear.hpp"
 
 #include <algorithm>
 

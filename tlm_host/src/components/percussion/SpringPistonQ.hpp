@@ -10,7 +10,7 @@
 //   v⁺ = (m·v + Δt·F_explicit) / (m + Δt·(Zc·A² + b)),   x⁺ = x + Δt·v⁺.
 #pragma once
 
-#include "rigid_body.hpp"
+#include "components/rigid_body.hpp"
 
 namespace tlm {
 

@@ -9,7 +9,7 @@
 
 #include <cmath>
 
-#include "rigid_body.hpp"
+#include "components/rigid_body.hpp"
 
 namespace tlm {
 

@@ -22,7 +22,7 @@
 #include <cmath>
 #include <vector>
 
-#include "bilinear.hpp"
+#include "components/bilinear.hpp"
 #include "component.hpp"
 
 namespace tlm {

@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "rigid_body.hpp"
+#include "components/rigid_body.hpp"
 
 namespace tlm {
 

@@ -4,7 +4,7 @@
 // the flow is the exact TLM solution of HydraulicTurbulentOrificeQ.
 #pragma once
 
-#include "HydraulicTurbulentOrificeQ.hpp"
+#include "components/hydraulic/HydraulicTurbulentOrificeQ.hpp"
 #include "table.hpp"
 
 namespace tlm {

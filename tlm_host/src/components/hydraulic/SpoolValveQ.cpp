@@ -1,4 +1,4 @@
-#include "SpoolValveQ.hpp"
+#include "components/hydraulic/SpoolValveQ.hpp"
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_roots.h>
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "HydraulicTurbulentOrificeQ.hpp"
+#include "components/hydraulic/HydraulicTurbulentOrificeQ.hpp"
 
 namespace tlm {
 

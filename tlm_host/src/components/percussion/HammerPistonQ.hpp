@@ -8,7 +8,7 @@
 // blow; its time and velocity are recorded for the report.
 #pragma once
 
-#include "PercussionMechanics.hpp"
+#include "components/percussion/PercussionMechanics.hpp"
 
 namespace tlm {
 

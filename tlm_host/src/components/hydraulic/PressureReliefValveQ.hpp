@@ -20,8 +20,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "HydraulicTurbulentOrificeQ.hpp"
-#include "bilinear.hpp"
+#include "components/hydraulic/HydraulicTurbulentOrificeQ.hpp"
+#include "components/bilinear.hpp"
 #include "component.hpp"
 
 namespace tlm {

@@ -24,8 +24,8 @@
 #include <cmath>
 #include <vector>
 
-#include "HydraulicTurbulentOrificeQ.hpp"
-#include "bilinear.hpp"
+#include "components/hydraulic/HydraulicTurbulentOrificeQ.hpp"
+#include "components/bilinear.hpp"
 #include "component.hpp"
 
 namespace tlm {

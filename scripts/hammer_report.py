@@ -88,8 +88,17 @@ BAR_GAUGE_NODES = ("200040", "200041")
 SECTION = "111"
 PISTON_SECTION = "101"
 MODES = ("tlm10", "pressure", "tlm", "pressure10")  # the co-simulation folders under a condition
-MODE_TEXT = {"pressure": "pressure, 1 us", "tlm": "TLM, 1 us", "tlm10": "TLM, 10 us",
-             "pressure10": "pressure, 10 us, k = 10"}
+MODE_TEXT = {"pressure": "pressure, 1 µs", "tlm": "TLM, 1 µs", "tlm10": "TLM, 10 µs",
+             "pressure10": "pressure, 10 µs, k = 10"}
+
+
+def condition_words(name):
+    """'150bar_6.0mm' -> '150 bar, restrictor Ø6.0 mm' (a run folder's name as its condition)."""
+    try:
+        p, d = name.split("bar_")
+        return f"{int(p)} bar, restrictor Ø{float(d[:-2]):.1f} mm"
+    except ValueError:
+        return name
 
 
 def elastic(fe):
@@ -542,27 +551,55 @@ def table(cols):
 
 
 def plot(cond, cols):
-    """Piston lift, spool, cavity A pressure (last 0.1 s) and the tool's
-    stress pulse of the last evaluated blow (total and down-going)."""
+    """One condition's signals over the last 0.1 s, co-simulation against the
+    monolithic reference: piston lift, spool, the pressures (cavity A raw and
+    at the report's 500 Hz, cavity B, the inlet), the p-x indicator diagram
+    of cavities A and B over the last whole cycles, and the tool's stress
+    pulse of the last evaluated blow (total and down-going)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(4, 1, figsize=(9, 13))
-    with h5py.File(cond / "reference.h5") as ref:
-        t = ref["time"][:]
+    fig = plt.figure(figsize=(13, 13))
+    grid = fig.add_gridspec(4, 2, width_ratios=[1.6, 1])
+    ax = [fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[1, 0]), fig.add_subplot(grid[2, 0]),
+          fig.add_subplot(grid[3, 0])]
+    px = fig.add_subplot(grid[0:2, 1])
+    fq = fig.add_subplot(grid[2, 1])
+    words = condition_words(cond.name)
+
+    def signals(h5, x_name, spool_name, label, style):
+        t = h5["time"][:]
         s = t > t[-1] - 0.1
-        ax[0].plot(1e3 * t[s], 1e3 * ref["components/piston/x"][s], "k", lw=2, label="monolithic reference")
-        ax[1].plot(1e3 * t[s], ref["components/spool/x"][s] * 1e3, "k", lw=2, label="monolithic reference")
-        ax[2].plot(1e3 * t[s], 1e-5 * ref["nodes/cavA.P2/p"][s], "k", lw=2, label="monolithic reference")
+        dt = t[1] - t[0]
+        x = h5[x_name][:]
+        ax[0].plot(1e3 * t[s], 1e3 * x[s], **style, label=label)
+        ax[1].plot(1e3 * t[s], 1e3 * h5[spool_name][s], **style, label=label)
+        pa = h5["nodes/cavA.P2/p"][:]
+        ax[2].plot(1e3 * t[s], 1e-5 * pa[s], **style, alpha=0.35)
+        ax[2].plot(1e3 * t[s], 1e-5 * lowpass(pa, dt)[s], **style, label=f"{label}: p_A (500 Hz)")
+        if "nodes/cavB.P2/p" in h5:
+            ax[2].plot(1e3 * t[s], 1e-5 * lowpass(h5["nodes/cavB.P2/p"][:], dt)[s], **style, ls="--",
+                       label=f"{label}: p_B (500 Hz)")
+        if "nodes/supply_hose.P2/p" in h5:
+            ax[2].plot(1e3 * t[s], 1e-5 * lowpass(h5["nodes/supply_hose.P2/p"][:], dt)[s], **style, ls=":",
+                       label=f"{label}: p_in (500 Hz)")
+        if "components/fit_P/q" in h5:  # the hammer's inlet flow (the report's Q_in)
+            q = 6e4 * h5["components/fit_P/q"][:]
+            fq.plot(1e3 * t[s], q[s], **style, alpha=0.35)
+            fq.plot(1e3 * t[s], lowpass(q, dt)[s], **style, label=f"{label} (500 Hz; mean of this 0.1 s {q[s].mean():.1f})")
+        # the indicator diagram: each cavity's pressure over the piston's lift, last 0.1 s
+        px.plot(1e3 * x[s], 1e-5 * pa[s], **style, label=f"{label}: cavity A")
+        if "nodes/cavB.P2/p" in h5:
+            px.plot(1e3 * x[s], 1e-5 * h5["nodes/cavB.P2/p"][s], **style, ls="--", label=f"{label}: cavity B")
+
+    with h5py.File(cond / "reference.h5") as ref:
+        signals(ref, "components/piston/x", "components/spool/x", "monolithic", dict(color="k", lw=1.6))
     for m in MODES:
         if m not in cols:
             continue
         with h5py.File(cond / m / "host.h5") as host:
-            t = host["time"][:]
-            s = t > t[-1] - 0.1
-            ax[0].plot(1e3 * t[s], 1e3 * host["components/mech/x"][s], label=MODE_TEXT[m])
-            ax[1].plot(1e3 * t[s], 1e3 * host["components/smech/x"][s], label=MODE_TEXT[m])
-            ax[2].plot(1e3 * t[s], 1e-5 * host["nodes/cavA.P2/p"][s], label=MODE_TEXT[m])
+            signals(host, "components/mech/x", "components/smech/x", f"co-simulation ({MODE_TEXT[m]})",
+                    dict(color="C0", lw=1.2))
         with h5py.File(cond / m / "fe.h5") as fe:
             js = json.loads((cond / m / "host.json").read_text())
             ti = js["impact_times_s"][-1]
@@ -574,15 +611,28 @@ def plot(cond, cols):
             if cols[m].get("elastic"):
                 ax[3].axhline(-cols[m]["v"] * RHO * C0 * A_STRIKE / (A_STRIKE + AREA) / 1e6, color="k", ls=":",
                               label="1D impedance estimate (measured impact velocity)")
-    ax[0].set(xlabel="time [ms]", ylabel="piston lift [mm]", title=f"{cond.name}: last 0.1 s")
+    fig.suptitle(f"{words}: the last 0.1 s of the run", fontsize=13)
+    ax[0].set(xlabel="time [ms]", ylabel="piston lift [mm]")
     ax[1].set(xlabel="time [ms]", ylabel="spool position [mm]")
-    ax[2].set(xlabel="time [ms]", ylabel="cavity A pressure [bar abs]")
+    ax[2].set(xlabel="time [ms]", ylabel="pressure [bar abs]",
+              title="cavity A raw (faint) and at 500 Hz, cavity B and the inlet at 500 Hz")
     ax[3].set(xlabel="time after the last evaluated impact [µs]", ylabel="tool stress at the gauge [MPa]",
               title="stress 200 mm below the tool's top (compression negative)")
-    for a in ax:
+    px.set(xlabel="piston lift [mm]", ylabel="pressure [bar abs]",
+           title="indicator diagram: the cavities' pressure over the lift")
+    fq.set(xlabel="time [ms]", ylabel="inlet flow [l/min]", title="the hammer's inlet flow, raw (faint) and at 500 Hz")
+    for a in ax + [px, fq]:
         a.grid(alpha=0.3)
-        a.legend(fontsize=8)
-    fig.tight_layout()
+    for a in ax[:2]:
+        a.legend(fontsize=8, loc="upper right")
+    top = ax[2].get_ylim()[1]
+    ax[2].set_ylim(top=1.45 * top)  # room for the legend above the traces
+    ax[2].legend(fontsize=7, loc="upper center", ncol=2)
+    if fq.lines:
+        fq.legend(fontsize=8, loc="upper right")
+    ax[3].legend(fontsize=8, loc="lower right")
+    px.legend(fontsize=8, loc="upper right")
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
     fig.savefig(cond / "hammer.png", dpi=110)
     plt.close(fig)
 

@@ -45,9 +45,9 @@ bad = [(pathlib.Path(n), {"reference": col(0.95 * q, p_set[n]),
        for n, q in table2.items()]
 _, failed = h.rig_section(bad)
 print("\n".join(failed))
-for want in ("flow ratio Ø5.4 / Ø6.0 at 150 bar (TLM, 1 us): 1.000", "flow ratio Ø5.4 / Ø6.0 at 100 bar (TLM, 1 us)",
-             "flow ratio 100 / 150 bar at Ø6.0 (TLM, 1 us)", "case 12 (TLM, 1 us): p_in ±1 %",
-             "case 22 (TLM, 1 us): f 15–30 Hz", "case 11 (TLM, 1 us): Q ±10 %"):
+for want in ("flow ratio Ø5.4 / Ø6.0 at 150 bar (TLM, 1 µs): 1.000", "flow ratio Ø5.4 / Ø6.0 at 100 bar (TLM, 1 µs)",
+             "flow ratio 100 / 150 bar at Ø6.0 (TLM, 1 µs)", "case 12 (TLM, 1 µs): p_in ±1 %",
+             "case 22 (TLM, 1 µs): f 15–30 Hz", "case 11 (TLM, 1 µs): Q ±10 %"):
     if not any(f.startswith(want) for f in failed):
         failures.append(f"not reported: {want}")
 if any("reference" in f for f in failed):

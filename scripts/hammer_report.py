@@ -61,10 +61,14 @@ def use_scene(name):
 use_scene("hammer_elastic")
 
 
-def scene_of(conds):
+def scene_of(conds, given=None):
     """The scene folder every co-simulation under the condition folders ran
     (fe.h5's port_table attribute, .../scenes/NAME/ports*.cfg). Exits naming
-    the files when the runs come from different scenes or an unknown one."""
+    the files when the runs come from different scenes or an unknown one.
+    `given` (run_hammer.sh --ports: a study's port table outside the scene)
+    names the scene of the runs whose table lies outside every scene; a run
+    whose table is another scene's is still refused, so that no run is read
+    with the wrong scene's geometry."""
     seen = {}
     for cond in conds:
         for m in MODES:
@@ -73,12 +77,15 @@ def scene_of(conds):
                 with h5py.File(fe) as f:
                     table = f.attrs.get("port_table", b"")
                 table = table.decode() if isinstance(table, bytes) else str(table)
-                seen.setdefault(pathlib.Path(table).parent.name, []).append(str(fe))
-    if len(seen) != 1 or next(iter(seen)) not in GEOMETRY:
+                name = pathlib.Path(table).parent.name
+                seen.setdefault(given if given and name not in GEOMETRY else name, []).append(str(fe))
+    if len(seen) != 1 or next(iter(seen)) not in GEOMETRY or (given and given not in seen):
         sys.exit("hammer_report.py: the runs' scenes (fe.h5 port_table): " +
                  "; ".join(f"{k or '?'}: {', '.join(v)}" for k, v in seen.items()) +
-                 f"; expected one of {', '.join(GEOMETRY)}")
+                 (f"; --scene {given} given" if given else f"; expected one of {', '.join(GEOMETRY)}"))
     return next(iter(seen))
+
+
 # Rigid scene (scenes/hammer): the 1D-bar tool's gauge element and its nodes.
 BAR_GAUGE = "200040"
 BAR_GAUGE_NODES = ("200040", "200041")
@@ -793,7 +800,7 @@ def main():
                    key=lambda d: (-int(d.name.split("bar")[0]), -float(d.name.split("_")[1][:-2])))
     if not conds:
         sys.exit(f"hammer_report.py: no runs under {out}")
-    use_scene(scene_name or scene_of(conds))
+    use_scene(scene_of(conds, scene_name))
     results = [(cond, evaluate(cond)) for cond in conds]
     is_elastic = any(col.get("elastic") for _, cols in results for col in cols.values())
     scene = ("the elastic piston, tool, housing and anvil (axisymmetric) on the test rig, preloaded, with the "

@@ -144,4 +144,34 @@ with tempfile.TemporaryDirectory() as tmp:
     check(rows[0][3] is False and "7.5 %" in rows[0][1] and rows[0][1].index("anvil") < rows[0][1].index("piston"),
           f"7.5 % of 400 J fails, the anvil named first: {rows}")
     check(h.hourglass_check({"hg": 19.0, "hg_parts": {}, "W_kin": 400.0})[0][3] is True, "4.75 % holds")
+
+# The runs' scene. A study's port table (run_hammer.sh --ports) lies outside
+# every scene, so run_hammer.sh names the scene (--scene); a run whose table
+# is another scene's must still be refused, not read with the given scene's
+# gauges and areas.
+def scene_or_exit(tables, given):
+    with tempfile.TemporaryDirectory() as d:
+        conds = []
+        for i, table in enumerate(tables):
+            cond = pathlib.Path(d) / f"150bar_{i}.0mm"
+            (cond / "tlm10").mkdir(parents=True)
+            with h5py.File(cond / "tlm10" / "fe.h5", "w") as f:
+                f.attrs["port_table"] = table
+            conds.append(cond)
+        try:
+            return h.scene_of(conds, given)
+        except SystemExit as e:
+            return f"exit: {e}"
+
+
+rig, elastic, study = "/r/scenes/hammer_rig/ports.cfg", "/r/scenes/hammer_elastic/ports.cfg", "/tmp/study/ports_s80.cfg"
+check(scene_or_exit([rig, rig], None) == "hammer_rig", "the scene from the port tables")
+check(scene_or_exit([study], "hammer_rig") == "hammer_rig", "a study's table: the scene given")
+check(scene_or_exit([study, rig], "hammer_rig") == "hammer_rig", "a study's run beside the scene's own")
+got = scene_or_exit([rig], "hammer_elastic")
+check(got.startswith("exit") and "--scene hammer_elastic" in got, f"another scene's run is refused: {got}")
+got = scene_or_exit([rig, elastic], None)
+check(got.startswith("exit"), f"runs of two scenes are refused: {got}")
+got = scene_or_exit([study], None)
+check(got.startswith("exit"), f"a study's table without --scene is refused: {got}")
 sys.exit(1 if failures else 0)

@@ -197,13 +197,24 @@ def load(path):
 def _listing(r, group):
     print(f"{r.path}: {r.producer or 'unknown producer'}"
           + "".join(f", {k} = {v}" for k, v in r.attrs.items() if k != "producer"))
+    by_axis, unknown = {}, []
+    for x in r.names(group):
+        try:
+            by_axis.setdefault(r.axis(x), []).append(x)
+        except ResultsError:  # an older file: listed, but its axis is not guessed
+            unknown.append(x)
     for a, n in r.axes.items():
         t = r.time(a)
         span = f"{t[0]:.6g} .. {t[-1]:.6g} s" if n else "empty"
-        names = [x for x in r.names(group) if r.axis(x) == a]
+        names = by_axis.get(a, [])
         print(f"\n{a}: {n} rows, {span}, {len(names)} series")
         for x in names:
             print(f"  {x} [{r.unit(x) or '-'}]")
+    if unknown:
+        print(f"\naxis not recorded (a file from before the series named their axes; their length fits "
+              f"several axes): {len(unknown)} series")
+        for x in unknown:
+            print(f"  {x} [{r.unit(x) or '-'}], {r._dataset(x).shape[0]} rows")
 
 
 def main(argv=None):

@@ -77,6 +77,9 @@ with h5py.File(old, "a") as h:
     h.visititems(lambda n, o: o.attrs.__delitem__("time") if isinstance(o, h5py.Dataset) and "time" in o.attrs else None)
 with pr.load(old) as r:
     refuses(lambda: r.frame("energy"), ["cannot be told"], "an old file whose two axes have one length")
+listing = subprocess.run([sys.executable, reader_py, str(old)], capture_output=True, text=True)
+check(listing.returncode == 0 and "axis not recorded" in listing.stdout and "energy/kinetic [J], " in listing.stdout,
+      f"an old file is still listed, its series under 'axis not recorded': exit {listing.returncode}")
 with h5py.File(old, "a") as h:  # one axis of that length left: no ambiguity
     del h["time_elements"]
     for n in [k for k in h.keys() if k in ("solids", "sections", "axisymmetric", "bars")]:

@@ -111,6 +111,63 @@ TEST(HammerRig, FlowFollowsTheRestrictorAndThePressureAsOnTheRig) {
   EXPECT_LE(p60, 0.79);
 }
 
+// The same bands with the lumped piston rebounding from the tool as the
+// elastic one does in the co-simulation: its fastest rise in the millisecond
+// after each impact is 3.09-3.14 m/s in all four conditions of the main job,
+// where the lumped contact's e = 0.9 gives 5.7 m/s at 150 bar. That rebound
+// is what set the co-simulated 150 bar ratio apart from this model's (0.863
+// against 0.849 before the valve's reversal was timed to the impact): the
+// piston, braked by cavity A at supply pressure until the spool opened A->T,
+// lost time the restrictor does not set. e = 0.55 gives the elastic rebound
+// at 150 bar (at 100 bar 2.5 m/s, where the co-simulation's stays 3.1), and
+// with it this model gave 0.864 on the old valve timing, the co-simulation's
+// figure then (scenes/hammer_rig/README.md). Bounds: the bands; the
+// rebound at 150 bar within 10 % of the co-simulation's 3.1 m/s, so that the
+// case is the co-simulation's.
+TEST(HammerRig, TheBandsHoldWhenTheLumpedPistonReboundsAsTheElasticOneDoes) {
+  const std::vector<Case> cases = read_cases();
+  ASSERT_EQ(cases.size(), 4u);
+  double q[4];
+  for (int i = 0; i < 4; ++i) {
+    SCOPED_TRACE("case " + cases[i].name);
+    testing_support::TempDir dir;
+    const tlm::PercussionFigures f =
+        tlm::run_percussion(tlm::read_model(PCS_SCENES_DIR "/hammer_rig/model.tlm"),
+                            {"relief.p_crack=" + cases[i].p_crack, "restrictor.A=" + cases[i].area,
+                             "piston.e_contact=0.55"},
+                            dir.file("r.h5"));
+    q[i] = f.q_in * 6e4;
+    // The rebound: the piston's fastest rise in the millisecond after each
+    // impact (the contact force's onset, coming down) after the settle time.
+    const std::vector<double> t = h5io::read_series(dir.file("r.h5"), "time"),
+                              v = h5io::read_series(dir.file("r.h5"), "components/piston/v"),
+                              F = h5io::read_series(dir.file("r.h5"), "components/piston/F_contact");
+    double sum = 0.0;
+    int n = 0;
+    for (size_t k = 1; k < t.size(); ++k)
+      if (t[k] > 0.3 && F[k - 1] == 0.0 && F[k] != 0.0 && v[k - 1] < -1.0) {
+        double rise = 0.0;
+        for (size_t j = k; j < t.size() && t[j] < t[k] + 1e-3; ++j) rise = std::max(rise, v[j]);
+        sum += rise, ++n;
+      }
+    ASSERT_GT(n, 10);
+    std::printf("case %s: rebound %.2f m/s over %d blows, %.1f l/min, %.2f Hz\n", cases[i].name.c_str(), sum / n, n, q[i],
+                f.frequency);
+    if (i < 2) EXPECT_NEAR(sum / n, 3.1, 0.31);
+    EXPECT_NEAR(q[i] / cases[i].q_measured, 1.0, 0.10) << q[i] << " l/min";
+    EXPECT_GE(f.frequency, 15.0);
+    EXPECT_LE(f.frequency, 30.0);
+  }
+  const double d150 = q[1] / q[0], d100 = q[3] / q[2], p60 = q[2] / q[0];
+  std::printf("ratios: %.3f at 150 bar, %.3f at 100 bar, 100/150 bar %.3f\n", d150, d100, p60);
+  EXPECT_GE(d150, 0.80);
+  EXPECT_LE(d150, 0.86);
+  EXPECT_GE(d100, 0.82);
+  EXPECT_LE(d100, 0.88);
+  EXPECT_GE(p60, 0.71);
+  EXPECT_LE(p60, 0.79);
+}
+
 // The report refuses an inlet flow read away from the inlet pressure's node:
 // the scene's first version named the return restrictor (5–7 % low, exit 0).
 TEST(HammerRig, AnInletFlowAwayFromTheInletNodeIsRefusedAtItsLine) {

@@ -786,6 +786,40 @@ def rig_section(results):
     return md, failed
 
 
+def sweep_section(out):
+    """The thesis' Fig. 16 as a sweep: run_hammer.sh runs scripts/sweep.py
+    fig16 on the scene's monolithic model into out/fig16; shown only when
+    that sweep is of this scene's model (a folder left from another scene's
+    run is named, not shown)."""
+    plan_file, table_file = out / "fig16" / "points.json", out / "fig16" / "fig16.md"
+    if not (plan_file.exists() and table_file.exists()):
+        return []
+    model = pathlib.Path(json.loads(plan_file.read_text())["model"]).resolve()
+    ours = (pathlib.Path(__file__).resolve().parents[1] / "scenes" / SCENE / "model.tlm").resolve()
+    if model != ours:
+        return ["## Restrictor sweep", "", f"`fig16/` holds a sweep of `{model}`, not of this scene's `{ours}`: "
+                "not shown (rerun scripts/run_hammer.sh, or scripts/sweep.py fig16 --model for this scene).", ""]
+    rows = {}
+    for line in table_file.read_text().splitlines():
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        try:
+            rows[(float(cells[0]), float(cells[1]))] = float(cells[3])
+        except (IndexError, ValueError):
+            continue  # the header
+    md = ["## Restrictor sweep on the monolithic model (thesis Fig. 16)", "",
+          "Seven restrictor diameters at 100 and 150 bar (`scripts/sweep.py fig16`, each pressure's relief setting "
+          "as calibrated in conditions.csv): input power p_in·Q_in normalised to the rig's measured Case 11 "
+          "(150 bar × 80 l/min), output power W·f and efficiency normalised to the simulated Case 11; the open "
+          "squares are the rig's Table 2 points.", ""]
+    if (150.0, 5.4) in rows and (150.0, 6.0) in rows:
+        slope = (rows[(150.0, 6.0)] - rows[(150.0, 5.4)]) / 0.6
+        rig = (80.0 - 66.0) / 80.0 / 0.6  # Table 2: 80 and 66 l/min at 150 bar
+        md += [f"Input power against the diameter at 150 bar, Ø5.4 to 6.0 mm: {slope:.3f} of Case 11 per mm "
+               f"(the rig: {rig:.3f}).", ""]
+    md += table_file.read_text().splitlines() + ["", "![restrictor sweep](fig16/fig16.png)", ""]
+    return md
+
+
 def main():
     args = sys.argv[1:]
     scene_name = None  # --scene NAME: the runs' scene, where a study's port table lies outside it
@@ -837,6 +871,7 @@ def main():
         md += ["## Input and output power against the restrictor (thesis Fig. 16)", "", "![power](power.png)", ""]
     rig_md, rig_failed = rig_section(results)
     md += rig_md
+    md += sweep_section(out)
     md += fatigue_section(results)
     failed += rig_failed
     if stress_field_picture(out):

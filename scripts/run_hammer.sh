@@ -199,6 +199,17 @@ if [ "$scene_name" != rigid ]; then
     || { echo "run_hammer.sh: the impact run failed" >&2; exit 1; }
   echo "run_hammer.sh: the blow alone at $v m/s: $out/impact/impact_fields.xdmf (ParaView)"
 fi
+# The thesis' Fig. 16 as a sweep (rig scene): seven restrictor diameters at
+# 100 and 150 bar on the monolithic model (scripts/sweep.py fig16, 14 runs
+# of 1.2 s, about a minute on 2 cores), which the report shows beside the
+# four co-simulated conditions.
+if [ "$scene_name" = rig ]; then
+  rm -rf "$out/fig16"
+  echo "run_hammer.sh: the restrictor sweep (thesis Fig. 16) on the monolithic model, $jobs at a time"
+  /usr/bin/python3 "$root/scripts/sweep.py" fig16 --out "$out/fig16" --model "$ref_model" \
+    --host "$build/tlm_host/tlm_host" --jobs "$jobs" > "$out/fig16.log" 2>&1 ||
+    { cat "$out/fig16.log" >&2; echo "run_hammer.sh: the restrictor sweep failed (see $out/fig16.log)" >&2; exit 1; }
+fi
 printf 'run_hammer.sh: all runs in %.0f s wall; results %s\n' "$(echo "$(date +%s.%N) - $t0" | bc)" "$(du -sh "$out" | cut -f1)"
 for c in $conditions; do
   d=$out/${c%%:*}bar_${c##*:}mm

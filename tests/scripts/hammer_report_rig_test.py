@@ -6,9 +6,15 @@ acceptance figures, for made-up figures whose answers are known:
   95.0 % everywhere, the measured ratios themselves and no failure;
 - a flat flow (the first layout's fault), an inlet pressure 2 % high and a
   frequency of 14 Hz are each named as failing;
-- a condition missing gives no section rather than a half table."""
+- a condition missing gives no section rather than a half table;
+- the restrictor sweep (fig16/, written by scripts/sweep.py fig16): its table
+  and the input power's slope at 150 bar, (1.000 - 0.700) / 0.6 = 0.500 per
+  mm for a made-up table, beside the rig's (80 - 66) / 80 / 0.6 = 0.292; a
+  sweep of another model is named and not shown; no sweep, no section."""
+import json
 import pathlib
 import sys
+import tempfile
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
 import hammer_report as h  # noqa: E402
@@ -54,6 +60,30 @@ if any("reference" in f for f in failed):
     failures.append("the right reference column was reported failing")
 if h.rig_section(results[:3]) != ([], []):
     failures.append("three conditions gave a section")
+
+# The restrictor sweep section.
+h.use_scene("hammer_rig")
+with tempfile.TemporaryDirectory() as tmp:
+    out = pathlib.Path(tmp)
+    if h.sweep_section(out) != []:
+        failures.append("a section without a sweep")
+    (out / "fig16").mkdir()
+    ours = pathlib.Path(h.__file__).resolve().parents[1] / "scenes/hammer_rig/model.tlm"
+    (out / "fig16/points.json").write_text(json.dumps({"model": str(ours), "points": []}))
+    (out / "fig16/fig16.md").write_text(
+        "| p [bar] | Ø [mm] | Q_in [l/min] | P_in / P_in,11 measured | W·f / (W·f)_11 | efficiency / eff_11 |\n"
+        "|---|---|---|---|---|---|\n| 150 | 5.4 | 60.0 | 0.700 | 0.9 | 1.0 |\n| 150 | 6.0 | 80.0 | 1.000 | 1.0 | 1.0 |\n")
+    sweep = "\n".join(h.sweep_section(out))
+    print(sweep)
+    if "0.500 of Case 11 per mm (the rig: 0.292)" not in sweep:
+        failures.append("the sweep's slope at 150 bar is not 0.500 against the rig's 0.292")
+    if "| 150 | 5.4 | 60.0 | 0.700 |" not in sweep or "fig16/fig16.png" not in sweep:
+        failures.append("the sweep's table or picture is missing")
+    (out / "fig16/points.json").write_text(json.dumps({"model": "/elsewhere/model.tlm", "points": []}))
+    other = "\n".join(h.sweep_section(out))
+    if "not shown" not in other or "0.700" in other:
+        failures.append("a sweep of another model was shown as this scene's")
+
 print(md)
 for f in failures:
     print("FAIL", f)

@@ -76,6 +76,19 @@ double mean_over(const std::string& h5, const std::string& series, double t0, do
   return n ? sum / n : 0.0;
 }
 
+// The rig's three flow ratios (cases 11, 12, 21, 22 in q) in the issue's
+// bands around the measured 0.825 / 0.847 / 0.738.
+void expect_ratios_in_their_bands(const double q[4]) {
+  const double d150 = q[1] / q[0], d100 = q[3] / q[2], p60 = q[2] / q[0];
+  std::printf("ratios: %.3f at 150 bar, %.3f at 100 bar, 100/150 bar %.3f\n", d150, d100, p60);
+  EXPECT_GE(d150, 0.80);
+  EXPECT_LE(d150, 0.86);
+  EXPECT_GE(d100, 0.82);
+  EXPECT_LE(d100, 0.88);
+  EXPECT_GE(p60, 0.71);
+  EXPECT_LE(p60, 0.79);
+}
+
 }  // namespace
 
 TEST(HammerRig, FlowFollowsTheRestrictorAndThePressureAsOnTheRig) {
@@ -102,13 +115,7 @@ TEST(HammerRig, FlowFollowsTheRestrictorAndThePressureAsOnTheRig) {
     EXPECT_LE(f.frequency, 30.0);
     EXPECT_GE(f.blows, 15);  // whole cycles after the settle time that the figures average
   }
-  const double d150 = q[1] / q[0], d100 = q[3] / q[2], p60 = q[2] / q[0];
-  EXPECT_GE(d150, 0.80);
-  EXPECT_LE(d150, 0.86);
-  EXPECT_GE(d100, 0.82);
-  EXPECT_LE(d100, 0.88);
-  EXPECT_GE(p60, 0.71);
-  EXPECT_LE(p60, 0.79);
+  expect_ratios_in_their_bands(q);
 }
 
 // The same bands with the lumped piston rebounding from the tool as the
@@ -158,14 +165,7 @@ TEST(HammerRig, TheBandsHoldWhenTheLumpedPistonReboundsAsTheElasticOneDoes) {
     EXPECT_GE(f.frequency, 15.0);
     EXPECT_LE(f.frequency, 30.0);
   }
-  const double d150 = q[1] / q[0], d100 = q[3] / q[2], p60 = q[2] / q[0];
-  std::printf("ratios: %.3f at 150 bar, %.3f at 100 bar, 100/150 bar %.3f\n", d150, d100, p60);
-  EXPECT_GE(d150, 0.80);
-  EXPECT_LE(d150, 0.86);
-  EXPECT_GE(d100, 0.82);
-  EXPECT_LE(d100, 0.88);
-  EXPECT_GE(p60, 0.71);
-  EXPECT_LE(p60, 0.79);
+  expect_ratios_in_their_bands(q);
 }
 
 // The report refuses an inlet flow read away from the inlet pressure's node:

@@ -30,6 +30,8 @@
 # Jobs: conditions run side by side (default 2: each co-simulation's
 # fe_server computes on one core while its tlm_host waits on the socket).
 # Each run gets its own fe_server with a fresh token on an ephemeral port.
+# While they run: every 30 s (PCS_PROGRESS_SECONDS) each running condition's
+# progress line, prefixed with its name, and the job's time left.
 # Deck: a variant of the scene's deck (a study: damping, mesh, contact
 # settings), relative to the built scene's directory (build/scenes/<scene>,
 # where the meshes it includes are) or absolute; default deck.k.
@@ -77,6 +79,8 @@ case "$scene_name" in
   *) echo "run_hammer.sh: --scene '$scene_name': expected rig, elastic or rigid" >&2; exit 2 ;;
 esac
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "run_hammer.sh: --jobs '$jobs': a positive integer" >&2; exit 2; }
+every=${PCS_PROGRESS_SECONDS:-30}
+[[ "$every" =~ ^[1-9][0-9]*$ ]] || { echo "run_hammer.sh: PCS_PROGRESS_SECONDS '$every': a positive whole number of seconds" >&2; exit 2; }
 scene=$build/scenes/$scene_dir
 [ -f "$scene/deck.k" ] || { echo "run_hammer.sh: $scene/deck.k missing: build first (scripts/build.sh)" >&2; exit 2; }
 (cd "$scene" && [ -f "$deck" ]) || { echo "run_hammer.sh: --deck '$deck': no such file in $scene" >&2; exit 2; }
@@ -173,12 +177,48 @@ t0=$(date +%s.%N)
 pids=() logs=() failed=0
 # Ctrl-C: each run's fe_server and tlm_host stop (the host tells the server).
 trap 'for p in "${pids[@]}"; do pkill -TERM -P "$p"; kill "$p"; done 2>/dev/null; exit 130' INT TERM
+# Progress while the runs go on: every $PCS_PROGRESS_SECONDS (default 30) s,
+# each running condition's last progress line with its name in front, and
+# (one mode per condition) the whole job's time left: the running runs'
+# own estimates and, for each condition still queued, one run's whole
+# length (elapsed + left of a running one), shared by the job slots, and
+# never less than the longest running run's own time left.
+n_conditions=$(echo $conditions | wc -w)
+last_tick=$(date +%s)
+progress() {
+  local now; now=$(date +%s)
+  [ $((now - last_tick)) -ge "$every" ] || return 0
+  last_tick=$now
+  local i line est sum=0 whole=0 longest=0 alive=0 estimated=0
+  for i in "${!pids[@]}"; do
+    kill -0 "${pids[$i]}" 2>/dev/null || continue
+    alive=$((alive + 1))
+    line=$(grep -a '^t = ' "${logs[$i]}" | tail -n 1 || true)
+    [ -n "$line" ] || line="starting (the reference run, then fe_server's preload)"
+    echo "  [$(basename "${logs[$i]}" .log | sed 's/^run_//')] $line"
+    est=$(echo "$line" | sed -n 's/.*, \([0-9.]*\) s elapsed, about \([0-9.]*\) s left.*/\1 \2/p')
+    if [ -n "$est" ]; then
+      estimated=$((estimated + 1))
+      sum=$(echo "$sum + ${est#* }" | bc -l)
+      longest=$(echo "if (${est#* } > $longest) ${est#* } else $longest" | bc -l)
+      whole=$(echo "${est% *} + ${est#* }" | bc -l)
+    fi
+  done
+  local queued=$((n_conditions - ${#pids[@]}))
+  if [ "$(echo $modes | wc -w)" -eq 1 ] && [ "$estimated" -gt 0 ]; then
+    printf 'run_hammer.sh: %d of %d conditions done, %d running, %d queued; about %.0f s left (then the impact run%s and the report)\n' \
+      "$(( ${#pids[@]} - alive ))" "$n_conditions" "$alive" "$queued" \
+      "$(echo "t = ($sum + ($queued + $alive - $estimated) * $whole) / $jobs; if ($longest > t) $longest else t" | bc -l)" \
+      "$([ "$scene_name" = rig ] && echo ", the restrictor sweep" || true)"
+  fi
+}
 for c in $conditions; do
-  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do sleep 1; progress; done
   log=$out/run_${c/:/bar_}mm.log
   ( run_condition "$c" ) > "$log" 2>&1 &
   pids+=($!); logs+=("$log")
 done
+while [ "$(jobs -rp | wc -l)" -gt 0 ]; do sleep 1; progress; done
 for i in "${!pids[@]}"; do
   wait "${pids[$i]}" || failed=1
   cat "${logs[$i]}"

@@ -52,6 +52,7 @@ if [ -f "$build/scenes/hammer_rig/deck.k" ]; then
   expect 2 "--ports '/nonexistent/ports.cfg': no such file" env PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --ports /nonexistent/ports.cfg --out "$tmp/a"
   expect 2 "--deck 'nope.k': no such file" env PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --deck nope.k --out "$tmp/b"
   expect 2 "--ports: the rigid scene has a port table per mode" env PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --scene rigid --ports "$root/scenes/hammer_rig/ports.cfg" --out "$tmp/c"
+  expect 2 "PCS_PROGRESS_SECONDS 'soon': a positive whole number of seconds" env PCS_PROGRESS_SECONDS=soon PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --conditions 150:6.0 --out "$tmp/d"
   printf 'not a port table\n' > "$tmp/bad.cfg"
   expect 2 "fmugen refused it" env PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --ports "$tmp/bad.cfg" --out "$tmp/d"
 fi

@@ -12,9 +12,11 @@ Everything after "--" goes to tlm_fit as it is (its --fit, --condition,
 pair: rig (scenes/hammer_rig: model.tlm fitted, model_elastic.tlm with
 deck.k co-simulated, the main job's scene) or elastic (scenes/hammer_monolithic
 fitted, scenes/hammer_elastic co-simulated). Each co-simulation gets the
-tlm_fit --set values, its condition's values and the fitted ones, runs S
-simulated seconds (default 1.2: the settle time of 0.3 s and 15 or more
-blows), and its percussion report is compared with the same targets.
+tlm_fit --set values (but simulation.*: the fit's run length and step are
+the monolithic model's), its condition's values and the fitted ones, runs S
+simulated seconds at the FMU's coupling step (default 1.2: the settle time
+of 0.3 s and 15 or more blows), and its percussion report is compared with
+the same targets.
 
 The fitted model and the co-simulation differ by what the monolithic model
 lumps (the elastic piston's rebound, the moving housing: 0.4-1.9 % in
@@ -207,7 +209,10 @@ def main():
         print(f"fit_confirm.py: {fit_file} holds no fitted values or targets", file=sys.stderr)
         return 4
     try:
-        common = options(fit_args, "--set")
+        # The fit's simulation.* settings (its run length, its step) are the
+        # monolithic model's: the co-simulation runs --stop seconds at the
+        # FMU's coupling step.
+        common = [c for c in options(fit_args, "--set") if not c.startswith("simulation.")]
         conditions = {}
         for c in options(fit_args, "--condition"):
             name, _, sets = c.partition(":")

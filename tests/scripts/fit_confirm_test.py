@@ -11,6 +11,7 @@ by a co-simulation of the elastic hammer with the fitted values.
    co-simulation sits 0.1 % under the monolithic model's (docs/hammer.md).
    A co-simulation that ran without the fitted value would read about
    144 bar, -4.6 %.
+   The co-simulation runs to --stop, not to the fit's simulation.stoptime.
 2. A parameter of a component the co-simulated model does not have (the
    monolithic piston) is refused with exit 3 before any fit is run.
 3. No '--' before tlm_fit's arguments: exit 2.
@@ -55,6 +56,12 @@ else:
     for f in ("fe.h5", "host.h5", "host.json", "fe_server.log"):
         if not (work / "fit/model" / f).exists():
             failures.append(f"the co-simulation's {f} is missing")
+    # The co-simulation runs --stop (0.5 s), not the fit's simulation.stoptime (0.6 s).
+    import h5py
+    with h5py.File(work / "fit/model/host.h5") as h5:
+        end = float(h5["time"][-1])
+    if abs(end - 0.5) > 1e-4:
+        failures.append(f"the co-simulation ran to {end:g} s, not --stop's 0.5 s")
 
 r = subprocess.run(script + ["--out", str(work / "refused"), "--", "--fit", "piston.F_feed",
                              "--target", "frequency=26Hz"], capture_output=True, text=True, timeout=60)

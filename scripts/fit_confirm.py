@@ -212,11 +212,12 @@ def main():
         # The fit's simulation.* settings (its run length, its step) are the
         # monolithic model's: the co-simulation runs --stop seconds at the
         # FMU's coupling step.
+        # A condition's own simulation.* values are the fit's too.
         common = [c for c in options(fit_args, "--set") if not c.startswith("simulation.")]
         conditions = {}
         for c in options(fit_args, "--condition"):
             name, _, sets = c.partition(":")
-            conditions[name] = [s for s in sets.split(",") if s]
+            conditions[name] = [s for s in sets.split(",") if s and not s.startswith("simulation.")]
         if not conditions:
             conditions = {"model": []}
         wanted = sorted({t["condition"] for t in targets})

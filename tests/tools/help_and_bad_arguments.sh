@@ -53,6 +53,21 @@ if [ -f "$build/scenes/hammer_rig/deck.k" ]; then
   expect 2 "--deck 'nope.k': no such file" env PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --deck nope.k --out "$tmp/b"
   expect 2 "--ports: the rigid scene has a port table per mode" env PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --scene rigid --ports "$root/scenes/hammer_rig/ports.cfg" --out "$tmp/c"
   expect 2 "PCS_PROGRESS_SECONDS 'soon': a positive whole number of seconds" env PCS_PROGRESS_SECONDS=soon PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --conditions 150:6.0 --out "$tmp/d"
+  # The progress line while conditions run: run_hammer.sh's own progress()
+  # on a running condition's log. One condition, 150 s left, 2 job slots:
+  # the job has 150 s left, not 75 (a run uses one slot).
+  sed -n '/^progress() {/,/^}/p' "$root/scripts/run_hammer.sh" > "$tmp/progress.sh"
+  echo "t = 0.2 of 0.45 s (40%), 100.0 s elapsed, about 150.0 s left" > "$tmp/run_150bar_6.0mm.log"
+  sleep 30 & sleeper=$!
+  got=$(bash -c 'set -euo pipefail; source "$1"; pids=($2); logs=("$3"); n_conditions=1; every=1; last_tick=0
+                 modes=tlm10; scene_name=rig; jobs=2; progress' _ "$tmp/progress.sh" "$sleeper" "$tmp/run_150bar_6.0mm.log" 2>&1)
+  kill "$sleeper"
+  if printf '%s' "$got" | grep -q '^  \[150bar_6.0mm\] t = 0.2 of 0.45 s' &&
+     printf '%s' "$got" | grep -q '0 of 1 conditions done, 1 running, 0 queued; about 150 s left'; then
+    echo "ok   run_hammer.sh progress: $got"
+  else
+    echo "FAIL: run_hammer.sh progress: $got"; fail=1
+  fi
   printf 'not a port table\n' > "$tmp/bad.cfg"
   expect 2 "fmugen refused it" env PCS_BUILD_DIR="$build" "$root/scripts/run_hammer.sh" --ports "$tmp/bad.cfg" --out "$tmp/d"
 fi

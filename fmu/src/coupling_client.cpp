@@ -174,6 +174,9 @@ void CouplingClient::connect_once(const std::string& host, int port, const std::
                    "wrong or missing token (the server's proof does not match the host's token)", deadline);
     fail(SL_EREFUSED_BY_PEER, where + ": " + reason);
   }
+  session_fmus_ = ack.session_fmus;
+  inputs_unanswered_ = 0;
+  early_results_.clear();
   // The server checked the same things; checking again here means a faulty
   // or foreign server cannot make us exchange values that mean something else.
   if (ack.table_hash != table_.hash() || ack.dt != table_.dt ||
@@ -195,19 +198,13 @@ void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<
   int rc = pcs_send_frame(&sock_, PCS_MSG_STEP, k, buf_.data(), static_cast<uint32_t>(n), deadline);
   std::string at = " at step " + std::to_string(k) + " (t = " + std::to_string(time) + " s)";
   if (rc != SL_OK) fail(rc, "cannot send STEP" + at);
-  pcs_header h{};
-  int64_t wait_until = deadline;
-  for (;;) {
-    rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), wait_until);
-    // The server is stopping and asks for a checkpoint; its RESULT follows.
-    if (rc == SL_OK && h.type == PCS_MSG_STOPPING) {
-      stop_requested_ = true;
-      continue;
-    }
-    // A heartbeat for this step: the server is alive and still computing.
-    if (rc != SL_OK || h.type != PCS_MSG_HEARTBEAT || h.step != k) break;
-    wait_until = deadline_after(timeout_s_);
+  if (!early_results_.empty() && early_results_.front().first == k) {
+    outputs = std::move(early_results_.front().second);
+    early_results_.erase(early_results_.begin());
+    return;
   }
+  pcs_header h{};
+  rc = next_frame(h, k, deadline);
   if (rc == SL_OK && h.type == PCS_MSG_ABORT) {
     pcs_abort a{};
     pcs_decode_abort(buf_.data(), h.payload_size, &a);
@@ -231,6 +228,68 @@ void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<
                             std::to_string(outputs.size()));
 }
 
+int CouplingClient::next_frame(pcs_header& h, uint64_t k, int64_t deadline) {
+  for (;;) {
+    const int rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline);
+    if (rc != SL_OK) return rc;
+    if (h.type == PCS_MSG_STOPPING) {  // the server is stopping and asks for a checkpoint; its RESULT follows
+      stop_requested_ = true;
+      continue;
+    }
+    if (h.type == PCS_MSG_HEARTBEAT && h.step == k) {  // the server is alive and still computing
+      deadline = deadline_after(timeout_s_);
+      continue;
+    }
+    if (h.type == PCS_MSG_INPUTS && h.payload_size == 0 && inputs_unanswered_ > 0) {
+      --inputs_unanswered_;
+      continue;
+    }
+    return rc;
+  }
+}
+
+void CouplingClient::send_inputs(uint64_t k, double time, double dt, const std::vector<double>& inputs, bool wait) {
+  if (!connected()) throw LinkError(SL_EINVAL, "not connected to fe_server");
+  const int64_t deadline = deadline_after(timeout_s_);
+  const int n = pcs_encode_values(time, dt, inputs.data(), static_cast<uint32_t>(inputs.size()), buf_.data(),
+                                  static_cast<uint32_t>(buf_.size()));
+  if (n < 0) fail(n, "cannot encode INPUTS");
+  const std::string at = " for step " + std::to_string(k) + " (t = " + std::to_string(time) + " s)";
+  int rc = pcs_send_frame(&sock_, PCS_MSG_INPUTS, k, buf_.data(), static_cast<uint32_t>(n), deadline);
+  if (rc != SL_OK) fail(rc, "cannot send INPUTS" + at);
+  if (!wait) {
+    ++inputs_unanswered_;
+    return;
+  }
+  for (;;) {
+    pcs_header h{};
+    rc = next_frame(h, k, deadline);
+    if (rc == SL_OK && h.type == PCS_MSG_ABORT) {
+      pcs_abort a{};
+      pcs_decode_abort(buf_.data(), h.payload_size, &a);
+      sl_close(&sock_);
+      throw LinkError(SL_EREFUSED_BY_PEER, "fe_server aborted at the inputs" + at + ": " + a.reason);
+    }
+    if (rc != SL_OK) fail(rc, "no answer to INPUTS" + at);
+    if (h.type == PCS_MSG_INPUTS && h.step == k && h.payload_size == 0) return;
+    if (h.type == PCS_MSG_RESULT && h.step >= k) {  // a step the server ran with these inputs before
+      double t_back = 0, dt_back = 0;
+      uint32_t count = 0;
+      std::vector<double> out(table_.to_host.size());
+      rc = pcs_decode_values(buf_.data(), h.payload_size, &t_back, &dt_back, out.data(),
+                             static_cast<uint32_t>(out.size()), &count);
+      if (rc != SL_OK || count != out.size()) fail(SL_EMALFORMED, "malformed RESULT " + std::to_string(h.step));
+      early_results_.emplace_back(h.step, std::move(out));
+      continue;
+    }
+    if (h.type == PCS_MSG_HEARTBEAT) continue;  // of a step run before this FMU's own STEP of it
+    const std::string what = "expected the answer to INPUTS " + std::to_string(k) + ", got " + pcs_msg_name(h.type) +
+                             " " + std::to_string(h.step);
+    pcs_send_abort(&sock_, k, SL_EUNEXPECTED, what.c_str(), deadline);
+    fail(SL_EUNEXPECTED, what);
+  }
+}
+
 void CouplingClient::send_request(uint16_t type, uint64_t k) {
   if (!connected()) throw LinkError(SL_EINVAL, "not connected to fe_server");
   const int rc = pcs_send_frame(&sock_, type, k, nullptr, 0, deadline_after(timeout_s_));
@@ -245,6 +304,10 @@ pcs_header CouplingClient::await_answer(uint16_t type, uint64_t k) {
     rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout_s_));
     if (rc == SL_OK && h.type == PCS_MSG_STOPPING) {  // the server asks for a checkpoint
       stop_requested_ = true;
+      continue;
+    }
+    if (rc == SL_OK && h.type == PCS_MSG_INPUTS && h.payload_size == 0 && inputs_unanswered_ > 0) {
+      --inputs_unanswered_;  // the answer to INPUTS sent without waiting
       continue;
     }
     if (rc != SL_OK || h.type != PCS_MSG_HEARTBEAT) break;

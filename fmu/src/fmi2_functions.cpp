@@ -124,6 +124,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
                        const fmi2Real value[]) {
   return guarded(c, "fmi2SetReal", kSet, [&](Instance& i) {
     for (size_t k = 0; k < nvr; ++k) i.set_real(vr[k], value[k]);
+    i.inputs_set();
   });
 }
 

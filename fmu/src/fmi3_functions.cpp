@@ -153,6 +153,7 @@ fmi3Status fmi3SetFloat64(fmi3Instance c, const fmi3ValueReference vr[], size_t 
       if (vr[k] == config::kVrTime) throw FmuError(fmi2Error, "time is the independent variable: it cannot be set");
       i.set_real(vr[k], values[k]);
     }
+    i.inputs_set();
   });
 }
 

@@ -125,6 +125,7 @@ void Instance::set_real(fmi2ValueReference vr, double value) {
     throw FmuError(fmi2Error, v.name + " set to a non-finite value at step " + std::to_string(step_));
   if (v.causality == config::FmuCausality::Input) {
     inputs_[static_cast<size_t>(v.wire_index)] = value;
+    inputs_changed_ = true;
     return;
   }
   if (state_ != State::Instantiated && state_ != State::InitializationMode)
@@ -223,6 +224,29 @@ void Instance::exit_initialization() {
     log(fmi2OK, "logCoupling", "resumed after step " + std::to_string(step_));
   }
   state_ = State::StepComplete;
+  // The inputs set in initialization are the first step's; not awaited:
+  // fe_server may still be accepting the session's other FMUs.
+  inputs_changed_ = false;
+  if (client_->split_session()) send_inputs(false);
+}
+
+void Instance::send_inputs(bool wait) {
+  wire_in_.resize(inputs_.size());
+  for (size_t i = 0; i < inputs_.size(); ++i) wire_in_[i] = inputs_[i] * table_.to_fe[i].scale;
+  try {
+    client_->send_inputs(step_, time_, table_.dt, wire_in_, wait);
+  } catch (const LinkError& e) {
+    state_ = State::StepFailed;
+    throw FmuError(fmi2Error, e.what());
+  }
+}
+
+void Instance::inputs_set() {
+  // A session of several FMUs: fe_server gets what the importer set before
+  // it steps any FMU (coupling_client.hpp, send_inputs).
+  if (!inputs_changed_) return;
+  inputs_changed_ = false;
+  if (state_ == State::StepComplete && client_ && client_->connected() && client_->split_session()) send_inputs(true);
 }
 
 void Instance::do_step(double t, double h) {

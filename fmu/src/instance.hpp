@@ -94,6 +94,10 @@ class Instance {
 
   double get_real(fmi2ValueReference vr) const;
   void set_real(fmi2ValueReference vr, double v);
+  // After a call that set values: in a session of several FMUs, changed
+  // inputs go to fe_server now (a sequential importer steps another FMU
+  // before this one).
+  void inputs_set();
   int get_integer(fmi2ValueReference vr) const;
   void set_integer(fmi2ValueReference vr, int v);
   const char* get_string(fmi2ValueReference vr) const;
@@ -113,6 +117,8 @@ class Instance {
   config::PortTable table_;
   std::vector<config::FmuVariable> vars_;
   std::vector<double> inputs_;   // host units, to_fe order
+  bool inputs_changed_ = false;  // an input was set since the inputs last went out
+  void send_inputs(bool wait);
   std::vector<double> outputs_;  // host units, to_host order
   std::vector<double> wire_in_, wire_out_;
   std::string host_, token_;

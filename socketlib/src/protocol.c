@@ -19,6 +19,7 @@ const char *pcs_msg_name(uint32_t type) {
     case PCS_MSG_CHECKPOINT: return "CHECKPOINT";
     case PCS_MSG_RESUME: return "RESUME";
     case PCS_MSG_STOPPING: return "STOPPING";
+    case PCS_MSG_INPUTS: return "INPUTS";
     default: return "UNKNOWN";
   }
 }
@@ -220,6 +221,7 @@ int pcs_encode_hello_ack(const pcs_hello_ack *m, uint8_t *buf, uint32_t cap) {
   pcs_put_f64(&w, m->dt);
   pcs_put_u32(&w, m->subcycles);
   pcs_put_bytes(&w, m->server_proof, PCS_PROOF_SIZE);
+  pcs_put_u32(&w, m->session_fmus);
   return pcs__written(&w);
 }
 int pcs_decode_hello_ack(const uint8_t *buf, uint32_t len, pcs_hello_ack *m) {
@@ -228,6 +230,7 @@ int pcs_decode_hello_ack(const uint8_t *buf, uint32_t len, pcs_hello_ack *m) {
   m->dt = pcs_get_f64(&r);
   m->subcycles = pcs_get_u32(&r);
   pcs_get_bytes(&r, m->server_proof, PCS_PROOF_SIZE);
+  m->session_fmus = pcs_get_u32(&r);
   return pcs__finish(&r);
 }
 

@@ -15,6 +15,7 @@
 #include "h5io/timeseries.hpp"
 #include "socketlib/protocol.h"
 #include "integration_support.hpp"
+#include "../scenes/hammer_two_fmus.hpp"
 
 namespace {
 
@@ -216,4 +217,126 @@ TEST(Sessions, TwoFmusSteppedOneAfterTheOtherAreToldWhyTheyDeadlockBeforeTheirDe
   EXPECT_LT(waited, 5.0) << "told at 0.8 of the server's 2 s step time-out, long before the FMU's own 10 s";
   EXPECT_EQ(server.wait(kHardTimeout), 6) << server.output();
   EXPECT_NE(server.output().find("steps its FMUs one after another"), std::string::npos) << server.output();
+}
+
+namespace {
+
+// fe_server on the hammer scene split into its piston's and valve's FMUs,
+// with a short step time-out (the deadlock is told at 0.8 of it).
+struct SplitSession {
+  TempDir dir;
+  const std::string hammer = PCS_SCENES_DIR "/hammer", built = PCS_BUILD_SCENES_DIR "/hammer";
+  config::PortTable piston = config::read_port_table(hammer + "/two_fmus/piston.cfg");
+  config::PortTable valve = config::read_port_table(hammer + "/two_fmus/valve.cfg");
+  ChildProcess server{{PCS_FE_SERVER_EXE, "--model", built + "/deck.k", "--ports", hammer + "/two_fmus/piston.cfg",
+                       "--ports", hammer + "/two_fmus/valve.cfg", "--listen", "127.0.0.1:0", "--port-file",
+                       dir.file("port"), "--out", dir.file("fe.h5"), "--step-timeout", "2", "--accept-timeout", "20"}};
+  int port = testing_support::read_port_file(dir.file("port"), kHardTimeout);
+  // Each FMU's inputs: a wave of 50 bar into every chamber (its impedance a
+  // chamber's, 1e11 Pa s/m^3) and no force.
+  std::vector<double> inputs(const config::PortTable& t, double wave) const {
+    std::vector<double> v;
+    for (const auto& var : t.to_fe) v.push_back(var.name().find(".Zc") != std::string::npos ? 1e11
+                                                : var.name().find(".c") != std::string::npos ? wave : 0.0);
+    return v;
+  }
+};
+
+}  // namespace
+
+TEST(Sessions, TwoFmusWhoseInputsAreSetBeforeEitherStepsRunOneAfterTheOther) {
+  // The sequential importer's order: both FMUs' inputs set (INPUTS), then
+  // the piston's FMU stepped, then the valve's. The piston's FMU steps by
+  // two coupling steps at once, the valve's by one: its second step's RESULT
+  // came while its inputs were being set again (the same values), and waits
+  // for its step.
+  SplitSession s;
+  ASSERT_GT(s.port, 0) << s.server.output();
+  pcs_fmu::CouplingClient a(s.piston), b(s.valve);
+  a.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  b.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  ASSERT_TRUE(a.split_session() && b.split_session());
+  const std::vector<double> in_a = s.inputs(s.piston, 50e5), in_b = s.inputs(s.valve, 50e5);
+  std::vector<double> out_a, out_b0, out_b1;
+  const double dt = s.piston.dt;
+  a.send_inputs(0, 0.0, dt, in_a, true);
+  b.send_inputs(0, 0.0, dt, in_b, true);
+  a.step(0, 0.0, dt, in_a, out_a);  // runs at once: the valve's inputs are in
+  a.step(1, dt, dt, in_a, out_a);   // the valve's inputs held, as an FMU holds them over a longer step
+  b.step(0, 0.0, dt, in_b, out_b0);  // its RESULT is waiting
+  b.send_inputs(1, dt, dt, in_b, true);  // the same values: step 1 ran with them
+  b.step(1, dt, dt, in_b, out_b1);
+  ASSERT_EQ(out_b1.size(), s.valve.to_host.size());
+  a.bye();
+  b.bye();
+  EXPECT_EQ(s.server.wait(kHardTimeout), 0) << s.server.output();
+  EXPECT_NE(s.server.output().find("after 2 coupling steps"), std::string::npos) << s.server.output();
+}
+
+TEST(Sessions, InputsChangedAfterAnotherFmuSteppedWithThemAreRefusedWithTheReason) {
+  // fe_server ran step 0 with the valve's inputs as set when the piston's FMU
+  // stepped; the importer then sets other values for the valve's step 0.
+  SplitSession s;
+  ASSERT_GT(s.port, 0) << s.server.output();
+  pcs_fmu::CouplingClient a(s.piston), b(s.valve);
+  a.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  b.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  std::vector<double> out;
+  const double dt = s.piston.dt;
+  b.send_inputs(0, 0.0, dt, s.inputs(s.valve, 50e5), true);
+  a.step(0, 0.0, dt, s.inputs(s.piston, 50e5), out);
+  std::string why;
+  try {
+    b.send_inputs(0, 0.0, dt, s.inputs(s.valve, 60e5), true);
+  } catch (const pcs_fmu::LinkError& e) {
+    why = e.what();
+  }
+  EXPECT_NE(why.find("FMU 'hammer_valve''s inputs for step 0 changed after fe_server had run that step"),
+            std::string::npos)
+      << why;
+  EXPECT_NE(why.find("must set the inputs of them all before it steps the first"), std::string::npos) << why;
+  EXPECT_EQ(s.server.wait(kHardTimeout), 6) << s.server.output();
+}
+
+TEST(Sessions, AStepWhoseValuesDifferFromTheInputsAStepRanWithIsRefused) {
+  // The same, found at the valve's STEP (an importer that set its inputs
+  // by a path that did not tell the FMU, or a faulty FMU).
+  SplitSession s;
+  ASSERT_GT(s.port, 0) << s.server.output();
+  pcs_fmu::CouplingClient a(s.piston), b(s.valve);
+  a.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  b.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  std::vector<double> out;
+  const double dt = s.piston.dt;
+  b.send_inputs(0, 0.0, dt, s.inputs(s.valve, 50e5), true);
+  a.step(0, 0.0, dt, s.inputs(s.piston, 50e5), out);
+  std::string why;
+  try {
+    b.step(0, 0.0, dt, s.inputs(s.valve, 60e5), out);
+    b.step(1, dt, dt, s.inputs(s.valve, 60e5), out);  // the refusal comes at the server's next read
+  } catch (const pcs_fmu::LinkError& e) {
+    why = e.what();
+  }
+  EXPECT_NE(why.find("inputs for step 0 changed after fe_server had run that step"), std::string::npos) << why;
+  EXPECT_EQ(s.server.wait(kHardTimeout), 6) << s.server.output();
+}
+
+TEST(Sessions, AHostSettingAndSteppingEachFmuInTurnIsToldWhyAndExits) {
+  // tlm_host --peers one-by-one: the order of Hopsan's sequential solver.
+  TempDir dir;
+  const std::string hammer = PCS_SCENES_DIR "/hammer", built = PCS_BUILD_SCENES_DIR "/hammer";
+  std::ofstream(dir.file("model.tlm")) << hammer_model_with_two_fmus(hammer, built);
+  ChildProcess server({PCS_FE_SERVER_EXE, "--model", built + "/deck.k", "--ports", hammer + "/two_fmus/piston.cfg",
+                       "--ports", hammer + "/two_fmus/valve.cfg", "--listen", "127.0.0.1:0", "--port-file",
+                       dir.file("port"), "--out", dir.file("fe.h5"), "--step-timeout", "2", "--accept-timeout", "20"});
+  const int port = testing_support::read_port_file(dir.file("port"), kHardTimeout);
+  ASSERT_GT(port, 0) << server.output();
+  ChildProcess host({PCS_TLM_HOST_EXE, dir.file("model.tlm"), "--server", "127.0.0.1:" + std::to_string(port), "--out",
+                     dir.file("host.h5"), "--quiet", "--peers", "one-by-one", "--set", "simulation.timestep=1e-5",
+                     "--set", "simulation.stoptime=0.01"});
+  EXPECT_EQ(host.wait(kHardTimeout), 4) << host.output();
+  EXPECT_NE(host.output().find("one that sets and steps each FMU in turn (Hopsan's sequential solver) deadlocks here"),
+            std::string::npos)
+      << host.output();
+  EXPECT_EQ(server.wait(kHardTimeout), 6) << server.output();
 }

@@ -8,8 +8,10 @@
 #include <stdexcept>
 #include <string>
 
-// source: the scene's folder; built: where its FMUs were generated.
-inline std::string hammer_model_with_two_fmus(const std::string& source, const std::string& built) {
+// source: the scene's folder; built: where its FMUs were generated;
+// pressure: the pressure-coupled pair (two_fmus/*_pressure.cfg).
+inline std::string hammer_model_with_two_fmus(const std::string& source, const std::string& built, bool pressure = false) {
+  const std::string p = pressure ? "_p" : "";
   std::stringstream buf;
   buf << std::ifstream(source + "/model.tlm").rdbuf();
   std::string text = buf.str();
@@ -20,7 +22,7 @@ inline std::string hammer_model_with_two_fmus(const std::string& source, const s
     return n;
   };
   if (replace_all("fe,          FmuQ",
-                  "fe_p, FmuQ, fmu=" + built + "/hammer_piston.fmu\nfe_v, FmuQ, fmu=" + built + "/hammer_valve.fmu") != 1)
+                  "fe_p, FmuQ, fmu=" + built + "/hammer_piston" + p + ".fmu\nfe_v, FmuQ, fmu=" + built + "/hammer_valve" + p + ".fmu") != 1)
     throw std::runtime_error("the hammer model no longer has its one FmuQ line 'fe,          FmuQ'");
   for (const char* label : {"cavA", "cavB", "piston", "tool"}) replace_all(std::string("fe.") + label, std::string("fe_p.") + label);
   for (const char* label : {"pilot_s", "pilot_c", "spool"}) replace_all(std::string("fe.") + label, std::string("fe_v.") + label);

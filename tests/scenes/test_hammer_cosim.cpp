@@ -163,3 +163,44 @@ TEST(HammerCosim, TwoFmusOnOneSessionGiveTheResultsOfOne) {
   }
   EXPECT_GT(*std::max_element(two.spool.begin(), two.spool.end()), 7e-3) << "the valve must have switched";
 }
+
+TEST(HammerCosim, TwoFmusSteppedOneAfterTheOtherGiveTheParallelResultsBitForBitInBothModes) {
+  // A sequential importer in one thread (tlm_host --peers sequential): both
+  // FMUs' inputs set, then the piston's FMU stepped, then the valve's. The
+  // valve's inputs reach fe_server when they are set (INPUTS), so the
+  // piston's step runs at once; the valve's STEP then finds its RESULT
+  // waiting. Same FE steps with the same loads in the same order: the
+  // results are the parallel run's exactly, in TLM mode and in pressure
+  // mode alike (no lag: each FMU's inputs of a step are known before any
+  // FMU steps, in both modes), and the one FMU's.
+  const std::vector<std::string> step{"--set", "simulation.timestep=1e-5", "--set", "simulation.log_every=1"};
+  std::vector<std::string> sequential = step;
+  sequential.insert(sequential.end(), {"--peers", "sequential"});
+  for (const bool pressure : {false, true}) {
+    const char* mode = pressure ? "pressure" : "tlm";
+    TempDir dir;
+    std::ofstream(dir.file("model.tlm")) << hammer_model_with_two_fmus(kSource, kBuilt, pressure);
+    const std::vector<std::string> tables = pressure ? std::vector<std::string>{"two_fmus/piston_pressure.cfg",
+                                                                                "two_fmus/valve_pressure.cfg"}
+                                                     : std::vector<std::string>{"two_fmus/piston.cfg", "two_fmus/valve.cfg"};
+    const Series one = pressure ? cosim("ports_pressure10.cfg", "hammer_p10.fmu", step) : Series{};
+    const Series parallel = cosim(tables, dir.file("model.tlm"), step);
+    const Series one_thread = cosim(tables, dir.file("model.tlm"), sequential);
+    ASSERT_EQ(parallel.t.size(), one_thread.t.size()) << mode;
+    ASSERT_GT(parallel.t.size(), 3000u) << "40 ms at 10 us";
+    for (size_t i = 0; i < parallel.t.size(); ++i) {
+      ASSERT_EQ(parallel.lift[i], one_thread.lift[i]) << mode << ": piston lift at t = " << parallel.t[i];
+      ASSERT_EQ(parallel.spool[i], one_thread.spool[i]) << mode << ": spool position at t = " << parallel.t[i];
+      ASSERT_EQ(parallel.p_A[i], one_thread.p_A[i]) << mode << ": p_A at t = " << parallel.t[i];
+    }
+    EXPECT_GT(*std::max_element(one_thread.spool.begin(), one_thread.spool.end()), 7e-3)
+        << mode << ": the valve must have switched";
+    if (pressure) {  // TLM mode's split against one FMU: TwoFmusOnOneSessionGiveTheResultsOfOne
+      ASSERT_EQ(one.t.size(), parallel.t.size());
+      for (size_t i = 0; i < one.t.size(); ++i) {
+        ASSERT_EQ(one.lift[i], parallel.lift[i]) << "pressure mode, one FMU: piston lift at t = " << one.t[i];
+        ASSERT_EQ(one.p_A[i], parallel.p_A[i]) << "pressure mode, one FMU: p_A at t = " << one.t[i];
+      }
+    }
+  }
+}

@@ -108,6 +108,11 @@ class Component {
   // True if a step waits on another process (an FMU's fmi2DoStep): several
   // such Q components are stepped concurrently (PeerGroup).
   virtual bool waits_on_peer() const { return false; }
+  // Such a component's step in two halves, for an importer that steps its
+  // peers one after the other (PeerGroup, Stepping::Sequential): give the
+  // peer this step's inputs; simulate_one_step then steps without giving
+  // them again.
+  virtual void send_peer_inputs() {}
   // Why the host's time step `dt` cannot drive this component ("" if it can):
   // checked before step 1, so a mismatch is refused rather than simulated.
   virtual std::string step_mismatch(double /*dt*/) const { return ""; }

@@ -358,6 +358,9 @@ unsigned FmuInstance::vr(const std::string& variable) const {
 }
 
 void FmuInstance::set_real(unsigned vr, double v) { check(fmi2SetReal(c_, &vr, 1, &v), "fmi2SetReal"); }
+void FmuInstance::set_reals(const std::vector<unsigned>& vr, const std::vector<double>& v) {
+  if (!vr.empty()) check(fmi2SetReal(c_, vr.data(), vr.size(), v.data()), "fmi2SetReal");
+}
 double FmuInstance::get_real(unsigned vr) {
   double v = 0;
   check(fmi2GetReal(c_, &vr, 1, &v), "fmi2GetReal");

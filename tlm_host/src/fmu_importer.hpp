@@ -71,6 +71,7 @@ class FmuInstance {
   const ModelDescription& description() const { return archive_->description(); }
   unsigned vr(const std::string& variable) const;  // throws if absent
   void set_real(unsigned vr, double v);
+  void set_reals(const std::vector<unsigned>& vr, const std::vector<double>& v);
   double get_real(unsigned vr);
   void set_integer(unsigned vr, int v);
   void set_string(unsigned vr, const std::string& v);

@@ -41,6 +41,9 @@ int usage(std::ostream& os, int rc) {
         "  --checkpoint-every M  a checkpoint every M minutes of wall time\n"
         "  --restart FILE      continue from a checkpoint (fe_server restarted with --restart and its\n"
         "                      checkpoint of the same step); the results file continues after its row\n"
+        "  --peers HOW         several FMUs: parallel (default: each steps on its own thread), sequential\n"
+        "                      (one thread: every FMU's inputs set, then each stepped), or one-by-one (each\n"
+        "                      set and stepped in turn, which fe_server refuses): how other importers step\n"
         "  --quiet             no progress line\n"
         "  -h, --help, --version  this text; the version\n"
         "Exit codes: 0 ok, 2 usage, 3 model rejected (or a checkpoint that does not fit it), 4 simulation\n"
@@ -58,6 +61,7 @@ int main(int argc, char** argv) {
   bool no_report = false;
   std::vector<std::string> overrides;
   bool quiet = false;
+  tlm::PeerGroup::Stepping peers = tlm::PeerGroup::Stepping::Parallel;
   tlm::System::Checkpointing ck;
   try {
     config::Args args(argc, argv);
@@ -73,6 +77,13 @@ int main(int argc, char** argv) {
         if (o.find(".token=") != std::string::npos) throw std::invalid_argument(config::token_on_command_line_refused("tlm_host"));
       }
       else if (args.is("--quiet")) quiet = true;
+      else if (args.is("--peers")) {
+        const std::string how = args.value();
+        if (how == "parallel") peers = tlm::PeerGroup::Stepping::Parallel;
+        else if (how == "sequential") peers = tlm::PeerGroup::Stepping::Sequential;
+        else if (how == "one-by-one") peers = tlm::PeerGroup::Stepping::OneByOne;
+        else throw std::invalid_argument("--peers " + how + ": parallel, sequential or one-by-one");
+      }
       else if (args.is("--report")) report_path = args.value();
       else if (args.is("--no-report")) no_report = true;
       else if (args.is("--csv")) csv_path = args.value();
@@ -139,6 +150,7 @@ int main(int argc, char** argv) {
     system = std::make_unique<tlm::System>(std::move(spec));
     if (!csv_path.empty()) system->set_csv(csv_path);
     system->set_checkpointing(ck);
+    system->set_peer_stepping(peers);
   } catch (const std::exception& e) {
     std::cerr << "tlm_host: " << e.what() << "\n";
     return 3;

@@ -519,7 +519,7 @@ void System::run(const std::string& out_path, bool progress) {
   for (Component* c : q_type_)
     if (c->waits_on_peer()) peers.push_back(c);
   if (peers.size() > 1) {
-    peers_ = std::make_unique<PeerGroup>(peers);
+    peers_ = std::make_unique<PeerGroup>(peers, peer_stepping_);
     q_type_.erase(std::remove_if(q_type_.begin(), q_type_.end(),
                                  [&](Component* c) { return c->waits_on_peer() && c != peers.front(); }),
                   q_type_.end());

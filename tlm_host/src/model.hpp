@@ -102,6 +102,9 @@ class System {
     double every_s = 0.0;
   };
   void set_checkpointing(const Checkpointing& c) { checkpointing_ = c; }
+  // How several FMUs (peers) are stepped: in parallel (the default), or one
+  // after the other as a sequential importer would (peer_group.hpp).
+  void set_peer_stepping(PeerGroup::Stepping how) { peer_stepping_ = how; }
   Component* find(const std::string& name);
   // Stability advisor: one message per component whose largest stable step
   // (explicit springs, stops, contacts) is below dt.
@@ -155,6 +158,7 @@ class System {
                     const std::function<void(const std::string&, const std::string&, const double*)>& add,
                     std::vector<const double*>& csv_sources, std::vector<std::string>& csv_header, const double* time);
   Checkpointing checkpointing_;
+  PeerGroup::Stepping peer_stepping_ = PeerGroup::Stepping::Parallel;
   // The state that is not a component's: the nodes' p, q, c, Zc and every
   // component's state(), in file order.
   void exchange_state(config::StateIO& io);

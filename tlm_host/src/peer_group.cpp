@@ -2,8 +2,10 @@
 
 namespace tlm {
 
-PeerGroup::PeerGroup(std::vector<Component*> members) : members_(std::move(members)), errors_(members_.size()) {
-  for (size_t i = 0; i + 1 < members_.size(); ++i) workers_.emplace_back(&PeerGroup::work, this, i);
+PeerGroup::PeerGroup(std::vector<Component*> members, Stepping how)
+    : members_(std::move(members)), how_(how), errors_(members_.size()) {
+  if (how_ == Stepping::Parallel)
+    for (size_t i = 0; i + 1 < members_.size(); ++i) workers_.emplace_back(&PeerGroup::work, this, i);
 }
 
 PeerGroup::~PeerGroup() {
@@ -42,6 +44,12 @@ void PeerGroup::work(size_t index) {
 }
 
 void PeerGroup::step(double t) {
+  if (how_ != Stepping::Parallel) {
+    if (how_ == Stepping::Sequential)
+      for (Component* c : members_) c->send_peer_inputs();
+    for (Component* c : members_) c->simulate_one_step(t);
+    return;
+  }
   {
     std::lock_guard<std::mutex> lock(mutex_);
     t_ = t;

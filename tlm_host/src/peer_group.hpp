@@ -9,6 +9,13 @@
 // so their order does not change the answer. Each member but the last runs
 // on its own long-lived worker thread; the last runs on the caller's.
 // Members must not share nodes or write each other's inputs (FmuQs don't).
+//
+// The other two ways are the ways of importers that step FMUs one after the
+// other in one thread (--peers): Sequential gives every member its inputs
+// first, then steps each (fe_server then runs the step as soon as the first
+// FMU steps: the results are the parallel ones, bit for bit); OneByOne gives
+// each member its inputs and steps it before the next (Hopsan's sequential
+// solver), which fe_server refuses with the reason.
 #pragma once
 
 #include <condition_variable>
@@ -23,7 +30,8 @@ namespace tlm {
 
 class PeerGroup {
  public:
-  explicit PeerGroup(std::vector<Component*> members);
+  enum class Stepping { Parallel, Sequential, OneByOne };
+  explicit PeerGroup(std::vector<Component*> members, Stepping how = Stepping::Parallel);
   ~PeerGroup();
   PeerGroup(const PeerGroup&) = delete;
   PeerGroup& operator=(const PeerGroup&) = delete;
@@ -35,6 +43,7 @@ class PeerGroup {
  private:
   void work(size_t index);
   std::vector<Component*> members_;
+  Stepping how_;
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable start_, done_;

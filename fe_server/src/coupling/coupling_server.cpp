@@ -29,7 +29,11 @@ CouplingServer::CouplingServer(const ServerOptions& opt, std::vector<config::Por
     : opt_(opt), tables_(std::move(tables)) {
   size_t in = 0, out = 0, widest = 0;
   for (const auto& t : tables_) {
-    clients_.push_back(Client{&t, SL_SOCKET_INIT, in, out});
+    Client c;
+    c.table = &t;
+    c.in_offset = in;
+    c.out_offset = out;
+    clients_.push_back(std::move(c));
     in += t.to_fe.size();
     out += t.to_host.size();
     widest = std::max({widest, t.to_fe.size(), t.to_host.size()});
@@ -202,7 +206,7 @@ std::string CouplingServer::on_auth(Pending& p, const pcs_header& h) {
   if (!pcs_auth_check(opt_.token.data(), opt_.token.size(), PCS_ROLE_HOST, p.client_nonce, p.server_nonce,
                       table.hash(), auth.client_proof))
     return refuse(p.conn, "wrong or missing token (the host's proof does not match)");
-  pcs_hello_ack ack{table.hash(), table.dt, static_cast<uint32_t>(table.subcycles), {}};
+  pcs_hello_ack ack{table.hash(), table.dt, static_cast<uint32_t>(table.subcycles), {}, static_cast<uint32_t>(clients_.size())};
   pcs_auth_proof(opt_.token.data(), opt_.token.size(), PCS_ROLE_SERVER, p.client_nonce, p.server_nonce, table.hash(),
                  ack.server_proof);
   const int n = pcs_encode_hello_ack(&ack, buf_.data(), static_cast<uint32_t>(buf_.size()));
@@ -498,12 +502,197 @@ std::string CouplingServer::split_master_hint(const Client& late, uint64_t step)
   if (others.empty()) return "";
   std::ostringstream m;
   m << "FMU '" << late.table->model_name << "' sent no STEP " << step << " within " << kSplitRoundShare * timeout_
-    << " s, while the STEP " << step << " of " << others
-    << " came: an importer that steps its FMUs one after another (FMPy, fmusim, Hopsan) waits inside the first "
-       "FMU's step for a result that needs every FMU's inputs of the same step, so a session split into several FMUs "
-       "deadlocks there. Use one FMU for the whole model (one port table), or an importer that steps its FMUs in "
-       "parallel (tlm_host does)";
+    << " s, and its importer set none of its inputs since its last step, while the STEP " << step << " of " << others
+    << " came: an importer that steps its FMUs one after another waits inside the first FMU's step for a result "
+       "that needs every FMU's inputs of the same step. Such an importer must set the inputs of every FMU before it "
+       "steps the first (fmi2SetReal on each, then fmi2DoStep on each: an FMU sends fe_server its inputs when they "
+       "are set); one that sets and steps each FMU in turn (Hopsan's sequential solver) deadlocks here. Use one FMU "
+       "for the whole model (one port table), or an importer that sets every FMU's inputs first or steps them in "
+       "parallel (tlm_host does either: --peers)";
   return m.str();
+}
+
+ExitCode CouplingServer::on_round_frame(Client& c, const pcs_header& h, uint64_t k, std::vector<double>& in,
+                                        std::string& message) {
+  auto reject = [&](const std::string& why, ExitCode code) {
+    message = why;
+    abort_all(h.step, SL_EUNEXPECTED, why);
+    return code;
+  };
+  const std::string who = "FMU '" + c.table->model_name + "'";
+  switch (h.type) {
+    case PCS_MSG_BYE:
+      c.bye = true;
+      return kExitOk;
+    case PCS_MSG_ABORT: {
+      pcs_abort a{};
+      pcs_decode_abort(buf_.data(), h.payload_size, &a);
+      message = "host aborted at step " + std::to_string(k) + name_of(c) + ": " + a.reason;
+      sl_close(&c.conn);
+      abort_all(k, SL_EREFUSED_BY_PEER, message);
+      return kExitPeerAbort;
+    }
+    case PCS_MSG_RESUME:
+      return reject("the host resumes from its checkpoint at step " + std::to_string(h.step) + name_of(c) +
+                        ", but this fe_server started afresh: start it with --restart and its checkpoint of that step",
+                    kExitInput);
+    case PCS_MSG_CHECKPOINT:
+      if (h.step != k || !c.unconfirmed.empty()) break;
+      c.checkpoint = true;
+      return kExitOk;
+    case PCS_MSG_STEP:
+    case PCS_MSG_INPUTS: {
+      const size_t want = c.table->to_fe.size();
+      std::vector<double> values(want);
+      double t = 0, dt = 0;
+      uint32_t count = 0;
+      if (pcs_decode_values(buf_.data(), h.payload_size, &t, &dt, values.data(), static_cast<uint32_t>(want), &count) !=
+              SL_OK ||
+          count != want)
+        return reject(std::string(pcs_msg_name(h.type)) + " " + std::to_string(h.step) + name_of(c) + " carries " +
+                          std::to_string(count) + " values, expected " + std::to_string(want),
+                      kExitLinkLost);
+      for (size_t i = 0; i < want; ++i)
+        if (!std::isfinite(values[i]))
+          return reject(c.table->to_fe[i].name() + " is not finite at step " + std::to_string(h.step), kExitNumerical);
+      const auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
+        return std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+      };
+      // The importer changed inputs fe_server has already stepped with.
+      auto changed = [&](uint64_t step) {
+        return who + "'s inputs for step " + std::to_string(step) +
+               " changed after fe_server had run that step with the values its importer set before it stepped "
+               "another FMU of the session: an importer that steps its FMUs one after another must set the inputs of "
+               "them all before it steps the first (one that sets and steps each FMU in turn, as Hopsan's sequential "
+               "solver does, cannot run a session split into several FMUs), and step them all by the same "
+               "communication step";
+      };
+      if (h.type == PCS_MSG_INPUTS) {
+        if (h.step != c.next_step)
+          return reject("INPUTS " + std::to_string(h.step) + name_of(c) + ", expected INPUTS " + std::to_string(c.next_step),
+                        kExitLinkLost);
+        if (!c.unconfirmed.empty() && !same(values, c.unconfirmed.back().second))
+          return reject(changed(c.unconfirmed.back().first), kExitLinkLost);
+        c.pushed = std::move(values);
+        c.has_pushed = true;
+        c.pushed_for = h.step;
+        const int rc = pcs_send_frame(&c.conn, PCS_MSG_INPUTS, h.step, nullptr, 0, deadline_after(timeout_));
+        if (rc != SL_OK) {
+          message = "cannot confirm INPUTS " + std::to_string(h.step) + name_of(c) + ": " + link_error(rc, c.conn);
+          abort_all(k, static_cast<uint32_t>(-rc), message);
+          return kExitLinkLost;
+        }
+        return kExitOk;
+      }
+      if (!c.unconfirmed.empty()) {  // the STEP of a step already run with its INPUTS
+        const auto& [step, used] = c.unconfirmed.front();
+        if (h.step != step)
+          return reject("step index out of order" + name_of(c) + ": expected " + std::to_string(step) + ", got " +
+                            std::to_string(h.step),
+                        kExitLinkLost);
+        if (!same(values, used)) return reject(changed(step), kExitLinkLost);
+        c.unconfirmed.pop_front();
+        ++c.next_step;
+        return kExitOk;
+      }
+      if (h.step != k)
+        return reject("step index out of order" + name_of(c) + ": expected " + std::to_string(k) + ", got " +
+                          std::to_string(h.step),
+                      kExitLinkLost);
+      std::copy(values.begin(), values.end(), in.begin() + static_cast<std::ptrdiff_t>(c.in_offset));
+      c.stepped = true;
+      c.next_step = k + 1;
+      return kExitOk;
+    }
+    default:
+      break;
+  }
+  return reject(std::string("expected STEP") + name_of(c) + ", got " + pcs_msg_name(h.type) + " " +
+                    std::to_string(h.step),
+                kExitLinkLost);
+}
+
+ExitCode CouplingServer::gather_round(uint64_t k, std::vector<double>& in, size_t& byes, size_t& checkpoints,
+                                      std::string& message) {
+  for (Client& c : clients_) c.stepped = c.bye = c.checkpoint = false;
+  // The round's deadline comes before the FMUs' own (a fifth of the step
+  // time-out earlier), so that a round one FMU never joins can be told to
+  // the others while they still listen (split_master_hint).
+  const int64_t round_deadline = deadline_after(kSplitRoundShare * timeout_);
+  const auto decided = [](const Client& c) { return c.stepped || c.bye || c.checkpoint; };
+  std::vector<sl_socket*> socks;
+  std::vector<Client*> open;
+  std::vector<int> ready;
+  for (;;) {
+    size_t steps = 0, inputs = 0;
+    byes = checkpoints = 0;
+    for (const Client& c : clients_) {
+      steps += c.stepped;
+      byes += c.bye;
+      checkpoints += c.checkpoint;
+      inputs += c.stepped || (!c.bye && !c.checkpoint && c.push_valid());
+    }
+    const size_t n = clients_.size();
+    if (byes == n || checkpoints == n) return kExitOk;
+    if (steps > 0 && inputs + byes + checkpoints == n) break;
+    socks.clear();
+    open.clear();
+    for (Client& c : clients_)
+      if (!decided(c)) {
+        socks.push_back(&c.conn);
+        open.push_back(&c);
+      }
+    ready.assign(socks.size(), 0);
+    const int64_t until = stopping_ ? std::min(stop_deadline_, round_deadline) : round_deadline;
+    const int rc = sl_wait_any(socks.data(), socks.size(), until, ready.data());
+    if (rc == SL_EINTERRUPTED) {
+      if (!stopping_ && ask_for_checkpoint(k)) continue;
+      return stop(k, "waiting for STEP " + std::to_string(k), message);
+    }
+    if (rc < 0) {
+      message = "link lost waiting for STEP " + std::to_string(k) + ": " + link_error(rc, open.front()->conn);
+      abort_all(k, static_cast<uint32_t>(-rc), message);
+      return kExitLinkLost;
+    }
+    if (rc == 0) {
+      if (stopping_ && sl_now_ms() >= stop_deadline_)
+        return stop(k, "at coupling step " + std::to_string(k) + "; the host did not checkpoint within " +
+                           std::to_string(opt_.stop_grace) + " s",
+                    message);
+      if (sl_now_ms() < round_deadline) continue;
+      for (Client* c : open)
+        if (!c->push_valid())
+          if (const std::string hint = split_master_hint(*c, k); !hint.empty()) {
+            message = hint;
+            abort_all(k, static_cast<uint32_t>(-SL_ETIMEDOUT), message);
+            return kExitLinkLost;
+          }
+      message = "link lost waiting for STEP " + std::to_string(k) + name_of(*open.front()) + ": " +
+                link_error(SL_ETIMEDOUT, open.front()->conn);
+      abort_all(k, static_cast<uint32_t>(-SL_ETIMEDOUT), message);
+      return kExitLinkLost;
+    }
+    for (size_t i = 0; i < open.size(); ++i) {
+      if (!ready[i]) continue;
+      Client& c = *open[i];
+      pcs_header h{};
+      const int r = receive(c, h, k, deadline_after(timeout_));
+      if (r == SL_EINTERRUPTED) return stop(k, "waiting for STEP " + std::to_string(k) + name_of(c), message);
+      if (r != SL_OK) {
+        message = "link lost waiting for STEP " + std::to_string(k) + name_of(c) + ": " + link_error(r, c.conn);
+        abort_all(k, static_cast<uint32_t>(-r), message);
+        return kExitLinkLost;
+      }
+      if (const ExitCode code = on_round_frame(c, h, k, in, message); code != kExitOk) return code;
+    }
+  }
+  // The FMUs that did not step yet take the inputs their importer set.
+  for (Client& c : clients_)
+    if (!c.stepped && !c.bye && !c.checkpoint) {
+      std::copy(c.pushed.begin(), c.pushed.end(), in.begin() + static_cast<std::ptrdiff_t>(c.in_offset));
+      c.unconfirmed.emplace_back(k, c.pushed);
+    }
+  return kExitOk;
 }
 
 void CouplingServer::turn_away_while_busy() {
@@ -542,6 +731,11 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHis
   if (resume_)
     if (const ExitCode code = resume_clients(message); code != kExitOk) return code;
   uint64_t expected = resume_ ? resume_step_ : 0;
+  for (Client& c : clients_) {
+    c.next_step = expected;
+    c.has_pushed = false;
+    c.unconfirmed.clear();
+  }
   History* opened = nullptr;
   try {
     opened = &open_history();
@@ -562,23 +756,12 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHis
     if (stopping_ && sl_now_ms() >= stop_deadline_) return stop(expected, no_checkpoint(), message);
     turn_away_while_busy();
     size_t byes = 0, checkpoints = 0;
-    // Several FMUs: the round's deadline comes before the FMUs' own (a fifth
-    // of the step time-out earlier), so that a round one FMU never joins can
-    // be told to the others while they still listen (split_master_hint).
-    const bool split = clients_.size() > 1;
-    const int64_t round_deadline = deadline_after(split ? kSplitRoundShare * timeout_ : timeout_);
-    for (Client& c : clients_) c.stepped = false;
-    for (Client& c : clients_) {
+    if (clients_.size() > 1) {
+      if (const ExitCode code = gather_round(expected, in, byes, checkpoints, message); code != kExitOk) return code;
+    } else for (Client& c : clients_) {
       pcs_header h{};
-      int rc = receive(c, h, expected, split ? round_deadline : deadline_after(timeout_));
+      int rc = receive(c, h, expected, deadline_after(timeout_));
       if (rc == SL_ETIMEDOUT && stopping_ && sl_now_ms() >= stop_deadline_) return stop(expected, no_checkpoint(), message);
-      if (rc == SL_ETIMEDOUT && split)
-        if (const std::string hint = split_master_hint(c, expected); !hint.empty()) {
-          message = hint;
-          abort_all(expected, static_cast<uint32_t>(-SL_ETIMEDOUT), message);
-          return kExitLinkLost;
-        }
-      c.stepped = rc == SL_OK && h.type == PCS_MSG_STEP;
       if (rc == SL_EINTERRUPTED)
         return stop(expected, "waiting for STEP " + std::to_string(expected) + name_of(c), message);
       if (rc != SL_OK) {

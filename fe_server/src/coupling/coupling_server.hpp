@@ -10,6 +10,7 @@
 // always with the history flushed.
 #pragma once
 
+#include <deque>
 #include <functional>
 #include <string>
 
@@ -123,7 +124,33 @@ class CouplingServer {
     sl_socket conn = SL_SOCKET_INIT;
     size_t in_offset = 0, out_offset = 0;  // of its variables in the combined table
     bool stepped = false;  // its STEP of the current round has been read
+    // Several FMUs (gather_round): what it said this round, and the inputs
+    // its importer set (INPUTS) since its last STEP, for step `pushed_for`.
+    bool bye = false, checkpoint = false;
+    uint64_t next_step = 0;  // the index of the next STEP it will send
+    bool has_pushed = false;
+    uint64_t pushed_for = 0;
+    std::vector<double> pushed;
+    // Steps run with its INPUTS before its own STEP of them came (a
+    // sequential importer stepping another FMU first), oldest first: each
+    // STEP that comes must carry the same values.
+    std::deque<std::pair<uint64_t, std::vector<double>>> unconfirmed;
+    bool push_valid() const { return has_pushed && pushed_for == next_step; }
   };
+  // A session of several FMUs: reads what every client sends until round
+  // `k` can run: at least one FMU's STEP k (the importer is inside a step,
+  // so it has set the inputs of them all), and from every other one its
+  // STEP k or the INPUTS its importer set since its last step; or BYE or
+  // CHECKPOINT from all. INPUTS are answered at once, so that everything an
+  // importer set before it stepped an FMU is here before that STEP is read:
+  // a sequential importer that sets every FMU's inputs and then steps them
+  // one after the other gets the results a parallel one gets, bit for bit.
+  // `in` gets the round's inputs; byes and checkpoints are counted as in
+  // run_steps. Returns kExitOk or the session's end (`message` set, the
+  // clients told).
+  ExitCode gather_round(uint64_t k, std::vector<double>& in, size_t& byes, size_t& checkpoints, std::string& message);
+  // One client's frame in gather_round (h read whole into buf_).
+  ExitCode on_round_frame(Client& c, const pcs_header& h, uint64_t k, std::vector<double>& in, std::string& message);
   // Waits for every client until the accept deadline. Up to kMaxPending
   // connections are in their handshake at once; a connection's frame is read
   // only once it has arrived whole, so a silent or slow stranger blocks

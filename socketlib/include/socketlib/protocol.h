@@ -45,8 +45,9 @@ extern "C" {
 #endif
 
 #define PCS_MAGIC 0x43534350u /* bytes 'P','C','S','C' in little-endian order */
-#define PCS_PROTOCOL_VERSION 5u /* 2: HEARTBEAT; 3: challenge-response (CHALLENGE, AUTH); 4: CHECKPOINT, RESUME;
-                                   5: the client proves first, the server's proof moves to HELLO_ACK */
+#define PCS_PROTOCOL_VERSION 6u /* 2: HEARTBEAT; 3: challenge-response (CHALLENGE, AUTH); 4: CHECKPOINT, RESUME;
+                                   5: the client proves first, the server's proof moves to HELLO_ACK;
+                                   6: HELLO_ACK names the session's FMU count, INPUTS */
 #define PCS_HEADER_SIZE 24u
 #define PCS_MAX_PAYLOAD (16u * 1024u * 1024u)
 #define PCS_MAX_REASON 1024u
@@ -63,7 +64,11 @@ typedef enum {
   PCS_MSG_AUTH = 9,      /* client → server: client's proof of the token */
   PCS_MSG_CHECKPOINT = 10, /* client → server: save state after step k; server → client: saved (path) */
   PCS_MSG_RESUME = 11,     /* client → server: continue from step k; server → client: agreed */
-  PCS_MSG_STOPPING = 12    /* server → client: got a stop signal, asks for CHECKPOINT soon */
+  PCS_MSG_STOPPING = 12,   /* server → client: got a stop signal, asks for CHECKPOINT soon */
+  /* client → server, in a session of several FMUs: the inputs the importer
+   * set for step k (time, dt, values, as STEP) before it stepped this FMU;
+   * server → client: received (no payload). docs/protocol.md says when. */
+  PCS_MSG_INPUTS = 13
 } pcs_msg_type;
 
 /* Name of a message type ("HELLO", ...), "UNKNOWN" otherwise. */
@@ -143,6 +148,7 @@ typedef struct {
   double dt;
   uint32_t subcycles;
   uint8_t server_proof[PCS_PROOF_SIZE]; /* sent only after the client's proof was checked */
+  uint32_t session_fmus; /* the FMUs (port tables) of the session: above 1, the client sends INPUTS */
 } pcs_hello_ack;
 
 typedef struct {

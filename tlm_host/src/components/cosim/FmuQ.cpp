@@ -180,21 +180,31 @@ std::string FmuQ::step_mismatch(double dt) const {
 }
 
 void FmuQ::send_inputs() {
-  for (const auto& s : signal_inputs_) fmu_->set_real(s.vr, *s.value);
+  // One call: in a session of several FMUs each call that sets inputs sends
+  // them to fe_server (fmu/src/instance.hpp, inputs_set).
+  in_vr_.clear();
+  in_value_.clear();
+  auto set = [&](unsigned vr, double v) {
+    in_vr_.push_back(vr);
+    in_value_.push_back(v);
+  };
+  for (const auto& s : signal_inputs_) set(s.vr, *s.value);
   for (const auto& hp : hports_) {
     const HydraulicNode& n = *ports_[hp.port].node;
     if (hp.tlm) {
-      fmu_->set_real(hp.vr_c, n.c);
-      fmu_->set_real(hp.vr_Zc, n.Zc);
+      set(hp.vr_c, n.c);
+      set(hp.vr_Zc, n.Zc);
     } else {
-      fmu_->set_real(hp.vr_p, n.c + n.Zc * hp.q);  // the last step's flow: one step delay
-      if (hp.zc_check) fmu_->set_real(hp.vr_Zc, n.Zc);  // the chamber's stiffness, for the server's check
+      set(hp.vr_p, n.c + n.Zc * hp.q);  // the last step's flow: one step delay
+      if (hp.zc_check) set(hp.vr_Zc, n.Zc);  // the chamber's stiffness, for the server's check
     }
   }
+  fmu_->set_reals(in_vr_, in_value_);
 }
 
 void FmuQ::simulate_one_step(double t) {
-  send_inputs();
+  if (!inputs_sent_) send_inputs();
+  inputs_sent_ = false;
   fmu_->do_step(t, dt_);
   for (auto& hp : hports_) {
     HydraulicNode& n = *ports_[hp.port].node;

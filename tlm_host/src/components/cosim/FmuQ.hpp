@@ -40,6 +40,10 @@ class FmuQ : public Component {
   void finalize() override;
   void log_variables(std::vector<LogVariable>& out) override;
   bool waits_on_peer() const override { return true; }
+  void send_peer_inputs() override {
+    send_inputs();
+    inputs_sent_ = true;
+  }
   // Our FMUs exchange once per coupling step (their DefaultExperiment
   // stepSize, the port table's timestep): a host stepping at another step
   // would hold the FE side's inputs over many coupling steps while its TLM
@@ -82,6 +86,9 @@ class FmuQ : public Component {
   double dt_ = 0.0;
   bool verbose_ = false;
   long resume_step_ = -1;  // -1: a fresh session
+  bool inputs_sent_ = false;  // send_peer_inputs() gave this step's inputs
+  std::vector<unsigned> in_vr_;  // send_inputs(): one fmi2SetReal for them all
+  std::vector<double> in_value_;
 };
 
 }  // namespace tlm

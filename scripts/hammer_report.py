@@ -644,6 +644,90 @@ def plot(cond, cols):
     plt.close(fig)
 
 
+def blows_plot(cond, cols):
+    """One condition's whole run, blow by blow (blows.png): the impact
+    velocity and the period per blow, co-simulation against the monolithic
+    reference; every blow's tool pulse at the gauge overlaid on its impact
+    time; the housing's recoil over the run (raw and at 500 Hz); and the FE
+    energies over the run, with the balance error (what the energy verdict
+    sums). Returns the number of pulses overlaid (a blow whose record ends
+    within 800 µs of its impact is left out), None without an elastic
+    co-simulation."""
+    m = next((m for m in MODES if m in cols and cols[m].get("elastic")), None)
+    if m is None:
+        return None
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(2, 2, figsize=(13, 9))
+    trend, pulses, recoil, energy = ax[0, 0], ax[0, 1], ax[1, 0], ax[1, 1]
+    js = json.loads((cond / m / "host.json").read_text())
+    ref_js = json.loads((cond / "reference.json").read_text())
+    times = js["impact_times_s"]
+    with h5py.File(cond / m / "host.h5") as host:
+        v = impact_velocities(host, times)
+    with h5py.File(cond / "reference.h5") as ref:
+        t = ref["time"][:]
+        vr = ref["components/piston/v"][:]
+        v_ref = [float(-vr[max(int(np.searchsorted(t, ti)) - 1, 0)]) for ti in ref_js["impact_times_s"]]
+    twin = trend.twinx()
+    for label, ts, vs, style in (("monolithic", ref_js["impact_times_s"], v_ref, dict(color="k", marker="s", ms=4)),
+                                 (f"co-simulation ({MODE_TEXT[m]})", times, v, dict(color="C0", marker="o", ms=4))):
+        trend.plot(1e3 * np.array(ts), vs, lw=1, **style, label=f"{label}: impact velocity")
+        twin.plot(1e3 * np.array(ts[1:]), 1e3 * np.diff(ts), lw=1, ls="--", mfc="none", **style,
+                  label=f"{label}: period to the blow")
+    trend.set(xlabel="impact time [ms]", ylabel="impact velocity [m/s]",
+              title="per blow: impact velocity (solid) and the period before it (dashed)")
+    twin.set_ylabel("period [ms]")
+    lines = trend.get_legend_handles_labels(), twin.get_legend_handles_labels()
+    trend.legend(lines[0][0] + lines[1][0], lines[0][1] + lines[1][1], fontsize=7, loc="upper center",
+                 bbox_to_anchor=(0.5, -0.13), ncol=2)  # below the axes: the points fill them
+    with h5py.File(cond / m / "fe.h5") as fe:
+        tg, sigma, _ = gauge(fe)
+        cmap = plt.get_cmap("viridis")
+        drawn = 0
+        for i, ti in enumerate(times):
+            s = (tg > ti - 50e-6) & (tg < ti + 800e-6)
+            if s.sum() > 10 and tg[-1] > ti + 800e-6:
+                drawn += 1
+                pulses.plot(1e6 * (tg[s] - ti), 1e-6 * sigma[s], color=cmap(i / max(1, len(times) - 1)), lw=0.7)
+        pulses.axhline(-cols[m]["v"] * RHO * C0 * A_STRIKE / (A_STRIKE + AREA) / 1e6, color="k", ls=":",
+                       label="1D impedance estimate (mean impact velocity)")
+        sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(1e3 * times[0], 1e3 * times[-1]))
+        fig.colorbar(sm, ax=pulses, label="impact time [ms]")
+        pulses.set(xlabel="time after each impact [µs]", ylabel="tool stress at the gauge [MPa]",
+                   title=f"every blow's tool pulse, overlaid ({drawn} blows; compression negative)")
+        pulses.legend(fontsize=7, loc="lower right")
+        if "ports/housing.x" in fe:
+            t = fe["time"][:]
+            x = 1e3 * fe["ports/housing.x"][:]
+            recoil.plot(1e3 * t, x, color="C0", alpha=0.35, lw=0.7, label="raw")
+            recoil.plot(1e3 * t, lowpass(x, t[1] - t[0]), color="C0", label="500 Hz")
+            for ti in times:
+                recoil.axvline(1e3 * ti, color="0.85", lw=0.5, zorder=0)
+            recoil.set(xlabel="time [ms]", ylabel="housing displacement [mm] (up positive)",
+                       title="the housing's recoil on its rig springs (grey: impacts)")
+            recoil.legend(fontsize=8, loc="upper right")
+        else:
+            recoil.set_axis_off()
+        if "energy" in fe:
+            t = fe["time"][:]
+            for name in ("kinetic", "internal", "hourglass", "damping", "contact", "external_work", "balance_error"):
+                if name in fe["energy"]:
+                    energy.plot(1e3 * t, 1e-3 * fe[f"energy/{name}"][:], lw=1.8 if name == "balance_error" else 1,
+                                ls=":" if name == "balance_error" else "-", label=name.replace("_", " "))
+            energy.set(xlabel="time [ms]", ylabel="energy [kJ]",
+                       title="FE energies over the run (external work: oil and rig)")
+            energy.legend(fontsize=7, loc="upper left")
+    for a in (trend, pulses, recoil, energy):
+        a.grid(alpha=0.3)
+    fig.suptitle(f"{condition_words(cond.name)}: the whole run, blow by blow", fontsize=13)
+    fig.tight_layout(rect=(0, 0, 1, 0.96))
+    fig.savefig(cond / "blows.png", dpi=110)
+    plt.close(fig)
+    return drawn
+
+
 def power_plot(out, results):
     """The thesis' Fig. 16: input power p_in·Q_in and output power W·f
     against the restrictor diameter, one line per supply pressure."""
@@ -677,12 +761,14 @@ def power_plot(out, results):
 
 def stress_field_picture(out):
     """The blow alone (run_hammer.sh: impact/impact_fields.h5): the axial
-    stress in piston and tool at three moments after the first contact,
-    drawn on the deformed-free r–y mesh and mirrored about the axis. False
-    when the run is absent."""
+    stress in piston, tool and anvil at four moments after the first
+    contact, drawn on the undeformed r–y mesh mirrored about the axis, the
+    axis lying along the page (the bodies are long and slender: upright, the
+    radius got too little room for its labels). Returns the part ids drawn;
+    None when the run is absent."""
     h5, xdmf = out / "impact" / "impact_fields.h5", out / "impact" / "impact_fields.xdmf"
     if not h5.exists() or not xdmf.exists():
-        return False
+        return None
     import re
     import matplotlib
     matplotlib.use("Agg")
@@ -690,33 +776,41 @@ def stress_field_picture(out):
     from matplotlib.collections import PolyCollection
     times = [float(t) for t in re.findall(r'Time Value="([^"]+)"', xdmf.read_text())]
     with h5py.File(h5) as f:
-        xy = f["mesh/coordinates"][:, :2]
+        xy = 1e3 * f["mesh/coordinates"][:, :2]  # mm
         quads = f["mesh/topology"][:]
         part = f["mesh/part"][:]
         keys = sorted(f["fields"].keys())
-        picks = [k for k in (2, 6, 11) if k < len(keys)]
-        sigma = [f[f"fields/{keys[k]}/stress_axial"][:] for k in picks]
-    keep = part != 4  # piston and tool; the anvil is left out of the picture
-    polys = xy[quads[keep]]
-    mirrored = polys * np.array([-1.0, 1.0])
-    fig, ax = plt.subplots(1, len(picks), figsize=(3.2 * len(picks), 9), sharey=True)
-    lim = max(np.abs(s[keep]).max() for s in sigma) / 1e6
-    for a, k, s in zip(np.atleast_1d(ax), picks, sigma):
+        picks = [k for k in (2, 6, 11, 15) if k < len(keys)]
+        sigma = [f[f"fields/{keys[k]}/stress_axial"][:] / 1e6 for k in picks]
+    # y along the page, r across it; mirrored about the axis. Every part:
+    # the anvil under the tool too.
+    shown = np.ones(len(quads), dtype=bool)
+    polys = xy[quads[shown]][:, :, ::-1]
+    mirrored = polys * np.array([1.0, -1.0])
+    lim = max(np.abs(s).max() for s in sigma)
+    fig, ax = plt.subplots(len(picks), 1, figsize=(12, 2.1 * len(picks) + 1.2), sharex=True)
+    ax = np.atleast_1d(ax)
+    for a, k, s in zip(ax, picks, sigma):
         for p in (polys, mirrored):
-            pc = PolyCollection(p, array=s[keep] / 1e6, cmap="RdBu", clim=(-lim, lim), edgecolors="none")
+            pc = PolyCollection(p, array=s[shown], cmap="RdBu", clim=(-lim, lim), edgecolors="none")
             a.add_collection(pc)
-        a.set_xlim(-0.045, 0.045)
-        a.set_ylim(-0.62, 0.66)
+        a.set_xlim(xy[:, 1].min() - 10, xy[:, 1].max() + 10)
+        a.set_ylim(-1.3 * xy[:, 0].max(), 1.3 * xy[:, 0].max())
         a.set_aspect("equal")
-        a.set_title(f"{1e6 * times[k]:.0f} µs after contact", fontsize=9)
-        a.set_xticks([-0.03, 0.0, 0.03])
-        a.set_xlabel("r [m]")
-    np.atleast_1d(ax)[0].set_ylabel("y [m] (tool below 0, piston above)")
-    fig.colorbar(pc, ax=ax, shrink=0.6, label="axial stress [MPa] (compression negative)")
-    fig.suptitle("The blow: axial stress in piston and tool", fontsize=10)
+        a.set_ylabel("r [mm]")
+        a.set_title(f"{1e6 * times[k]:.0f} µs after contact", fontsize=9, loc="left")
+        bodies = {1: "piston", 2: "tool", 4: "anvil"}
+        for pid, name in bodies.items():
+            nodes = np.unique(quads[part == pid])
+            if len(nodes):
+                a.text(0.5 * (xy[nodes, 1].min() + xy[nodes, 1].max()), 1.05 * xy[:, 0].max(), name, ha="center",
+                       va="bottom", fontsize=8)
+    ax[-1].set_xlabel("y [mm] (the contact at 0: tool below, piston above, the anvil under the tool)")
+    fig.colorbar(pc, ax=ax, shrink=0.8, label="axial stress [MPa] (compression negative)")
+    fig.suptitle("The blow: axial stress in piston, tool and anvil", fontsize=11)
     fig.savefig(out / "stress_field.png", dpi=110)
     plt.close(fig)
-    return True
+    return sorted(int(i) for i in np.unique(part[shown]))
 
 
 TABLE2_CSV = pathlib.Path(__file__).resolve().parents[1] / "scenes/hammer_monolithic/thesis_table2.csv"
@@ -877,6 +971,8 @@ def main():
                    "the record holds):", "", statistics_table(col["stats"]), ""]
         md += [f"![{cond.name}]({cond.name}/hammer.png)", ""]
         plot(cond, cols)
+        if blows_plot(cond, cols) is not None:
+            md += [f"![{cond.name}, blow by blow]({cond.name}/blows.png)", ""]
         print(f"{cond.name}:")
         print(table(cols))
     if len(results) > 1:

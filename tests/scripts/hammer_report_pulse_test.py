@@ -18,7 +18,9 @@ whose answers are known:
 - the hourglass energy per cycle (and per part) between the first and last
   impact, and its check against 5 % of ½mv²; the ringing before each blow,
   the rms about its mean of a gauge's stress (a sine of amplitude a: a/√2),
-  blind to the blow itself and to a static preload."""
+  blind to the blow itself and to a static preload;
+- the whole-run figure overlays every blow whose record holds the pulse,
+  and the blow's stress picture draws the anvil with piston and tool."""
 import pathlib
 import sys
 import tempfile
@@ -174,4 +176,53 @@ got = scene_or_exit([rig, elastic], None)
 check(got.startswith("exit"), f"runs of two scenes are refused: {got}")
 got = scene_or_exit([study], None)
 check(got.startswith("exit"), f"a study's table without --scene is refused: {got}")
+
+# The whole-run figure: four impacts, the fe.h5 record ending 0.3 ms after
+# the last: three pulses are overlaid, the cut one is left out; without an
+# elastic co-simulation there is no figure.
+with tempfile.TemporaryDirectory() as tmp:
+    cond = pathlib.Path(tmp) / "150bar_6.0mm"
+    run = cond / "tlm10"
+    run.mkdir(parents=True)
+    impacts = [0.30, 0.34, 0.38, 0.42]
+    tt = np.arange(0.0, 0.4203, 1e-5)
+    (cond / "reference.json").write_text('{"impact_times_s": [0.30, 0.34, 0.38, 0.42]}')
+    (run / "host.json").write_text('{"impact_times_s": [0.30, 0.34, 0.38, 0.42]}')
+    with h5py.File(cond / "reference.h5", "w") as f:
+        f["time"] = tt
+        f["components/piston/v"] = -12.0 + 0.0 * tt
+    with h5py.File(run / "host.h5", "w") as f:
+        f["time"] = tt
+        f["components/mech/v"] = -11.9 + 0.0 * tt
+    with h5py.File(run / "fe.h5", "w") as f:
+        f["time"] = tt
+        f["ports/housing.x"] = 1e-3 * np.sin(2 * np.pi * 25.0 * tt)
+        for name in ("kinetic", "internal", "external_work", "balance_error"):
+            f[f"energy/{name}"] = 0.0 * tt
+        te = np.arange(0.25, 0.4203, 4e-6)
+        f["time_elements"] = te
+        stress = 0.0 * te
+        for ti in impacts:
+            stress[(te >= ti) & (te < ti + 110e-6)] = -200e6
+        f[f"sections/{h.SECTION}/fy"] = stress * h.AREA
+        f[f"sections/{h.SECTION}/vy"] = 0.0 * te
+    drawn = h.blows_plot(cond, {"reference": {}, "tlm10": {"elastic": True, "v": 11.9}})
+    check(drawn == 3 and (cond / "blows.png").exists(), f"three whole pulses overlaid, the cut one left out: {drawn}")
+    check(h.blows_plot(cond, {"reference": {}, "tlm10": {"elastic": False}}) is None, "a 1D tool: no such figure")
+# The blow's stress picture draws every part of the field file, the anvil too.
+with tempfile.TemporaryDirectory() as tmp:
+    out = pathlib.Path(tmp)
+    (out / "impact").mkdir()
+    xml = "".join(f'<Time Value="{1e-5 * k}"/>' for k in range(16))
+    (out / "impact/impact_fields.xdmf").write_text(f"<Xdmf>{xml}</Xdmf>")
+    with h5py.File(out / "impact/impact_fields.h5", "w") as f:
+        corners = [[0, 0], [0.03, 0], [0.03, 0.1], [0, 0.1]]
+        f["mesh/coordinates"] = np.array([[x, y - 0.1 * b, 0.0] for b in range(3) for x, y in corners])
+        f["mesh/topology"] = np.array([[4 * b, 4 * b + 1, 4 * b + 2, 4 * b + 3] for b in range(3)])
+        f["mesh/part"] = np.array([1, 2, 4])
+        for k in range(16):
+            f[f"fields/{k:06d}/stress_axial"] = np.array([-1e8, -2e8, -5e7])
+    parts = h.stress_field_picture(out)
+    check(parts == [1, 2, 4] and (out / "stress_field.png").exists(), f"piston, tool and anvil drawn: {parts}")
+    check(h.stress_field_picture(pathlib.Path(tmp) / "none") is None, "no blow run: no picture")
 sys.exit(1 if failures else 0)

@@ -641,7 +641,7 @@ TEST(HopsanLoader, AHydraulicPortOnAMechanicalOneIsRefused) {
   }
 }
 
-// Hopsan's directional valves (DirectionalValves.hpp). The 4/3 valve: its
+// Hopsan's directional valves (DirectionalValveQ.hpp). The 4/3 valve: its
 // spool, a second-order lag of ω = 200 rad/s and δ = 0.7, is within e^(−δωt)
 // = 1e-3 of its 20 µm command 50 ms after the step (2e-3 allowed); every
 // edge's flow leaves one port and enters another, so the four ports' flows

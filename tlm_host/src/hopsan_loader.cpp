@@ -132,7 +132,7 @@ const std::map<std::string, Mapping>& mappings() {
         {{"y1", {"y_0#Value", "y_A#Value"}}}}},
       {"SignalGain", {"SignalGain", {{"k#Value", "k", 1.0}}, {}, {}, "", {{"in", "u"}, {"out", "y"}}}},
       {"SignalAdd", {"SignalAdd", {}, {}, {"in1#Value", "in2#Value"}, "", {{"in1", "u1"}, {"in2", "u2"}, {"out", "y"}}}},
-      // Translational mechanics (Translational.hpp: Hopsan's equations).
+      // Translational mechanics (TranslationalMassQ.hpp: Hopsan's equations).
       {"MechanicTranslationalMass",
        {"TranslationalMassQ",
         {{"m", "m", 100.0},
@@ -201,7 +201,7 @@ const std::map<std::string, Mapping>& mappings() {
          {"vmp#Value", "v0", 0.0}},
         {},
         {"Va#Value"}}},  // computed from the piston's position
-      // Directional valves (DirectionalValves.hpp: Hopsan's equations).
+      // Directional valves (DirectionalValveQ.hpp: Hopsan's equations).
       {"Hydraulic43Valve",
        {"Valve43Q",
         {{"C_q#Value", "C_q", 0.67},

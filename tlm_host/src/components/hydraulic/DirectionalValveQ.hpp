@@ -99,41 +99,4 @@ class DirectionalValveQ : public Component {
   BilinearSecondOrder spool_;
 };
 
-class Valve43Q : public DirectionalValveQ {
- public:
-  using DirectionalValveQ::DirectionalValveQ;
-  const char* type_name() const override { return "Valve43Q"; }
-  void configure(ParameterSet& prm) override {
-    configure_common(prm);
-    for (const char* port : {"PP", "PT", "PA", "PB"}) add_port(port, Kind::Q);
-    enum { P, T, A, B };
-    edges_ = {{P, A, prm.real("f_pa", 1.0), prm.real("x_pa", -1e-6), 1},
-              {P, B, prm.real("f_pb", 1.0), prm.real("x_pb", -1e-6), -1},
-              {A, T, prm.real("f_at", 1.0), prm.real("x_at", -1e-6), -1},
-              {B, T, prm.real("f_bt", 1.0), prm.real("x_bt", -1e-6), 1}};
-    xv_lo_ = -xv_max_, xv_hi_ = xv_max_;
-    add_signal_input("in", &in_);
-  }
-
- private:
-  double command() const override { return std::max(std::min(*in_, xv_max_), -xv_max_); }
-};
-
-class Valve32Q : public DirectionalValveQ {
- public:
-  using DirectionalValveQ::DirectionalValveQ;
-  const char* type_name() const override { return "Valve32Q"; }
-  void configure(ParameterSet& prm) override {
-    configure_common(prm);
-    for (const char* port : {"PP", "PT", "PA"}) add_port(port, Kind::Q);
-    const double f = prm.real("f", 1.0);
-    edges_ = {{0, 2, f, 0.0, 1}, {2, 1, f, 0.0, 0}};
-    xv_lo_ = 0.0, xv_hi_ = xv_max_;
-    add_signal_input("in", &in_);
-  }
-
- private:
-  double command() const override { return *in_ > 0.5 ? xv_max_ : 0.0; }
-};
-
 }  // namespace tlm

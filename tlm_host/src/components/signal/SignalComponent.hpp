@@ -1,0 +1,43 @@
+// Signal components (run first in each step): sources of a value over time
+// and simple blocks acting on one input. Each has the signal output "y".
+//   SignalStep      y = y0 before t_step, y1 from t_step on
+//   SignalRamp      y from y0 to y1 linearly over [t0, t1], held outside
+//   SignalTable     y(t) from a table "t1:y1; t2:y2; ..."
+//   SignalGain      y = k·u
+//   SignalAdd       y = u1 + u2
+//   SignalSubtract  y = u1 − u2 (e.g. a position relative to the housing)
+//   SignalLowPass   first-order lag τ·dy/dt = u − y, integrated exactly
+//                   per step: y ← u + (y − u)·exp(−Δt/τ)
+// The time a signal sees is the end of the coming step, t + Δt, so a step at
+// t_step acts on the step that ends there.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "components/bilinear.hpp"
+#include "component.hpp"
+#include "table.hpp"
+
+namespace tlm {
+
+class SignalComponent : public Component {
+ public:
+  using Component::Component;
+  Kind kind() const override { return Kind::Signal; }
+  void initialize(double dt) override {
+    dt_ = dt;
+    y_ = value(0.0);
+  }
+  void simulate_one_step(double t) override { y_ = value(t + dt_); }
+  // The output is the whole state (a low-pass filter's memory; the
+  // sources' value is a function of t).
+  void state(config::StateIO& io) override { io.value("y", y_); }
+
+ protected:
+  virtual double value(double t) = 0;
+  void add_output() { add_signal_output("y", &y_); }
+  double y_ = 0.0, dt_ = 0.0;
+};
+
+}  // namespace tlm

@@ -1,5 +1,12 @@
 #include "coupling_client.hpp"
 
+#ifdef _WIN32
+#include <windows.h>
+#else
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -175,7 +182,6 @@ void CouplingClient::connect_once(const std::string& host, int port, const std::
     fail(SL_EREFUSED_BY_PEER, where + ": " + reason);
   }
   session_fmus_ = ack.session_fmus;
-  inputs_unanswered_ = 0;
   early_results_.clear();
   // The server checked the same things; checking again here means a faulty
   // or foreign server cannot make us exchange values that mean something else.
@@ -192,8 +198,9 @@ void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<
   if (!connected()) throw LinkError(SL_EINVAL, "not connected to fe_server");
   confirm_resume();  // the server answers RESUME once every FMU of the session has connected
   const int64_t deadline = deadline_after(timeout_s_);
-  int n = pcs_encode_values(time, dt, inputs.data(), static_cast<uint32_t>(inputs.size()),
-                            buf_.data(), static_cast<uint32_t>(buf_.size()));
+  int n = split_session() ? encode_with_thread(time, dt, inputs)
+                           : pcs_encode_values(time, dt, inputs.data(), static_cast<uint32_t>(inputs.size()),
+                                               buf_.data(), static_cast<uint32_t>(buf_.size()));
   if (n < 0) fail(n, "cannot encode STEP");
   int rc = pcs_send_frame(&sock_, PCS_MSG_STEP, k, buf_.data(), static_cast<uint32_t>(n), deadline);
   std::string at = " at step " + std::to_string(k) + " (t = " + std::to_string(time) + " s)";
@@ -240,27 +247,35 @@ int CouplingClient::next_frame(pcs_header& h, uint64_t k, int64_t deadline) {
       deadline = deadline_after(timeout_s_);
       continue;
     }
-    if (h.type == PCS_MSG_INPUTS && h.payload_size == 0 && inputs_unanswered_ > 0) {
-      --inputs_unanswered_;
-      continue;
-    }
     return rc;
   }
 }
 
-void CouplingClient::send_inputs(uint64_t k, double time, double dt, const std::vector<double>& inputs, bool wait) {
+uint64_t CouplingClient::caller_thread() {
+#ifdef _WIN32
+  return (static_cast<uint64_t>(GetCurrentProcessId()) << 32) ^ static_cast<uint64_t>(GetCurrentThreadId());
+#else
+  return (static_cast<uint64_t>(getpid()) << 32) ^ static_cast<uint64_t>(syscall(SYS_gettid));
+#endif
+}
+
+int CouplingClient::encode_with_thread(double time, double dt, const std::vector<double>& values) {
+  pcs_writer w{buf_.data(), static_cast<uint32_t>(buf_.size()), 0, 0};
+  pcs_put_u64(&w, caller_thread());
+  if (w.overflow) return SL_EOVERSIZE;
+  const int n = pcs_encode_values(time, dt, values.data(), static_cast<uint32_t>(values.size()), buf_.data() + w.len,
+                                  static_cast<uint32_t>(buf_.size()) - w.len);
+  return n < 0 ? n : n + static_cast<int>(w.len);
+}
+
+void CouplingClient::send_inputs(uint64_t k, double time, double dt, const std::vector<double>& inputs) {
   if (!connected()) throw LinkError(SL_EINVAL, "not connected to fe_server");
   const int64_t deadline = deadline_after(timeout_s_);
-  const int n = pcs_encode_values(time, dt, inputs.data(), static_cast<uint32_t>(inputs.size()), buf_.data(),
-                                  static_cast<uint32_t>(buf_.size()));
+  const int n = encode_with_thread(time, dt, inputs);
   if (n < 0) fail(n, "cannot encode INPUTS");
   const std::string at = " for step " + std::to_string(k) + " (t = " + std::to_string(time) + " s)";
   int rc = pcs_send_frame(&sock_, PCS_MSG_INPUTS, k, buf_.data(), static_cast<uint32_t>(n), deadline);
   if (rc != SL_OK) fail(rc, "cannot send INPUTS" + at);
-  if (!wait) {
-    ++inputs_unanswered_;
-    return;
-  }
   for (;;) {
     pcs_header h{};
     rc = next_frame(h, k, deadline);
@@ -304,10 +319,6 @@ pcs_header CouplingClient::await_answer(uint16_t type, uint64_t k) {
     rc = pcs_recv_frame(&sock_, &h, buf_.data(), static_cast<uint32_t>(buf_.size()), deadline_after(timeout_s_));
     if (rc == SL_OK && h.type == PCS_MSG_STOPPING) {  // the server asks for a checkpoint
       stop_requested_ = true;
-      continue;
-    }
-    if (rc == SL_OK && h.type == PCS_MSG_INPUTS && h.payload_size == 0 && inputs_unanswered_ > 0) {
-      --inputs_unanswered_;  // the answer to INPUTS sent without waiting
       continue;
     }
     if (rc != SL_OK || h.type != PCS_MSG_HEARTBEAT) break;

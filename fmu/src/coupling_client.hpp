@@ -49,15 +49,18 @@ class CouplingClient {
   void step(uint64_t k, double time, double dt, const std::vector<double>& inputs,
             std::vector<double>& outputs);
   // A session of several FMUs (the server says so in its HELLO_ACK): the
-  // inputs the importer set for step k, sent before the step (INPUTS k), so
-  // that an importer that sets every FMU's inputs and then steps them one
-  // after the other does not deadlock (coupling_server.hpp, gather_round).
-  // `wait`: until the server has them (each setReal), so they are there
-  // before another FMU's STEP; otherwise sent and the answer read later (at
-  // the end of initialization, when the server may still be accepting the
-  // other FMUs).
+  // inputs the importer set for step k, sent before the step (INPUTS k) and
+  // answered before this returns, so that an importer that sets every FMU's
+  // inputs and then steps them one after the other in one thread does not
+  // deadlock (coupling_server.hpp, gather_round). Each INPUTS and each STEP
+  // of such a session carries the calling thread (caller_thread()): the
+  // server takes INPUTS for final only when another FMU steps from the
+  // thread that set them.
   bool split_session() const { return session_fmus_ > 1; }
-  void send_inputs(uint64_t k, double time, double dt, const std::vector<double>& inputs, bool wait);
+  void send_inputs(uint64_t k, double time, double dt, const std::vector<double>& inputs);
+  // This process and thread, as one number: the same for every FMU library
+  // of the process called from the same thread.
+  static uint64_t caller_thread();
   // Ask the server to save its state after k completed steps (CHECKPOINT k);
   // returns the path of the server's checkpoint. Throws LinkError.
   std::string checkpoint(uint64_t k);
@@ -100,14 +103,15 @@ class CouplingClient {
   Progress progress_;
   bool resume_pending_ = false;  // RESUME sent, its answer not yet read
   uint32_t session_fmus_ = 1;
-  int inputs_unanswered_ = 0;  // INPUTS sent without waiting for the server's answer
   // RESULTs that came while an INPUTS awaited its answer (the server ran
   // steps with this FMU's inputs while the importer stepped another FMU by
   // a longer communication step): step, values.
+  // Values with the calling thread in front (a split session's STEP and INPUTS).
+  int encode_with_thread(double time, double dt, const std::vector<double>& values);
   std::vector<std::pair<uint64_t, std::vector<double>>> early_results_;
   // Reads one frame by `deadline` for step k's exchange: notes STOPPING,
-  // skips heartbeats of step k and the answers to INPUTS sent without
-  // waiting; returns the first other frame's rc (header in h, payload in buf_).
+  // skips heartbeats of step k; returns the first other frame's rc (header
+  // in h, payload in buf_).
   int next_frame(pcs_header& h, uint64_t k, int64_t deadline);
   uint64_t resume_step_ = 0;
 };

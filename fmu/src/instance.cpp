@@ -224,17 +224,16 @@ void Instance::exit_initialization() {
     log(fmi2OK, "logCoupling", "resumed after step " + std::to_string(step_));
   }
   state_ = State::StepComplete;
-  // The inputs set in initialization are the first step's; not awaited:
-  // fe_server may still be accepting the session's other FMUs.
+  // Inputs set in initialization go with the first STEP: sent now, they
+  // could be taken for final while a parallel importer sets others.
   inputs_changed_ = false;
-  if (client_->split_session()) send_inputs(false);
 }
 
-void Instance::send_inputs(bool wait) {
+void Instance::send_inputs() {
   wire_in_.resize(inputs_.size());
   for (size_t i = 0; i < inputs_.size(); ++i) wire_in_[i] = inputs_[i] * table_.to_fe[i].scale;
   try {
-    client_->send_inputs(step_, time_, table_.dt, wire_in_, wait);
+    client_->send_inputs(step_, time_, table_.dt, wire_in_);
   } catch (const LinkError& e) {
     state_ = State::StepFailed;
     throw FmuError(fmi2Error, e.what());
@@ -246,7 +245,7 @@ void Instance::inputs_set() {
   // it steps any FMU (coupling_client.hpp, send_inputs).
   if (!inputs_changed_) return;
   inputs_changed_ = false;
-  if (state_ == State::StepComplete && client_ && client_->connected() && client_->split_session()) send_inputs(true);
+  if (state_ == State::StepComplete && client_ && client_->connected() && client_->split_session()) send_inputs();
 }
 
 void Instance::do_step(double t, double h) {

@@ -10,6 +10,8 @@
 #include <csignal>
 #include <unistd.h>
 #include <string>
+#include <future>
+#include <thread>
 #include <vector>
 
 #include "h5io/timeseries.hpp"
@@ -259,12 +261,12 @@ TEST(Sessions, TwoFmusWhoseInputsAreSetBeforeEitherStepsRunOneAfterTheOther) {
   const std::vector<double> in_a = s.inputs(s.piston, 50e5), in_b = s.inputs(s.valve, 50e5);
   std::vector<double> out_a, out_b0, out_b1;
   const double dt = s.piston.dt;
-  a.send_inputs(0, 0.0, dt, in_a, true);
-  b.send_inputs(0, 0.0, dt, in_b, true);
+  a.send_inputs(0, 0.0, dt, in_a);
+  b.send_inputs(0, 0.0, dt, in_b);
   a.step(0, 0.0, dt, in_a, out_a);  // runs at once: the valve's inputs are in
   a.step(1, dt, dt, in_a, out_a);   // the valve's inputs held, as an FMU holds them over a longer step
   b.step(0, 0.0, dt, in_b, out_b0);  // its RESULT is waiting
-  b.send_inputs(1, dt, dt, in_b, true);  // the same values: step 1 ran with them
+  b.send_inputs(1, dt, dt, in_b);  // the same values: step 1 ran with them
   b.step(1, dt, dt, in_b, out_b1);
   ASSERT_EQ(out_b1.size(), s.valve.to_host.size());
   a.bye();
@@ -283,11 +285,11 @@ TEST(Sessions, InputsChangedAfterAnotherFmuSteppedWithThemAreRefusedWithTheReaso
   b.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
   std::vector<double> out;
   const double dt = s.piston.dt;
-  b.send_inputs(0, 0.0, dt, s.inputs(s.valve, 50e5), true);
+  b.send_inputs(0, 0.0, dt, s.inputs(s.valve, 50e5));
   a.step(0, 0.0, dt, s.inputs(s.piston, 50e5), out);
   std::string why;
   try {
-    b.send_inputs(0, 0.0, dt, s.inputs(s.valve, 60e5), true);
+    b.send_inputs(0, 0.0, dt, s.inputs(s.valve, 60e5));
   } catch (const pcs_fmu::LinkError& e) {
     why = e.what();
   }
@@ -308,7 +310,7 @@ TEST(Sessions, AStepWhoseValuesDifferFromTheInputsAStepRanWithIsRefused) {
   b.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
   std::vector<double> out;
   const double dt = s.piston.dt;
-  b.send_inputs(0, 0.0, dt, s.inputs(s.valve, 50e5), true);
+  b.send_inputs(0, 0.0, dt, s.inputs(s.valve, 50e5));
   a.step(0, 0.0, dt, s.inputs(s.piston, 50e5), out);
   std::string why;
   try {
@@ -339,4 +341,44 @@ TEST(Sessions, AHostSettingAndSteppingEachFmuInTurnIsToldWhyAndExits) {
             std::string::npos)
       << host.output();
   EXPECT_EQ(server.wait(kHardTimeout), 6) << server.output();
+}
+
+TEST(Sessions, InputsSetOnAnotherThreadThanTheStepWaitForTheirFmusOwnStep) {
+  // A parallel importer: the valve's thread sets its inputs in two calls
+  // while the piston's FMU steps from the main thread. The first call's
+  // INPUTS must not be taken for final (they came from another thread than
+  // the piston's STEP): fe_server waits for the valve's own STEP, and the
+  // second call's values are the ones stepped with. Taken for final, the
+  // step would have run with half the inputs and the second call refused.
+  SplitSession s;
+  ASSERT_GT(s.port, 0) << s.server.output();
+  pcs_fmu::CouplingClient a(s.piston), b(s.valve);
+  a.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  b.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  const double dt = s.piston.dt;
+  std::vector<double> first = s.inputs(s.valve, 0.0), second = s.inputs(s.valve, 50e5), out_a, out_b;
+  std::promise<void> first_set;
+  std::string why;
+  std::thread valve([&] {
+    try {
+      b.send_inputs(0, 0.0, dt, first);
+      first_set.set_value();
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the piston's STEP is in by now
+      b.send_inputs(0, 0.0, dt, second);
+      b.step(0, 0.0, dt, second, out_b);
+    } catch (const pcs_fmu::LinkError& e) {
+      why = e.what();
+    }
+  });
+  first_set.get_future().wait();
+  try {
+    a.step(0, 0.0, dt, s.inputs(s.piston, 50e5), out_a);
+  } catch (const pcs_fmu::LinkError& e) {
+    why += e.what();
+  }
+  valve.join();
+  EXPECT_EQ(why, "");
+  a.bye();
+  b.bye();
+  EXPECT_EQ(s.server.wait(kHardTimeout), 0) << s.server.output();
 }

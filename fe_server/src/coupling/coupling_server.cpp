@@ -505,8 +505,9 @@ std::string CouplingServer::split_master_hint(const Client& late, uint64_t step)
     << " s, and its importer set none of its inputs since its last step, while the STEP " << step << " of " << others
     << " came: an importer that steps its FMUs one after another waits inside the first FMU's step for a result "
        "that needs every FMU's inputs of the same step. Such an importer must set the inputs of every FMU before it "
-       "steps the first (fmi2SetReal on each, then fmi2DoStep on each: an FMU sends fe_server its inputs when they "
-       "are set); one that sets and steps each FMU in turn (Hopsan's sequential solver) deadlocks here. Use one FMU "
+       "steps the first, in the thread it steps them from (fmi2SetReal on each, then fmi2DoStep on each: an FMU "
+       "sends fe_server its inputs when they are set, those set in initialization with its first step); one that "
+       "sets and steps each FMU in turn (Hopsan's sequential solver) deadlocks here. Use one FMU "
        "for the whole model (one port table), or an importer that sets every FMU's inputs first or steps them in "
        "parallel (tlm_host does either: --peers)";
   return m.str();
@@ -542,12 +543,16 @@ ExitCode CouplingServer::on_round_frame(Client& c, const pcs_header& h, uint64_t
       return kExitOk;
     case PCS_MSG_STEP:
     case PCS_MSG_INPUTS: {
+      // In a session of several FMUs both carry the caller's thread first.
       const size_t want = c.table->to_fe.size();
       std::vector<double> values(want);
       double t = 0, dt = 0;
       uint32_t count = 0;
-      if (pcs_decode_values(buf_.data(), h.payload_size, &t, &dt, values.data(), static_cast<uint32_t>(want), &count) !=
-              SL_OK ||
+      pcs_reader r{buf_.data(), h.payload_size, 0, 0};
+      const uint64_t thread = pcs_get_u64(&r);
+      if (r.error ||
+          pcs_decode_values(buf_.data() + r.pos, h.payload_size - r.pos, &t, &dt, values.data(),
+                            static_cast<uint32_t>(want), &count) != SL_OK ||
           count != want)
         return reject(std::string(pcs_msg_name(h.type)) + " " + std::to_string(h.step) + name_of(c) + " carries " +
                           std::to_string(count) + " values, expected " + std::to_string(want),
@@ -576,6 +581,7 @@ ExitCode CouplingServer::on_round_frame(Client& c, const pcs_header& h, uint64_t
         c.pushed = std::move(values);
         c.has_pushed = true;
         c.pushed_for = h.step;
+        c.push_thread = thread;
         const int rc = pcs_send_frame(&c.conn, PCS_MSG_INPUTS, h.step, nullptr, 0, deadline_after(timeout_));
         if (rc != SL_OK) {
           message = "cannot confirm INPUTS " + std::to_string(h.step) + name_of(c) + ": " + link_error(rc, c.conn);
@@ -601,6 +607,7 @@ ExitCode CouplingServer::on_round_frame(Client& c, const pcs_header& h, uint64_t
                       kExitLinkLost);
       std::copy(values.begin(), values.end(), in.begin() + static_cast<std::ptrdiff_t>(c.in_offset));
       c.stepped = true;
+      c.step_thread = thread;
       c.next_step = k + 1;
       return kExitOk;
     }
@@ -620,6 +627,13 @@ ExitCode CouplingServer::gather_round(uint64_t k, std::vector<double>& in, size_
   // the others while they still listen (split_master_hint).
   const int64_t round_deadline = deadline_after(kSplitRoundShare * timeout_);
   const auto decided = [](const Client& c) { return c.stepped || c.bye || c.checkpoint; };
+  // Its INPUTS are final: set since its last step, from a thread another FMU stepped from this round.
+  const auto final_push = [&](const Client& c) {
+    if (!c.push_valid()) return false;
+    for (const Client& d : clients_)
+      if (d.stepped && d.step_thread == c.push_thread) return true;
+    return false;
+  };
   std::vector<sl_socket*> socks;
   std::vector<Client*> open;
   std::vector<int> ready;
@@ -630,7 +644,7 @@ ExitCode CouplingServer::gather_round(uint64_t k, std::vector<double>& in, size_
       steps += c.stepped;
       byes += c.bye;
       checkpoints += c.checkpoint;
-      inputs += c.stepped || (!c.bye && !c.checkpoint && c.push_valid());
+      inputs += c.stepped || (!c.bye && !c.checkpoint && final_push(c));
     }
     const size_t n = clients_.size();
     if (byes == n || checkpoints == n) return kExitOk;
@@ -661,7 +675,7 @@ ExitCode CouplingServer::gather_round(uint64_t k, std::vector<double>& in, size_
                     message);
       if (sl_now_ms() < round_deadline) continue;
       for (Client* c : open)
-        if (!c->push_valid())
+        if (!final_push(*c))
           if (const std::string hint = split_master_hint(*c, k); !hint.empty()) {
             message = hint;
             abort_all(k, static_cast<uint32_t>(-SL_ETIMEDOUT), message);

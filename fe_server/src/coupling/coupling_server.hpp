@@ -131,6 +131,9 @@ class CouplingServer {
     bool has_pushed = false;
     uint64_t pushed_for = 0;
     std::vector<double> pushed;
+    // The importer's thread (process and thread id) that set `pushed`, and
+    // the one its last STEP came from.
+    uint64_t push_thread = 0, step_thread = 0;
     // Steps run with its INPUTS before its own STEP of them came (a
     // sequential importer stepping another FMU first), oldest first: each
     // STEP that comes must carry the same values.
@@ -138,10 +141,13 @@ class CouplingServer {
     bool push_valid() const { return has_pushed && pushed_for == next_step; }
   };
   // A session of several FMUs: reads what every client sends until round
-  // `k` can run: at least one FMU's STEP k (the importer is inside a step,
-  // so it has set the inputs of them all), and from every other one its
-  // STEP k or the INPUTS its importer set since its last step; or BYE or
-  // CHECKPOINT from all. INPUTS are answered at once, so that everything an
+  // `k` can run: at least one FMU's STEP k, and from every other one its
+  // STEP k or the INPUTS its importer set since its last step from the
+  // thread a STEP k came from (an importer that steps its FMUs one after the
+  // other in that thread has set the inputs of them all when it steps the
+  // first; INPUTS set on another thread may not be its last, a parallel
+  // importer's, and wait for their FMU's STEP); or BYE or CHECKPOINT from
+  // all. INPUTS are answered at once, so that everything an
   // importer set before it stepped an FMU is here before that STEP is read:
   // a sequential importer that sets every FMU's inputs and then steps them
   // one after the other gets the results a parallel one gets, bit for bit.

@@ -32,10 +32,10 @@ Analytic scene_parameters() {
   fe::Model deck = fe::read_deck(kScene + "/piston.k");
   tlm::ModelSpec model = tlm::read_model(kScene + "/model.tlm");
   Analytic a{};
-  a.beta = model.find("chamber")->params.real("beta");
-  a.V = model.find("chamber")->params.real("V");
-  a.p0 = model.find("chamber")->params.real("p0");
-  a.p_supply = model.find("supply")->params.real("p");
+  a.beta = model.find("chamber")->params.real("beta", "Pa");
+  a.V = model.find("chamber")->params.real("V", "m³");
+  a.p0 = model.find("chamber")->params.real("p0", "Pa");
+  a.p_supply = model.find("supply")->params.real("p", "Pa");
   a.m = deck.rigid_bodies.at(0).mass;
   a.k = deck.discretes.at(0).k;
   a.A = 0.0;

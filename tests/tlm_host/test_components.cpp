@@ -138,8 +138,9 @@ TEST(ModelReader, ErrorsNameTheLineAndTheFix) {
   const std::string head = "*SIMULATION\ntimestep, 1e-6\nstoptime, 1e-3\n*COMPONENT\n";
   std::string e = error_of(head + "v, HydraulicVolumeC, V=1e-3, Vee=3\n");
   EXPECT_NE(e.find("model.tlm:5: component v has no parameter 'Vee'"), std::string::npos) << e;
-  EXPECT_NE(e.find("its parameters: V [m³], V_min [m³], alpha, beta [Pa], dVdx, p0 [Pa]"), std::string::npos)
-      << "what the component reads, with the units its plausibility ranges know: " << e;
+  EXPECT_NE(e.find("its parameters: V [m³], V_min [m³], alpha [1], beta [Pa], dVdx [m²], p0 [Pa], p_vap [Pa], ports [1]"),
+            std::string::npos)
+      << "what the component reads, each with the unit it declares: " << e;
   e = error_of(head + "v, HydraulicVolumeC, bta=1.4e9\n");
   EXPECT_NE(e.find("no parameter 'bta' (did you mean 'beta'?)"), std::string::npos) << e;
   e = error_of(head + "v, NoSuchThing\n");

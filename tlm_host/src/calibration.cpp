@@ -306,9 +306,8 @@ FitParameter parse_fit_parameter(const std::string& full_text, const ModelSpec& 
     if (!c->params.has(key))
       throw std::invalid_argument("--fit '" + p.name + "': " + model.source + " does not set " + key + " of " + comp +
                                   "; give a start value as " + p.name + "=VALUE");
-    ParameterSet copy = c->params;
     try {
-      p.start = copy.real(key);
+      p.start = c->params.given_number(key);
     } catch (const std::exception&) {
       throw std::invalid_argument("--fit '" + p.name + "': not a single number in " + model.source +
                                   " (a table or a text cannot be fitted)");

@@ -53,8 +53,13 @@ const Plausible kPlausible[] = {
 
 }  // namespace
 
-double ParameterSet::real(const std::string& key, double fallback) {
-  asked_.insert(key);
+double ParameterSet::real(const std::string& key, double fallback, Unit unit) {
+  for (const auto& r : kPlausible)
+    for (const char* k : r.keys)
+      if (key == k && std::string(r.unit).rfind(std::string(unit.text) + " ", 0) != 0 && std::string(r.unit) != unit.text)
+        throw std::logic_error("parameter " + key + " declared in " + unit.text + ", the plausibility table's unit is " +
+                               r.unit);
+  asked_[key] = unit.text;
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
   it->second.used = true;
@@ -70,13 +75,22 @@ double ParameterSet::real(const std::string& key, double fallback) {
   return v;
 }
 
-double ParameterSet::real(const std::string& key) {
-  if (!has(key)) throw config::InputError(where_, "parameter " + key + " is required");
-  return real(key, 0.0);
+double ParameterSet::real(const std::string& key, Unit unit) {
+  if (!has(key)) {
+    asked_[key] = unit.text;
+    throw config::InputError(where_, "parameter " + key + " [" + unit.text + "] is required");
+  }
+  return real(key, 0.0, unit);
 }
 
-double ParameterSet::positive(const std::string& key, double fallback) {
-  double v = real(key, fallback);
+double ParameterSet::given_number(const std::string& key) const {
+  auto it = values_.find(key);
+  if (it == values_.end()) throw config::InputError(where_, "parameter " + key + " is not given");
+  return config::parse_real(it->second.value, it->second.where, "parameter " + key);
+}
+
+double ParameterSet::positive(const std::string& key, double fallback, Unit unit) {
+  double v = real(key, fallback, unit);
   if (!(v > 0.0)) {
     auto it = values_.find(key);
     throw config::InputError(it != values_.end() ? it->second.where : where_,
@@ -86,7 +100,7 @@ double ParameterSet::positive(const std::string& key, double fallback) {
 }
 
 int ParameterSet::integer(const std::string& key, int fallback, int lo, int hi) {
-  const double v = real(key, fallback);
+  const double v = real(key, fallback, "1");
   if (!(v >= lo && v <= hi) || v != std::floor(v)) {
     auto it = values_.find(key);
     throw config::InputError(it != values_.end() ? it->second.where : where_,
@@ -97,7 +111,7 @@ int ParameterSet::integer(const std::string& key, int fallback, int lo, int hi) 
 }
 
 std::string ParameterSet::text(const std::string& key, const std::string& fallback) {
-  asked_.insert(key);
+  asked_.emplace(key, "");
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
   it->second.used = true;
@@ -108,17 +122,14 @@ void ParameterSet::check_all_used(const std::string& component) const {
   for (const auto& [key, e] : values_) {
     if (e.used) continue;
     // Say what it has: the nearest name, and every parameter it read, with
-    // its unit where the plausibility table knows it.
-    std::vector<std::string> names(asked_.begin(), asked_.end());
+    // the unit it declared.
+    std::vector<std::string> names;
+    for (const auto& [n, unit] : asked_) names.push_back(n);
     const std::string near = config::nearest(key, names);
     std::string list;
-    for (const std::string& n : names) {
+    for (const auto& [n, unit] : asked_) {
       if (values_.count(n) && !values_.at(n).used) continue;  // given, not read: not one of its parameters
-      std::string unit;  // the table's unit, its first word ("Pa", "m³", "kg")
-      for (const auto& r : kPlausible)
-        for (const char* k : r.keys)
-          if (n == k) unit = " [" + std::string(r.unit).substr(0, std::string(r.unit).find(' ')) + "]";
-      list += (list.empty() ? "" : ", ") + n + unit;
+      list += (list.empty() ? "" : ", ") + n + (unit.empty() ? "" : " [" + unit + "]");
     }
     throw config::InputError(e.where, "component " + component + " has no parameter '" + key + "'" +
                                           (near.empty() ? "" : " (did you mean '" + near + "'?)") +

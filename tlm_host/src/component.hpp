@@ -47,16 +47,34 @@ struct LogVariable {
 // Parameters as written in the model (name=value), with their location.
 // Every parameter must be used by the component; a leftover one is an error,
 // so a typo is not silently ignored.
+// A parameter's unit, declared where the component reads it: SI ("Pa",
+// "m³/s", "N·s/m"), "1" for a pure number, "0/1" for a switch, "signal" for
+// a value in its signal's own unit. Only a string literal converts to it, so
+// a fallback of 0 cannot be taken for a unit.
+struct Unit {
+  template <std::size_t N>
+  constexpr Unit(const char (&s)[N]) : text(s) {}  // NOLINT: implicit on purpose
+  const char* text;
+};
+
 class ParameterSet {
  public:
   void set(const std::string& key, const std::string& value, const config::SourceLocation& where);
   bool has(const std::string& key) const {
-    asked_.insert(key);
+    asked_.emplace(key, "");
     return values_.count(key) != 0;
   }
-  double real(const std::string& key, double fallback);
-  double real(const std::string& key);  // required
-  double positive(const std::string& key, double fallback);
+  // A real parameter in SI units; its unit is listed with it when a
+  // parameter given is not the component's, and must be the plausibility
+  // table's where that table knows the name (component.cpp; a different one
+  // is a programming error: std::logic_error).
+  double real(const std::string& key, double fallback, Unit unit);
+  double real(const std::string& key, Unit unit);  // required
+  double positive(const std::string& key, double fallback, Unit unit);
+  // The number given for `key`, as a tool outside the component reads it
+  // (tlm_fit's start value): no unit, not marked as read. Throws
+  // config::InputError if it is absent or not a number.
+  double given_number(const std::string& key) const;
   // A whole number from lo to hi (a port count, ...): 2.5 or 5.8e9 is refused.
   int integer(const std::string& key, int fallback, int lo, int hi);
   std::string text(const std::string& key, const std::string& fallback);
@@ -74,7 +92,7 @@ class ParameterSet {
   config::SourceLocation where_;
   // Every key the component asked for while it configured itself: its
   // parameters, listed when one given is not among them.
-  mutable std::set<std::string> asked_;
+  mutable std::map<std::string, std::string> asked_;  // name → declared unit ("1" for a count, "" for a text)
 };
 
 class Component {

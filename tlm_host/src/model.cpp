@@ -777,7 +777,7 @@ ReportSettings report_settings(ModelSpec& spec) {
   ComponentSpec* piston = spec.find(s.piston);
   if (!piston && !spec.report.empty())
     throw config::InputError(spec.report.front().where, "*REPORT: no component named '" + s.piston + "'");
-  if (piston) s.piston_mass = piston->params.real("m", 14.4);
+  if (piston) s.piston_mass = piston->params.real("m", 14.4, "kg");
   // A results file cut down by *LOG still holds what the report reads.
   if (!spec.log_only.empty() && !spec.report.empty()) {
     const config::SourceLocation where = spec.report.front().where;

@@ -19,10 +19,10 @@ void FmuQ::configure(ParameterSet& prm) {
   std::string path = prm.text("fmu", "");
   server_ = prm.text("server", "");
   token_ = prm.text("token", "");
-  verbose_ = prm.real("verbose", 0.0) != 0.0;
+  verbose_ = prm.real("verbose", 0.0, "0/1") != 0.0;
   // Loaded from a Hopsan model (FMIWrapperQ): Hopsan's names for the
   // signals, and the port specifications Hopsan maps the node onto.
-  const bool hopsan_names = prm.real("hopsan_names", 0.0) != 0.0;
+  const bool hopsan_names = prm.real("hopsan_names", 0.0, "0/1") != 0.0;
   const std::string portspecs = prm.text("portspecs", "");
   if (path.empty())
     throw config::InputError(prm.where(), name_ + ": no FMU given (parameter fmu=PATH or --fmu PATH)");

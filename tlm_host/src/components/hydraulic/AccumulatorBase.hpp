@@ -67,9 +67,9 @@ class AccumulatorBase : public Component {
 
  protected:
   void configure_state(ParameterSet& prm) {
-    pa_ = prm.real("pa0", 1e7);  // Pa, the gas's start pressure
-    x_ = prm.real("x0", 0.0);    // the start charge (a fraction, or the piston's position in m)
-    v_ = prm.real("v0", 0.0);    // its start rate
+    pa_ = prm.real("pa0", 1e7, "Pa");  // the gas's start pressure
+    x_ = prm.real("x0", 0.0, "1 or m");  // the start charge (a fraction, or the piston's position in m)
+    v_ = prm.real("v0", 0.0, "1/s or m/s");  // its start rate
     add_port("P1", Kind::Q);
     add_signal_output("Va", &Va_);
     add_signal_output("pa", &pa_);

@@ -15,10 +15,10 @@ class AccumulatorQ : public AccumulatorBase {
   using AccumulatorBase::AccumulatorBase;
   const char* type_name() const override { return "AccumulatorQ"; }
   void configure(ParameterSet& prm) override {
-    V0_ = prm.positive("V0", 1e-3);      // m³, the accumulator's volume
-    Kca_ = prm.positive("Kca", 1e-8);    // m³/(s·Pa), the inlet's coefficient
-    kappa_ = prm.positive("kappa", 1.2); // polytropic exponent of the gas
-    p0_ = prm.positive("p0", 1e7);       // Pa, precharge
+    V0_ = prm.positive("V0", 1e-3, "m³");  // the accumulator's volume
+    Kca_ = prm.positive("Kca", 1e-8, "m³/(s·Pa)");  // the inlet's coefficient
+    kappa_ = prm.positive("kappa", 1.2, "1");  // polytropic exponent of the gas
+    p0_ = prm.positive("p0", 1e7, "Pa");  // precharge
     configure_state(prm);
   }
   void initialize(double dt) override {

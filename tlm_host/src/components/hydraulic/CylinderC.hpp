@@ -48,17 +48,17 @@ class CylinderC : public Component {
   // Moves oil by force or displacement: a node's pressure has no bound from the sources.
   double source_pressure() const override { return 1e300; }
   void configure(ParameterSet& prm) override {
-    A1_ = prm.positive("A_1", 1e-3);        // m², piston area of chamber 1
-    A2_ = prm.positive("A_2", 1e-3);        // m², of chamber 2
-    sl_ = prm.positive("s_l", 1.0);         // m, stroke
-    V01_ = prm.positive("V_1", 3e-4);       // m³, dead volumes
-    V02_ = prm.positive("V_2", 3e-4);
-    Bp_ = prm.real("B_p", 1000.0);          // N·s/m, viscous friction
-    beta_ = prm.positive("Beta_e", 1e9);    // Pa
-    c_leak_ = prm.real("c_leak", 1e-11);    // m³/(s·Pa), internal leakage
-    stops_ = prm.real("use_sl", 1.0) != 0.0;
-    p1_0_ = prm.real("p1_0", 1e5);          // Pa, start pressures of the chambers
-    p2_0_ = prm.real("p2_0", 1e5);
+    A1_ = prm.positive("A_1", 1e-3, "m²");  // piston area of chamber 1
+    A2_ = prm.positive("A_2", 1e-3, "m²");  // of chamber 2
+    sl_ = prm.positive("s_l", 1.0, "m");  // stroke
+    V01_ = prm.positive("V_1", 3e-4, "m³");  // dead volumes
+    V02_ = prm.positive("V_2", 3e-4, "m³");
+    Bp_ = prm.real("B_p", 1000.0, "N·s/m");  // viscous friction
+    beta_ = prm.positive("Beta_e", 1e9, "Pa");
+    c_leak_ = prm.real("c_leak", 1e-11, "m³/(s·Pa)");  // internal leakage
+    stops_ = prm.real("use_sl", 1.0, "0/1") != 0.0;
+    p1_0_ = prm.real("p1_0", 1e5, "Pa");  // start pressures of the chambers
+    p2_0_ = prm.real("p2_0", 1e5, "Pa");
     add_port("P1", Kind::C);
     add_port("P2", Kind::C);
     add_port("P3", Kind::C, true);

@@ -17,13 +17,13 @@ class CylinderQ : public Component {
   // Moves oil by force or displacement: a node's pressure has no bound from the sources.
   double source_pressure() const override { return 1e300; }
   void configure(ParameterSet& prm) override {
-    A1_ = prm.positive("A_1", 1e-4);  // m²
-    A2_ = prm.positive("A_2", 1e-4);
-    Bp_ = prm.real("B_p", 0.0);       // N·s/m, the piston's friction
-    Bl_ = prm.real("B_l", 0.0);       // N·s/m, the load's
-    kl_ = prm.real("k_l", 100.0);     // N/m, the load's stiffness
-    m_ = prm.positive("m_l", 0.05);   // kg, the load's inertia
-    sl_ = prm.positive("s_l", 0.01);  // m, stroke
+    A1_ = prm.positive("A_1", 1e-4, "m²");
+    A2_ = prm.positive("A_2", 1e-4, "m²");
+    Bp_ = prm.real("B_p", 0.0, "N·s/m");  // the piston's friction
+    Bl_ = prm.real("B_l", 0.0, "N·s/m");  // the load's
+    kl_ = prm.real("k_l", 100.0, "N/m");  // the load's stiffness
+    m_ = prm.positive("m_l", 0.05, "kg");  // the load's inertia
+    sl_ = prm.positive("s_l", 0.01, "m");  // stroke
     add_port("P1", Kind::Q);
     add_port("P2", Kind::Q);
     add_port("P3", Kind::Q, true);

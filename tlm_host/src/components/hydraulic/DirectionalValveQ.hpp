@@ -84,13 +84,13 @@ class DirectionalValveQ : public Component {
   virtual double command() const = 0;
   double opening(const Edge& e) const { return e.sign == 0 ? xv_max_ - xv_ : e.sign * xv_ - e.overlap; }
   void configure_common(ParameterSet& prm) {
-    Cq_ = prm.real("C_q", 0.67);
-    rho_ = prm.positive("rho", 870.0);     // kg/m³
-    d_ = prm.positive("d", 0.01);          // m, spool diameter
-    xv_max_ = prm.positive("x_vmax", 0.01); // m
-    omega_ = prm.positive("omega_h", 100.0);  // rad/s
-    delta_ = prm.positive("delta_h", 1.0);
-    xv_ = prm.real("xv0", 0.0);            // m, the spool's start
+    Cq_ = prm.real("C_q", 0.67, "1");
+    rho_ = prm.positive("rho", 870.0, "kg/m³");
+    d_ = prm.positive("d", 0.01, "m");  // spool diameter
+    xv_max_ = prm.positive("x_vmax", 0.01, "m");
+    omega_ = prm.positive("omega_h", 100.0, "rad/s");
+    delta_ = prm.positive("delta_h", 1.0, "1");
+    xv_ = prm.real("xv0", 0.0, "m");  // the spool's start
     add_signal_output("xv", &xv_);
   }
   std::vector<Edge> edges_;

@@ -16,7 +16,7 @@ class FlowSourceQ : public Component {
   double source_pressure() const override { return 1e300; }
   void state(config::StateIO& io) override { io.value("q", q_); }
   void configure(ParameterSet& prm) override {
-    q_ = prm.real("q", 0.0);  // m³/s into the node
+    q_ = prm.real("q", 0.0, "m³/s");  // into the node
     add_port("P1", Kind::Q);
     add_signal_input("q", &q_in_, &q_);
   }

@@ -29,12 +29,12 @@ class GasAccumulatorC : public Component {
     io.value("p", p_);
   }
   void configure(ParameterSet& prm) override {
-    V0_ = prm.positive("V0", 1e-3);            // m³, gas volume at precharge
-    p0_ = prm.positive("p0", 1e6);             // Pa abs, precharge
-    n_ = prm.positive("n", 1.4);               // polytropic exponent
-    V_dead_ = prm.positive("V_dead", 1e-2 * V0_);  // m³, oil left when the bladder is down
-    beta_ = prm.positive("beta", 1.4e9);       // Pa, oil bulk modulus in the dead volume
-    p_init_ = prm.real("p_init", p0_);         // Pa abs, initial oil pressure
+    V0_ = prm.positive("V0", 1e-3, "m³");  // gas volume at precharge
+    p0_ = prm.positive("p0", 1e6, "Pa");  // absolute, precharge
+    n_ = prm.positive("n", 1.4, "1");  // polytropic exponent
+    V_dead_ = prm.positive("V_dead", 1e-2 * V0_, "m³");  // oil left when the bladder is down
+    beta_ = prm.positive("beta", 1.4e9, "Pa");  // oil bulk modulus in the dead volume
+    p_init_ = prm.real("p_init", p0_, "Pa");  // absolute, initial oil pressure
     add_port("P1", Kind::C);
   }
   void initialize(double dt) override {

@@ -34,13 +34,13 @@ class HoseC : public Component {
   const char* type_name() const override { return "HoseC"; }
   double source_pressure() const override { return p0_; }  // its start pressure
   void configure(ParameterSet& prm) override {
-    rho_ = prm.positive("rho", 870.0);    // kg/m³
-    eta_ = prm.positive("eta", 0.03);     // N·s/m², the oil's viscosity
-    d_ = prm.positive("d", 0.03);         // m
-    l_ = prm.positive("l", 1.0);          // m
-    beta_ = prm.positive("beta_e", 1e9);  // Pa
-    eta_w_ = prm.real("eta_w", 0.03);     // N·s/m², the wall's equivalent viscosity
-    p0_ = prm.real("p0", 1e5);            // Pa, start pressure
+    rho_ = prm.positive("rho", 870.0, "kg/m³");
+    eta_ = prm.positive("eta", 0.03, "N·s/m²");  // the oil's viscosity
+    d_ = prm.positive("d", 0.03, "m");
+    l_ = prm.positive("l", 1.0, "m");
+    beta_ = prm.positive("beta_e", 1e9, "Pa");
+    eta_w_ = prm.real("eta_w", 0.03, "N·s/m²");  // the wall's equivalent viscosity
+    p0_ = prm.real("p0", 1e5, "Pa");  // start pressure
     add_port("P1", Kind::C);
     add_port("P2", Kind::C);
   }

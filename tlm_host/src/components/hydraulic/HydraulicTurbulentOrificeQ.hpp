@@ -38,10 +38,10 @@ class HydraulicTurbulentOrificeQ : public Component {
     io.value("dissipated", dissipated_);
   }
   void configure(ParameterSet& prm) override {
-    Cd_ = prm.positive("Cd", 0.67);
-    A_ = prm.positive("A", 1e-5);  // m²
-    rho_ = prm.positive("rho", 870.0);
-    hopsan_cavitation_ = prm.real("hopsan_cavitation", 0.0) != 0.0;  // node.hpp: for Hopsan models
+    Cd_ = prm.positive("Cd", 0.67, "1");
+    A_ = prm.positive("A", 1e-5, "m²");
+    rho_ = prm.positive("rho", 870.0, "kg/m³");
+    hopsan_cavitation_ = prm.real("hopsan_cavitation", 0.0, "0/1") != 0.0;  // node.hpp: for Hopsan models
     add_port("P1", Kind::Q);
     add_port("P2", Kind::Q);
   }

@@ -54,13 +54,13 @@ class HydraulicVolumeC : public Component {
     io.list("cavitation events", events_);
   }
   void configure(ParameterSet& prm) override {
-    V0_ = prm.positive("V", 1e-3);         // m³ (at x = 0 for a chamber)
-    beta_ = prm.positive("beta", 1.4e9);   // Pa, effective bulk modulus
-    p0_ = prm.real("p0", 1e5);             // Pa, initial pressure
-    alpha_ = prm.real("alpha", 0.0);
-    p_vap_ = prm.real("p_vap", 5e3);       // Pa abs (0.05 bar)
-    dVdx_ = prm.real("dVdx", 0.0);         // m², chamber volume change per unit of x
-    V_min_ = prm.positive("V_min", 1e-3 * V0_);
+    V0_ = prm.positive("V", 1e-3, "m³");  // at x = 0 for a chamber
+    beta_ = prm.positive("beta", 1.4e9, "Pa");  // effective bulk modulus
+    p0_ = prm.real("p0", 1e5, "Pa");  // initial pressure
+    alpha_ = prm.real("alpha", 0.0, "1");
+    p_vap_ = prm.real("p_vap", 5e3, "Pa");  // absolute (0.05 bar)
+    dVdx_ = prm.real("dVdx", 0.0, "m²");  // chamber volume change per unit of x
+    V_min_ = prm.positive("V_min", 1e-3 * V0_, "m³");
     if (alpha_ < 0.0 || alpha_ >= 1.0) throw config::InputError(prm.where(), name_ + ": alpha must be in [0, 1)");
     const int n = prm.integer("ports", 2, 1, 64);
     for (int i = 1; i <= n; ++i) add_port("P" + std::to_string(i), Kind::C);

@@ -18,9 +18,9 @@ class LaminarOrificeQ : public Component {
     io.value("dissipated", dissipated_);
   }
   void configure(ParameterSet& prm) override {
-    Kc_ = prm.real("Kc");  // m³/(s·Pa)
+    Kc_ = prm.real("Kc", "m³/(s·Pa)");
     if (Kc_ < 0.0) throw config::InputError(prm.where(), name_ + ": Kc must not be negative");
-    hopsan_cavitation_ = prm.real("hopsan_cavitation", 0.0) != 0.0;  // node.hpp: for Hopsan models
+    hopsan_cavitation_ = prm.real("hopsan_cavitation", 0.0, "0/1") != 0.0;  // node.hpp: for Hopsan models
     add_port("P1", Kind::Q);
     add_port("P2", Kind::Q);
   }

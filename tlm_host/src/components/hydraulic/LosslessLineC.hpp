@@ -33,11 +33,11 @@ class LosslessLineC : public Component {
   double source_pressure() const override { return p0_; }  // its start pressure
   void configure(ParameterSet& prm) override {
     if (prm.has("Zc") || prm.has("delay")) {  // the line by its impedance and delay
-      Zc_given_ = prm.real("Zc");     // Pa·s/m³ (both required)
-      T_given_ = prm.real("delay");  // s
+      Zc_given_ = prm.real("Zc", "Pa·s/m³");  // both required
+      T_given_ = prm.real("delay", "s");
       if (!(Zc_given_ > 0.0) || !(T_given_ > 0.0))
         throw config::InputError(prm.where(), name_ + ": Zc and delay must be positive");
-      p0_ = prm.real("p0", 1e5);
+      p0_ = prm.real("p0", 1e5, "Pa");
       add_port("P1", Kind::C);
       add_port("P2", Kind::C);
       return;
@@ -58,11 +58,11 @@ class LosslessLineC : public Component {
 
  protected:
   void configure_line(ParameterSet& prm) {
-    L_ = prm.positive("L", 1.0);          // m
-    d_ = prm.positive("d", 0.01);         // m
-    rho_ = prm.positive("rho", 870.0);    // kg/m³
-    beta_ = prm.positive("beta", 1.4e9);  // Pa (effective, wall compliance included)
-    p0_ = prm.real("p0", 1e5);            // Pa
+    L_ = prm.positive("L", 1.0, "m");
+    d_ = prm.positive("d", 0.01, "m");
+    rho_ = prm.positive("rho", 870.0, "kg/m³");
+    beta_ = prm.positive("beta", 1.4e9, "Pa");  // effective, wall compliance included
+    p0_ = prm.real("p0", 1e5, "Pa");
     add_port("P1", Kind::C);
     add_port("P2", Kind::C);
   }

@@ -15,12 +15,12 @@ class PistonAccumulatorQ : public AccumulatorBase {
   using AccumulatorBase::AccumulatorBase;
   const char* type_name() const override { return "PistonAccumulatorQ"; }
   void configure(ParameterSet& prm) override {
-    Ap_ = prm.positive("Ap", 1e-3);       // m², piston area
-    SL_ = prm.positive("SL", 0.5);        // m, stroke
-    Bp_ = prm.real("Bp", 10.0);           // N·s/m, friction
-    ML_ = prm.positive("ML", 1.0);        // kg, the piston's mass
-    kappa_ = prm.positive("kappa", 1.2);  // polytropic exponent of the gas
-    p0_ = prm.positive("p0", 1e7);        // Pa, precharge
+    Ap_ = prm.positive("Ap", 1e-3, "m²");  // piston area
+    SL_ = prm.positive("SL", 0.5, "m");  // stroke
+    Bp_ = prm.real("Bp", 10.0, "N·s/m");  // friction
+    ML_ = prm.positive("ML", 1.0, "kg");  // the piston's mass
+    kappa_ = prm.positive("kappa", 1.2, "1");  // polytropic exponent of the gas
+    p0_ = prm.positive("p0", 1e7, "Pa");  // precharge
     configure_state(prm);
   }
   void initialize(double dt) override {

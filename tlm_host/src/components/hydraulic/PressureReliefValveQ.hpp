@@ -32,12 +32,12 @@ class PressureReliefValveQ : public Component {
   Kind kind() const override { return Kind::Q; }
   const char* type_name() const override { return "PressureReliefValveQ"; }
   void configure(ParameterSet& prm) override {
-    p_max_ = prm.real("p_max", 2e7);      // Pa, opening pressure difference
-    tau_ = prm.positive("tao", 0.01);     // s, the poppet's time constant
-    p_h_ = prm.real("p_h", 5e5);          // Pa, hysteresis width
-    k_cs_ = prm.positive("k_cs", 1e-8);   // steady characteristic from the spring
-    k_cf_ = prm.positive("k_cf", 1e-8);   // from the flow forces
-    q_nom_ = prm.positive("q_nom", 1e-3); // m³/s, fully open at p_nom
+    p_max_ = prm.real("p_max", 2e7, "Pa");  // opening pressure difference
+    tau_ = prm.positive("tao", 0.01, "s");  // the poppet's time constant
+    p_h_ = prm.real("p_h", 5e5, "Pa");  // hysteresis width
+    k_cs_ = prm.positive("k_cs", 1e-8, "m³/(s·Pa)");  // steady characteristic from the spring
+    k_cf_ = prm.positive("k_cf", 1e-8, "m³/(s·Pa)");  // from the flow forces
+    q_nom_ = prm.positive("q_nom", 1e-3, "m³/s");  // fully open at p_nom
     add_port("P1", Kind::Q);
     add_port("P2", Kind::Q);
     add_signal_output("xv", &x_);

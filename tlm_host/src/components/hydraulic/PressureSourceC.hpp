@@ -14,7 +14,7 @@ class PressureSourceC : public Component {
   double source_pressure() const override { return p_; }
   void state(config::StateIO&) override {}  // a constant pressure: nothing changes
   void configure(ParameterSet& prm) override {
-    p_ = prm.real("p");  // Pa
+    p_ = prm.real("p", "Pa");
     add_port("P1", Kind::C);
   }
   void initialize(double) override {

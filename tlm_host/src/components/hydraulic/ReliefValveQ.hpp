@@ -26,9 +26,9 @@ class ReliefValveQ : public Component {
     io.value("q", q_);
   }
   void configure(ParameterSet& prm) override {
-    p_crack_ = prm.real("p_crack");         // Pa, pressure difference at which it opens
-    K_ = prm.positive("K", 6.7e-9);         // m³/(s·Pa), override gradient
-    tau_ = prm.positive("tau", 1e-3);       // s, opening time constant
+    p_crack_ = prm.real("p_crack", "Pa");  // pressure difference at which it opens
+    K_ = prm.positive("K", 6.7e-9, "m³/(s·Pa)");  // override gradient
+    tau_ = prm.positive("tau", 1e-3, "s");  // opening time constant
     add_port("P1", Kind::Q);
     add_port("P2", Kind::Q);
   }

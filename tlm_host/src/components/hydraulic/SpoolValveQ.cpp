@@ -14,8 +14,8 @@
 namespace tlm {
 
 void SpoolValveQ::configure(ParameterSet& prm) {
-  Cd_ = prm.positive("Cd", 0.7);
-  rho_ = prm.positive("rho", 870.0);
+  Cd_ = prm.positive("Cd", 0.7, "1");
+  rho_ = prm.positive("rho", 870.0, "kg/m³");
   area_PA_ = Table(prm.text("area_PA", ""), prm.where(), name_ + ": area_PA");
   area_AT_ = Table(prm.text("area_AT", ""), prm.where(), name_ + ": area_AT");
   add_port("P", Kind::Q);

@@ -20,7 +20,7 @@ class Valve32Q : public DirectionalValveQ {
   void configure(ParameterSet& prm) override {
     configure_common(prm);
     for (const char* port : {"PP", "PT", "PA"}) add_port(port, Kind::Q);
-    const double f = prm.real("f", 1.0);
+    const double f = prm.real("f", 1.0, "1");
     edges_ = {{0, 2, f, 0.0, 1}, {2, 1, f, 0.0, 0}};
     xv_lo_ = 0.0, xv_hi_ = xv_max_;
     add_signal_input("in", &in_);

@@ -21,10 +21,10 @@ class Valve43Q : public DirectionalValveQ {
     configure_common(prm);
     for (const char* port : {"PP", "PT", "PA", "PB"}) add_port(port, Kind::Q);
     enum { P, T, A, B };
-    edges_ = {{P, A, prm.real("f_pa", 1.0), prm.real("x_pa", -1e-6), 1},
-              {P, B, prm.real("f_pb", 1.0), prm.real("x_pb", -1e-6), -1},
-              {A, T, prm.real("f_at", 1.0), prm.real("x_at", -1e-6), -1},
-              {B, T, prm.real("f_bt", 1.0), prm.real("x_bt", -1e-6), 1}};
+    edges_ = {{P, A, prm.real("f_pa", 1.0, "1"), prm.real("x_pa", -1e-6, "m"), 1},
+              {P, B, prm.real("f_pb", 1.0, "1"), prm.real("x_pb", -1e-6, "m"), -1},
+              {A, T, prm.real("f_at", 1.0, "1"), prm.real("x_at", -1e-6, "m"), -1},
+              {B, T, prm.real("f_bt", 1.0, "1"), prm.real("x_bt", -1e-6, "m"), 1}};
     xv_lo_ = -xv_max_, xv_hi_ = xv_max_;
     add_signal_input("in", &in_);
   }

@@ -19,8 +19,8 @@ class VariableOrificeQ : public Component {
     io.value("A", A_);
   }
   void configure(ParameterSet& prm) override {
-    Cd_ = prm.positive("Cd", 0.67);
-    rho_ = prm.positive("rho", 870.0);
+    Cd_ = prm.positive("Cd", 0.67, "1");
+    rho_ = prm.positive("rho", 870.0, "kg/m³");
     area_ = Table(prm.text("area", ""), prm.where(), name_ + ": area table");
     add_port("P1", Kind::Q);
     add_port("P2", Kind::Q);

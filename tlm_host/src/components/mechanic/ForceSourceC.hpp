@@ -17,7 +17,7 @@ class ForceSourceC : public Component {
   // Moves oil by force or displacement: a node's pressure has no bound from the sources.
   double source_pressure() const override { return 1e300; }
   void configure(ParameterSet& prm) override {
-    F_ = prm.real("F", 0.0);  // N, when the signal F is not connected
+    F_ = prm.real("F", 0.0, "N");  // when the signal F is not connected
     add_port("P1", Kind::C, true);
     add_signal_input("F", &F_in_, &F_);
   }

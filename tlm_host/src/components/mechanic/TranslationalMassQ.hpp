@@ -32,13 +32,13 @@ class TranslationalMassQ : public Component {
   // Moves oil by force or displacement: a node's pressure has no bound from the sources.
   double source_pressure() const override { return 1e300; }
   void configure(ParameterSet& prm) override {
-    m_ = prm.positive("m", 100.0);          // kg
-    B_ = prm.real("B", 10.0);               // N·s/m, viscous friction
-    k_ = prm.real("k", 0.0);                // N/m, spring to x2 = 0
-    x_min_ = prm.real("x_min", -1.0e300);   // m, stops of P2's position
-    x_max_ = prm.real("x_max", 1.0e300);
-    x1_0_ = prm.real("x1_0", 0.0);          // m, start positions of the ports
-    x2_0_ = prm.real("x2_0", 0.0);
+    m_ = prm.positive("m", 100.0, "kg");
+    B_ = prm.real("B", 10.0, "N·s/m");  // viscous friction
+    k_ = prm.real("k", 0.0, "N/m");  // spring to x2 = 0
+    x_min_ = prm.real("x_min", -1.0e300, "m");  // stops of P2's position
+    x_max_ = prm.real("x_max", 1.0e300, "m");
+    x1_0_ = prm.real("x1_0", 0.0, "m");  // start positions of the ports
+    x2_0_ = prm.real("x2_0", 0.0, "m");
     add_port("P1", Kind::Q, true);
     add_port("P2", Kind::Q, true);
   }

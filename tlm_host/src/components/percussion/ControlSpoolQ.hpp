@@ -25,9 +25,9 @@ class ControlSpoolQ : public Component {
   }
   void configure(ParameterSet& prm) override {
     mech_.configure(prm);
-    A_s_ = prm.positive("A_s", 1.2e-4);
-    A_c_ = prm.positive("A_c", 2.4e-4);
-    x_ = prm.real("x0", 0.0);
+    A_s_ = prm.positive("A_s", 1.2e-4, "m²");
+    A_c_ = prm.positive("A_c", 2.4e-4, "m²");
+    x_ = prm.real("x0", 0.0, "m");
     add_port("pilot_s", Kind::Q);
     add_port("pilot_c", Kind::Q);
     faces_ = {{0, A_s_, +1.0}, {1, A_c_, -1.0}};

@@ -26,9 +26,9 @@ class HammerPistonQ : public Component {
   }
   void configure(ParameterSet& prm) override {
     mech_.configure(prm, name_);
-    A_A_ = prm.positive("A_A", 9.17e-4);
-    A_B_ = prm.positive("A_B", 4.57e-4);
-    x_ = prm.real("x0", 0.0);
+    A_A_ = prm.positive("A_A", 9.17e-4, "m²");
+    A_B_ = prm.positive("A_B", 4.57e-4, "m²");
+    x_ = prm.real("x0", 0.0, "m");
     add_port("A", Kind::Q);
     add_port("B", Kind::Q);
     faces_ = {{0, A_A_, +1.0}, {1, A_B_, -1.0}};

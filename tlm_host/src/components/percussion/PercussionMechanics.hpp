@@ -40,30 +40,30 @@ struct PercussionMechanics {
   std::vector<Impact> impacts;
 
   void configure(ParameterSet& prm, const std::string& name) {
-    m = prm.positive("m", 14.4);
-    g = prm.real("g", 9.81);
-    F0 = prm.real("F0", 80.0);
-    k_p = prm.real("k_p", 1e-5);
-    c_v = prm.real("c_v", 25.0);
-    v_s = prm.positive("v_s", 0.05);
-    tau_f = prm.positive("tau_f", 2e-4);
-    x_cushion = prm.real("x_cushion", 0.095);
-    k_cushion = prm.positive("k_cushion", 1e8);
-    c_cushion = prm.real("c_cushion", 2e4);
+    m = prm.positive("m", 14.4, "kg");
+    g = prm.real("g", 9.81, "m/s²");
+    F0 = prm.real("F0", 80.0, "N");
+    k_p = prm.real("k_p", 1e-5, "m²");
+    c_v = prm.real("c_v", 25.0, "N·s/m");
+    v_s = prm.positive("v_s", 0.05, "m/s");
+    tau_f = prm.positive("tau_f", 2e-4, "s");
+    x_cushion = prm.real("x_cushion", 0.095, "m");
+    k_cushion = prm.positive("k_cushion", 1e8, "N/m");
+    c_cushion = prm.real("c_cushion", 2e4, "N·s/m");
     const std::string tool = prm.text("tool", "lumped");
     if (tool != "lumped" && tool != "fe")
       throw config::InputError(prm.where(), name + ": tool must be 'lumped' (tool and rock here) or 'fe' (in fe_server), not '" + tool + "'");
     lumped_tool = tool == "lumped";
-    m_tool = prm.positive("m_tool", 15.0);
-    k_rock = prm.positive("k_rock", 1e9);
-    c_rock = prm.real("c_rock", 9.7e4);
-    F_feed = prm.real("F_feed", 0.0);
-    k_contact = prm.positive("k_contact", 2e9);
-    const double e = prm.real("e_contact", 0.9);
+    m_tool = prm.positive("m_tool", 15.0, "kg");
+    k_rock = prm.positive("k_rock", 1e9, "N/m");
+    c_rock = prm.real("c_rock", 9.7e4, "N·s/m");
+    F_feed = prm.real("F_feed", 0.0, "N");
+    k_contact = prm.positive("k_contact", 2e9, "N/m");
+    const double e = prm.real("e_contact", 0.9, "1");
     if (!(e > 0.0 && e <= 1.0)) throw config::InputError(prm.where(), name + ": e_contact must be in (0, 1]");
     const double zeta = -std::log(e) / std::sqrt(M_PI * M_PI + std::log(e) * std::log(e));
     c_contact = 2.0 * zeta * std::sqrt(k_contact * m * m_tool / (m + m_tool));
-    v_blow = prm.positive("v_blow", 1.0);
+    v_blow = prm.positive("v_blow", 1.0, "m/s");
   }
   void state(config::StateIO& io) {
     for (double* s : {&v_f, &y, &w, &F_contact, &v_impact, &blows, &overlap_prev}) io.value("mechanics", *s);

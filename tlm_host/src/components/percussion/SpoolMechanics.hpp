@@ -14,13 +14,13 @@ namespace tlm {
 struct SpoolMechanics {
   double m = 0, F_c = 0, v_s = 0, b = 0, stroke = 0, k_stop = 0, c_stop = 0;
   void configure(ParameterSet& prm) {
-    m = prm.positive("m", 0.2);
-    stroke = prm.positive("stroke", 8e-3);
-    F_c = prm.real("F_c", 10.0);
-    v_s = prm.positive("v_s", 0.01);
-    b = prm.real("b", 15.0);
-    k_stop = prm.positive("k_stop", 5e7);
-    c_stop = prm.real("c_stop", 5e3);
+    m = prm.positive("m", 0.2, "kg");
+    stroke = prm.positive("stroke", 8e-3, "m");
+    F_c = prm.real("F_c", 10.0, "N");
+    v_s = prm.positive("v_s", 0.01, "m/s");
+    b = prm.real("b", 15.0, "N·s/m");
+    k_stop = prm.positive("k_stop", 5e7, "N/m");
+    c_stop = prm.real("c_stop", 5e3, "N·s/m");
   }
   double force(double x, double v) const {
     double F = -F_c * std::tanh(v / v_s);

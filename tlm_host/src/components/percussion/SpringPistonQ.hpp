@@ -26,17 +26,17 @@ class SpringPistonQ : public Component {
     io.value("v", v_);
   }
   void configure(ParameterSet& prm) override {
-    A_ = prm.positive("A", 1e-3);       // m², piston area
-    m_ = prm.positive("m", 1.0);        // kg
-    k_ = prm.real("k", 0.0);            // N/m, return spring
-    F0_ = prm.real("F0", 0.0);          // N, spring preload at x = 0
-    b_ = prm.real("b", 0.0);            // N·s/m, viscous friction
-    x_ = prm.real("x0", 0.0);           // m
-    v_ = prm.real("v0", 0.0);           // m/s
-    x_min_ = prm.real("x_min", -1e300);  // m, end stops
-    x_max_ = prm.real("x_max", 1e300);
-    k_stop_ = prm.positive("k_stop", 1e8);  // N/m
-    c_stop_ = prm.real("c_stop", 0.0);      // N·s/m
+    A_ = prm.positive("A", 1e-3, "m²");  // piston area
+    m_ = prm.positive("m", 1.0, "kg");
+    k_ = prm.real("k", 0.0, "N/m");  // return spring
+    F0_ = prm.real("F0", 0.0, "N");  // spring preload at x = 0
+    b_ = prm.real("b", 0.0, "N·s/m");  // viscous friction
+    x_ = prm.real("x0", 0.0, "m");
+    v_ = prm.real("v0", 0.0, "m/s");
+    x_min_ = prm.real("x_min", -1e300, "m");  // end stops
+    x_max_ = prm.real("x_max", 1e300, "m");
+    k_stop_ = prm.positive("k_stop", 1e8, "N/m");
+    c_stop_ = prm.real("c_stop", 0.0, "N·s/m");
     if (k_ < 0.0 || b_ < 0.0 || c_stop_ < 0.0)
       throw config::InputError(prm.where(), name_ + ": k, b and c_stop must not be negative");
     if (!(x_min_ < x_max_)) throw config::InputError(prm.where(), name_ + ": x_min must be below x_max");

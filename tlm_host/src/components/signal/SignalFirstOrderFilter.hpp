@@ -22,11 +22,11 @@ class SignalFirstOrderFilter : public Component {
   Kind kind() const override { return Kind::Signal; }
   const char* type_name() const override { return "SignalFirstOrderFilter"; }
   void configure(ParameterSet& p) override {
-    k_ = p.real("k", 1.0);
-    w_num_ = p.positive("omega_num", 1e10);  // rad/s
-    w_den_ = p.positive("omega_den", 1e3);   // rad/s
-    filter_.limits(p.real("y_min", -1.5e300), p.real("y_max", 1.5e300));
-    y0_ = p.real("y0", 0.0);
+    k_ = p.real("k", 1.0, "1");
+    w_num_ = p.positive("omega_num", 1e10, "rad/s");
+    w_den_ = p.positive("omega_den", 1e3, "rad/s");
+    filter_.limits(p.real("y_min", -1.5e300, "signal"), p.real("y_max", 1.5e300, "signal"));
+    y0_ = p.real("y0", 0.0, "signal");
     add_signal_input("u", &u_);
     add_signal_output("y", &y_);
   }

@@ -16,7 +16,7 @@ class SignalGain : public SignalComponent {
   using SignalComponent::SignalComponent;
   const char* type_name() const override { return "SignalGain"; }
   void configure(ParameterSet& p) override {
-    k_ = p.real("k", 1.0);
+    k_ = p.real("k", 1.0, "1");
     add_signal_input("u", &u_);
     add_output();
   }

@@ -16,8 +16,8 @@ class SignalLowPass : public SignalComponent {
   using SignalComponent::SignalComponent;
   const char* type_name() const override { return "SignalLowPass"; }
   void configure(ParameterSet& p) override {
-    tau_ = p.positive("tau", 1e-3);
-    y_ = p.real("y0", 0.0);
+    tau_ = p.positive("tau", 1e-3, "s");
+    y_ = p.real("y0", 0.0, "signal");
     add_signal_input("u", &u_);
     add_output();
   }

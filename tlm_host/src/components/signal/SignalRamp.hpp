@@ -16,10 +16,10 @@ class SignalRamp : public SignalComponent {
   using SignalComponent::SignalComponent;
   const char* type_name() const override { return "SignalRamp"; }
   void configure(ParameterSet& p) override {
-    y0_ = p.real("y0", 0.0);
-    y1_ = p.real("y1", 1.0);
-    t0_ = p.real("t0", 0.0);
-    t1_ = p.real("t1", 1.0);
+    y0_ = p.real("y0", 0.0, "signal");
+    y1_ = p.real("y1", 1.0, "signal");
+    t0_ = p.real("t0", 0.0, "s");
+    t1_ = p.real("t1", 1.0, "s");
     if (!(t1_ > t0_)) throw config::InputError(p.where(), name_ + ": t1 must be after t0");
     add_output();
   }

@@ -16,9 +16,9 @@ class SignalStep : public SignalComponent {
   using SignalComponent::SignalComponent;
   const char* type_name() const override { return "SignalStep"; }
   void configure(ParameterSet& p) override {
-    y0_ = p.real("y0", 0.0);
-    y1_ = p.real("y1", 1.0);
-    t_step_ = p.real("t_step", 0.0);
+    y0_ = p.real("y0", 0.0, "signal");
+    y1_ = p.real("y1", 1.0, "signal");
+    t_step_ = p.real("t_step", 0.0, "s");
     add_output();
   }
 

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <type_traits>
 
 #include "components/hydraulic/HydraulicTurbulentOrificeQ.hpp"
 #include "components/rigid_body.hpp"
@@ -123,6 +124,34 @@ o.P2, b.P1
   // the oil volume is conserved to round-off of the ~1e7 Pa pressures.
   EXPECT_NEAR(after, before, 1e-9 * before);
   EXPECT_NEAR(pa.back(), before / 4e-4, 0.01 * before / 4e-4) << "equalised at (1·20 + 3·0.1)/4 MPa";
+}
+
+TEST(ParameterSet, EveryParameterDeclaresItsUnitAndThePlausibleOnesAgreeWithTheTable) {
+  // Only a string literal is a unit: a fallback of 0 (or a runtime text)
+  // in its place does not compile.
+  static_assert(!std::is_convertible_v<int, tlm::Unit>);
+  static_assert(!std::is_convertible_v<const char*, tlm::Unit>);
+  tlm::ParameterSet ps;
+  ps.set("p0", "2e5", {"model.tlm", 3});
+  EXPECT_THROW(ps.real("p0", 1e5, "bar"), std::logic_error) << "p0 is a pressure: the table's unit is Pa";
+  EXPECT_EQ(ps.real("p0", 1e5, "Pa"), 2e5);
+  // Every registered type, configured with nothing given: whatever it reads
+  // before a required parameter stops it declares a unit the table accepts
+  // (a std::logic_error otherwise; InputError is a runtime_error).
+  size_t checked = 0;
+  for (const auto& [type, make] : tlm::component_types()) {
+    auto c = make("c");
+    tlm::ParameterSet none;
+    try {
+      c->configure(none);
+    } catch (const config::InputError&) {
+    } catch (const std::logic_error& e) {
+      ADD_FAILURE() << type << ": " << e.what();
+    } catch (const std::exception&) {
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 30u);
 }
 
 TEST(ModelReader, ErrorsNameTheLineAndTheFix) {

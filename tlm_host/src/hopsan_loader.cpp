@@ -721,6 +721,44 @@ class HmfReader {
 
 }  // namespace
 
+std::string hopsan_mapping_markdown() {
+  auto num = [](double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+  };
+  std::ostringstream md;
+  md << "# Hopsan component types that tlm_host reads\n\n"
+        "Generated from the loader's table (`tlm_host --hopsan-types`, tlm_host/src/hopsan_loader.cpp); the test\n"
+        "`docs.hopsan_types_page_is_the_loaders_table` fails when they differ. Each row: the Hopsan type, ours, its\n"
+        "parameters (Hopsan's name → ours, Hopsan's default), what ours fixes, what is read only at one value, and\n"
+        "how ours differs by design. Any other type or parameter is refused at its line (docs/hopsan.md).\n\n"
+        "| Hopsan type | ours | parameters (Hopsan → ours, Hopsan's default) | fixed, only | differs by design |\n"
+        "|---|---|---|---|---|\n";
+  for (const auto& [type, m] : mappings()) {
+    std::string params;
+    for (const auto& prm : m.params)
+      params += (params.empty() ? "" : ", ") + std::string("`") + prm.hopsan + "`" +
+                (*prm.key ? std::string(" → `") + prm.key + "`" : std::string(" (summed)")) + " (" +
+                num(prm.hopsan_default) + ")";
+    for (const auto& [key, parts] : m.sums)
+      params += (params.empty() ? "" : ", ") + std::string("`") + parts.first + "` + `" + parts.second + "` → `" + key + "`";
+    if (m.start_pressure) params += (params.empty() ? "" : ", ") + std::string("start pressure → `") + m.start_pressure + "`";
+    if (m.multiport) params += (params.empty() ? "" : ", ") + std::string("multiport `") + m.multiport + "` → P1, P2, …";
+    std::string fixed;
+    for (const auto& [key, value] : m.fixed) fixed += (fixed.empty() ? "" : ", ") + std::string("`") + key + "` = " + value;
+    for (const auto& [what, why] : m.only)
+      fixed += (fixed.empty() ? "" : "; ") + std::string("`") + what.first + "` only " + num(what.second) + ": " + why;
+    std::string ports;
+    for (const auto& [h, o] : m.ports) ports += (ports.empty() ? "" : ", ") + h + " → " + o;
+    std::string note = *m.note ? m.note : "—";
+    if (!ports.empty()) note += " (ports " + ports + ")";
+    md << "| `" << type << "` | `" << m.ours << "` | " << (params.empty() ? "—" : params) << " | "
+       << (fixed.empty() ? "—" : fixed) << " | " << note << " |\n";
+  }
+  return md.str();
+}
+
 HmfModel read_hmf(const std::string& path) {
   std::unique_ptr<xmlDoc, void (*)(xmlDoc*)> doc(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR |
                                                                                      XML_PARSE_NOWARNING),

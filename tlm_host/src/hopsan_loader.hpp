@@ -30,4 +30,8 @@ struct HmfModel {
 // Throws config::InputError (file:line) for what it cannot read exactly.
 HmfModel read_hmf(const std::string& path);
 
+// The mapping table as a Markdown page (tlm_host --hopsan-types;
+// docs/hopsan_types.md is its output, checked by a test).
+std::string hopsan_mapping_markdown();
+
 }  // namespace tlm

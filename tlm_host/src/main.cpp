@@ -45,6 +45,7 @@ int usage(std::ostream& os, int rc) {
         "                      (one thread: every FMU's inputs set, then each stepped), or one-by-one (each\n"
         "                      set and stepped in turn, which fe_server refuses): how other importers step\n"
         "  --quiet             no progress line\n"
+        "  --hopsan-types      the Hopsan component types read from .hmf files, as Markdown\n"
         "  -h, --help, --version  this text; the version\n"
         "Exit codes: 0 ok, 2 usage, 3 model rejected (or a checkpoint that does not fit it), 4 simulation\n"
         "            failed, 10 stopped after a checkpoint fe_server asked for (it got a stop signal),\n"
@@ -93,6 +94,7 @@ int main(int argc, char** argv) {
       else if (args.is("--restart")) ck.restart = args.value();
       else if (args.is("-h") || args.is("--help")) return usage(std::cout, 0);
       else if (args.is("--version")) return std::cout << config::version_line("tlm_host") << "\n", 0;
+      else if (args.is("--hopsan-types")) return std::cout << tlm::hopsan_mapping_markdown(), 0;
       else if (args.is_option()) args.unknown();
       else if (model_path.empty()) model_path = args.current();
       else throw std::invalid_argument("more than one model given");

@@ -853,6 +853,46 @@ TEST(HopsanLoader, ADisabledComponentIsLeftOutWithItsConnections) {
   EXPECT_NE(enabled.find("port chamber.P2 is connected twice"), std::string::npos) << enabled;
 }
 
+// What Hopsan's GUI writes into a model beside the circuit: names with
+// spaces and dots, scopes (SignalSink) on a sensor's signal, text boxes.
+// The names become one word (an underscore for each such character, a
+// number if that name is taken), the scope and the text box are left out,
+// and the circuit runs as without them.
+TEST(HopsanLoader, GuiNamesScopesAndTextBoxesReadAsHopsansGuiWritesThem) {
+  testing_support::TempDir dir;
+  const std::string base = text_of(kDir + "/orifice_volume.hmf");
+  auto run = [&](const std::string& text, const std::string& out) {
+    std::ofstream(dir.file("m.hmf")) << text;
+    tlm::HmfModel h = tlm::read_hmf(dir.file("m.hmf"));
+    tlm::System(std::move(h.spec)).run(dir.file(out), false);
+    std::string notes;
+    for (const auto& n : h.notes) notes += n + "\n";
+    return notes;
+  };
+  run(base, "base.h5");
+  auto replace_all = [](std::string t, const std::string& from, const std::string& to) {
+    for (size_t at = t.find(from); at != std::string::npos; at = t.find(from, at + to.size())) t.replace(at, from.size(), to);
+    return t;
+  };
+  // The drain takes the chamber's one-word name first: the chamber gets a number.
+  std::string m = replace_all(replace_all(base, "\"chamber\"", "\"the chamber.1\""), "\"drain\"", "\"the_chamber_1\"");
+  m = replaced(m, "    </objects>",
+               "      <component typename=\"SignalSink\" name=\"Scope 1\"/>\n"
+               "      <textboxwidget>\n        <hopsangui>\n          <textobject text=\"a note\"/>\n"
+               "        </hopsangui>\n      </textboxwidget>\n    </objects>");
+  m = replaced(m, "    </connections>",
+               "      <connect startcomponent=\"gauge\" startport=\"out\" endcomponent=\"Scope 1\" endport=\"in\"/>\n"
+               "    </connections>");
+  ASSERT_FALSE(m.empty());
+  const std::string notes = run(m, "gui.h5");
+  EXPECT_NE(notes.find("component 'the chamber.1' is named the_chamber_1_2 here"), std::string::npos) << notes;
+  EXPECT_NE(notes.find("Scope_1: a Hopsan scope (SignalSink), left out with its connections"), std::string::npos) << notes;
+  EXPECT_EQ(h5io::read_series(dir.file("gui.h5"), "nodes/the_chamber_1_2.P1/p"),
+            h5io::read_series(dir.file("base.h5"), "nodes/chamber.P1/p"));
+  EXPECT_EQ(h5io::read_series(dir.file("gui.h5"), "components/the_chamber_1/q"),
+            h5io::read_series(dir.file("base.h5"), "components/drain/q"));
+}
+
 // Hopsan 2.x gives the number of log samples in <simulationlogsettings
 // numsamples>; it was ignored (every step logged at logsamples' absence).
 TEST(HopsanLoader, NumsamplesSetsTheRowsAsLogsamplesDoes) {

@@ -264,6 +264,10 @@ const std::set<std::string> kStepInInitialize = {"HydraulicTurbulentOrifice", "H
 
 // Hopsan's sensors read a node; their nodes are logged anyway.
 const std::set<std::string> kSensors = {"HydraulicPressureSensor", "HydraulicFlowSensor", "HydraulicNodeSensor"};
+// Scopes: a sink only displays the signals wired to it in Hopsan's GUI (and
+// logs them, as our results log every signal's source), so it is left out
+// with its connections.
+const std::set<std::string> kSinks = {"SignalSink"};
 
 std::string attr(xmlNode* n, const char* name) {
   xmlChar* v = xmlGetProp(n, reinterpret_cast<const xmlChar*>(name));
@@ -440,14 +444,20 @@ class HmfReader {
           scope.define(attr(p, "name"), evaluate(scope, p, "system parameter '" + prefix + attr(p, "name") + "'"));
     std::set<std::string> system_ports;
     if (xmlNode* objects = child(system, "objects"))
+      for (xmlNode* c = objects->children; c; c = c->next)
+        if (c->type == XML_ELEMENT_NODE) hopsan_names_.insert(prefix + attr(c, "name"));
+    if (xmlNode* objects = child(system, "objects"))
       for (xmlNode* c = objects->children; c; c = c->next) {
         if (c->type != XML_ELEMENT_NODE) continue;
-        const std::string name = attr(c, "name");
-        if (name.empty() || name.find_first_of(". /#$") != std::string::npos)
-          throw InputError(where(c), "component name '" + name + "': ours may not contain dots, spaces, slashes, '#' or '$'");
-        if (is(c, "systemport")) {
-          system_ports.insert(name);
-        } else if (is(c, "system")) {
+        const std::string element = reinterpret_cast<const char*>(c->name);
+        if (element.size() > 6 && element.compare(element.size() - 6, 6, "widget") == 0)
+          continue;  // a text box or another of the GUI's drawings: nothing to simulate
+        if (is(c, "systemport")) {  // a key inside this reader only: any name
+          system_ports.insert(attr(c, "name"));
+          continue;
+        }
+        const std::string name = local_name(prefix, attr(c, "name"), c);
+        if (is(c, "system")) {
           check_inherited_timestep(c);
           subsystems_.insert(prefix + name);
           Expressions inner;
@@ -470,11 +480,14 @@ class HmfReader {
     if (xmlNode* cs = child(system, "connections"))
       for (xmlNode* c = cs->children; c; c = c->next) {
         if (!is(c, "connect")) continue;
-        End a{prefix + attr(c, "startcomponent"), attr(c, "startport")};
-        End b{prefix + attr(c, "endcomponent"), attr(c, "endport")};
-        if (disabled_.count(a.component) || disabled_.count(b.component)) continue;
         const bool a_port = system_ports.count(attr(c, "startcomponent")) != 0;
         const bool b_port = system_ports.count(attr(c, "endcomponent")) != 0;
+        End a{prefix + (a_port ? attr(c, "startcomponent") : local_name(prefix, attr(c, "startcomponent"), c)),
+              attr(c, "startport")};
+        End b{prefix + (b_port ? attr(c, "endcomponent") : local_name(prefix, attr(c, "endcomponent"), c)),
+              attr(c, "endport")};
+        if (disabled_.count(a.component) || disabled_.count(b.component)) continue;
+        if (sinks_.count(a.component) || sinks_.count(b.component)) continue;  // a scope's input
         if (a_port && b_port) throw InputError(where(c), "a connection from one system port straight to another is not read");
         if (a_port)
           inside_[prefix + a.port].push_back(b);
@@ -571,7 +584,12 @@ class HmfReader {
   }
 
   void read_component(xmlNode* c, const std::string& prefix, Expressions& scope) {
-    const std::string name = prefix + attr(c, "name"), type = attr(c, "typename");
+    const std::string name = prefix + local_name(prefix, attr(c, "name"), c), type = attr(c, "typename");
+    if (kSinks.count(type)) {
+      sinks_.insert(name);
+      out_.notes.push_back(path_ + ": " + name + ": a Hopsan scope (" + type + "), left out with its connections");
+      return;
+    }
     if (kSensors.count(type)) {
       dropped_sensors_.insert(name);
       return;
@@ -713,6 +731,32 @@ class HmfReader {
   ModelSpec& m_;
   std::map<std::string, Known> known_;
   std::set<std::string> dropped_sensors_;                // their signal must not be used
+  std::set<std::string> sinks_;                          // scopes, left out with their connections
+  // Hopsan names with characters ours cannot take (". /#$": a dot splits
+  // --set's component.parameter, a space the model file's fields) become
+  // one word, each such character an underscore, a number added if that
+  // name is taken; said once per component.
+  std::map<std::string, std::string> local_names_;  // prefix + Hopsan name → ours (without prefix)
+  std::set<std::string> taken_names_;               // prefix + ours
+  std::string local_name(const std::string& prefix, const std::string& hopsan, xmlNode* at) {
+    if (hopsan.empty()) throw InputError(where(at), "a component without a name");
+    auto it = local_names_.find(prefix + hopsan);
+    if (it != local_names_.end()) return it->second;
+    std::string ours = hopsan;
+    for (char& ch : ours)
+      if (std::string(". /#$").find(ch) != std::string::npos) ch = '_';
+    if (ours != hopsan) {
+      const std::string base = ours;
+      for (int n = 2; taken_names_.count(prefix + ours) || hopsan_names_.count(prefix + ours); ++n)
+        ours = base + "_" + std::to_string(n);
+      out_.notes.push_back(path_ + ":" + std::to_string(xmlGetLineNo(at)) + ": component '" + prefix + hopsan +
+                           "' is named " + prefix + ours + " here (ours are one word without dots)");
+    }
+    taken_names_.insert(prefix + ours);
+    local_names_[prefix + hopsan] = ours;
+    return ours;
+  }
+  std::set<std::string> hopsan_names_;  // prefix + every name as Hopsan wrote it (a renamed one must not take one)
   std::set<std::string> subsystems_;                     // full names
   std::set<std::string> disabled_;                       // full names of disabled components
   std::map<std::string, std::vector<End>> inside_;       // "<subsystem>$<port>" → what it connects to inside

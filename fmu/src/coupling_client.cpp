@@ -28,7 +28,8 @@ static int64_t deadline_after(double seconds) {
 
 CouplingClient::CouplingClient(const config::PortTable& table) : table_(table) {
   size_t n = std::max(table.to_fe.size(), table.to_host.size());
-  buf_.resize(std::max<size_t>(pcs_values_size(static_cast<uint32_t>(n)), PCS_MAX_REASON + 64));
+  // A split session's STEP and INPUTS carry the thread too.
+  buf_.resize(std::max<size_t>(pcs_tagged_values_size(static_cast<uint32_t>(n)), PCS_MAX_REASON + 64));
 }
 
 CouplingClient::~CouplingClient() { sl_close(&sock_); }
@@ -198,9 +199,10 @@ void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<
   if (!connected()) throw LinkError(SL_EINVAL, "not connected to fe_server");
   confirm_resume();  // the server answers RESUME once every FMU of the session has connected
   const int64_t deadline = deadline_after(timeout_s_);
-  int n = split_session() ? encode_with_thread(time, dt, inputs)
-                           : pcs_encode_values(time, dt, inputs.data(), static_cast<uint32_t>(inputs.size()),
-                                               buf_.data(), static_cast<uint32_t>(buf_.size()));
+  const auto count = static_cast<uint32_t>(inputs.size());
+  const auto cap = static_cast<uint32_t>(buf_.size());
+  int n = split_session() ? pcs_encode_tagged_values(caller_thread(), time, dt, inputs.data(), count, buf_.data(), cap)
+                          : pcs_encode_values(time, dt, inputs.data(), count, buf_.data(), cap);
   if (n < 0) fail(n, "cannot encode STEP");
   int rc = pcs_send_frame(&sock_, PCS_MSG_STEP, k, buf_.data(), static_cast<uint32_t>(n), deadline);
   std::string at = " at step " + std::to_string(k) + " (t = " + std::to_string(time) + " s)";
@@ -225,11 +227,15 @@ void CouplingClient::step(uint64_t k, double time, double dt, const std::vector<
     pcs_send_abort(&sock_, k, SL_EUNEXPECTED, what.c_str(), deadline);
     fail(SL_EUNEXPECTED, what);
   }
+  decode_result(h, outputs, at);
+}
+
+void CouplingClient::decode_result(const pcs_header& h, std::vector<double>& outputs, const std::string& at) {
   double t_back = 0, dt_back = 0;
   uint32_t count = 0;
   outputs.resize(table_.to_host.size());
-  rc = pcs_decode_values(buf_.data(), h.payload_size, &t_back, &dt_back, outputs.data(),
-                         static_cast<uint32_t>(outputs.size()), &count);
+  const int rc = pcs_decode_values(buf_.data(), h.payload_size, &t_back, &dt_back, outputs.data(),
+                                   static_cast<uint32_t>(outputs.size()), &count);
   if (rc != SL_OK || count != outputs.size())
     fail(SL_EMALFORMED, "RESULT" + at + " carries " + std::to_string(count) + " values, expected " +
                             std::to_string(outputs.size()));
@@ -259,19 +265,11 @@ uint64_t CouplingClient::caller_thread() {
 #endif
 }
 
-int CouplingClient::encode_with_thread(double time, double dt, const std::vector<double>& values) {
-  pcs_writer w{buf_.data(), static_cast<uint32_t>(buf_.size()), 0, 0};
-  pcs_put_u64(&w, caller_thread());
-  if (w.overflow) return SL_EOVERSIZE;
-  const int n = pcs_encode_values(time, dt, values.data(), static_cast<uint32_t>(values.size()), buf_.data() + w.len,
-                                  static_cast<uint32_t>(buf_.size()) - w.len);
-  return n < 0 ? n : n + static_cast<int>(w.len);
-}
-
 void CouplingClient::send_inputs(uint64_t k, double time, double dt, const std::vector<double>& inputs) {
   if (!connected()) throw LinkError(SL_EINVAL, "not connected to fe_server");
   const int64_t deadline = deadline_after(timeout_s_);
-  const int n = encode_with_thread(time, dt, inputs);
+  const int n = pcs_encode_tagged_values(caller_thread(), time, dt, inputs.data(), static_cast<uint32_t>(inputs.size()),
+                                         buf_.data(), static_cast<uint32_t>(buf_.size()));
   if (n < 0) fail(n, "cannot encode INPUTS");
   const std::string at = " for step " + std::to_string(k) + " (t = " + std::to_string(time) + " s)";
   int rc = pcs_send_frame(&sock_, PCS_MSG_INPUTS, k, buf_.data(), static_cast<uint32_t>(n), deadline);
@@ -288,12 +286,8 @@ void CouplingClient::send_inputs(uint64_t k, double time, double dt, const std::
     if (rc != SL_OK) fail(rc, "no answer to INPUTS" + at);
     if (h.type == PCS_MSG_INPUTS && h.step == k && h.payload_size == 0) return;
     if (h.type == PCS_MSG_RESULT && h.step >= k) {  // a step the server ran with these inputs before
-      double t_back = 0, dt_back = 0;
-      uint32_t count = 0;
-      std::vector<double> out(table_.to_host.size());
-      rc = pcs_decode_values(buf_.data(), h.payload_size, &t_back, &dt_back, out.data(),
-                             static_cast<uint32_t>(out.size()), &count);
-      if (rc != SL_OK || count != out.size()) fail(SL_EMALFORMED, "malformed RESULT " + std::to_string(h.step));
+      std::vector<double> out;
+      decode_result(h, out, " " + std::to_string(h.step) + " (early)");
       early_results_.emplace_back(h.step, std::move(out));
       continue;
     }

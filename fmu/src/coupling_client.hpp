@@ -106,9 +106,9 @@ class CouplingClient {
   // RESULTs that came while an INPUTS awaited its answer (the server ran
   // steps with this FMU's inputs while the importer stepped another FMU by
   // a longer communication step): step, values.
-  // Values with the calling thread in front (a split session's STEP and INPUTS).
-  int encode_with_thread(double time, double dt, const std::vector<double>& values);
   std::vector<std::pair<uint64_t, std::vector<double>>> early_results_;
+  // RESULT k's values (payload in buf_) into `outputs`; fails naming `at`.
+  void decode_result(const pcs_header& h, std::vector<double>& outputs, const std::string& at);
   // Reads one frame by `deadline` for step k's exchange: notes STOPPING,
   // skips heartbeats of step k; returns the first other frame's rc (header
   // in h, payload in buf_).

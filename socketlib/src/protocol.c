@@ -292,6 +292,26 @@ int pcs_decode_values(const uint8_t *buf, uint32_t len, double *time, double *dt
   return pcs__finish(&r);
 }
 
+uint32_t pcs_tagged_values_size(uint32_t count) { return 8u + pcs_values_size(count); }
+
+int pcs_encode_tagged_values(uint64_t thread, double time, double dt, const double *values, uint32_t count,
+                             uint8_t *buf, uint32_t cap) {
+  pcs_writer w = {buf, cap, 0, 0};
+  pcs_put_u64(&w, thread);
+  if (w.overflow) return SL_EOVERSIZE;
+  const int n = pcs_encode_values(time, dt, values, count, buf + w.len, cap - w.len);
+  return n < 0 ? n : n + (int)w.len;
+}
+
+int pcs_decode_tagged_values(const uint8_t *buf, uint32_t len, uint64_t *thread, double *time, double *dt,
+                             double *values, uint32_t max_count, uint32_t *count) {
+  pcs_reader r = {buf, len, 0, 0};
+  *thread = pcs_get_u64(&r);
+  *count = 0;
+  if (r.error) return SL_EMALFORMED;
+  return pcs_decode_values(buf + r.pos, len - r.pos, time, dt, values, max_count, count);
+}
+
 void pcs_send_abort(sl_socket *s, uint64_t step, uint32_t code, const char *reason,
                     int64_t deadline_ms) {
   pcs_abort m;

@@ -93,6 +93,19 @@ TEST(Codecs, RoundTripEveryMessage) {
   EXPECT_EQ(out[1], -2.25);
   EXPECT_EQ(out[2], 1e300);
   EXPECT_EQ(pcs_decode_values(buf, static_cast<uint32_t>(n), &t, &dt, out, 2, &count), SL_EMALFORMED);
+  // A split session's STEP and INPUTS: the importer's thread, then the same
+  // layout, 8 bytes more (both sides size their buffers by it: sized for
+  // the plain layout, a widest table's frame did not fit).
+  n = pcs_encode_tagged_values(0x1234567800000042ull, 0.5, 1e-5, v, 3, buf, sizeof buf);
+  ASSERT_EQ(n, static_cast<int>(pcs_tagged_values_size(3)));
+  EXPECT_EQ(pcs_tagged_values_size(3), pcs_values_size(3) + 8u);
+  uint64_t thread = 0;
+  ASSERT_EQ(pcs_decode_tagged_values(buf, static_cast<uint32_t>(n), &thread, &t, &dt, out, 3, &count), SL_OK);
+  EXPECT_EQ(thread, 0x1234567800000042ull);
+  EXPECT_EQ(count, 3u);
+  EXPECT_EQ(out[2], 1e300);
+  EXPECT_EQ(pcs_decode_tagged_values(buf, 7, &thread, &t, &dt, out, 3, &count), SL_EMALFORMED);
+  EXPECT_EQ(pcs_encode_tagged_values(1, 0.5, 1e-5, v, 3, buf, pcs_tagged_values_size(3) - 1), SL_EOVERSIZE);
 
   pcs_abort a{7, "because"};
   n = pcs_encode_abort(&a, buf, sizeof buf);

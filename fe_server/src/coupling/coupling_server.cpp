@@ -43,7 +43,9 @@ CouplingServer::CouplingServer(const ServerOptions& opt, std::vector<config::Por
   timeout_ = tables_.front().timeout;
   for (const auto& t : tables_) timeout_ = std::max(timeout_, t.timeout);
   if (opt_.step_timeout > 0) timeout_ = opt_.step_timeout;
-  buf_.resize(std::max<size_t>(pcs_values_size(static_cast<uint32_t>(widest)), PCS_MAX_REASON + 64));
+  // A split session's STEP and INPUTS carry the importer's thread too.
+  buf_.resize(std::max<size_t>(pcs_tagged_values_size(static_cast<uint32_t>(widest)), PCS_MAX_REASON + 64));
+  frame_in_.resize(widest);
   peek_.resize(PCS_HEADER_SIZE + buf_.size());
 }
 
@@ -520,7 +522,15 @@ ExitCode CouplingServer::on_round_frame(Client& c, const pcs_header& h, uint64_t
     abort_all(h.step, SL_EUNEXPECTED, why);
     return code;
   };
-  const std::string who = "FMU '" + c.table->model_name + "'";
+  const bool split = clients_.size() > 1;
+  // The step this client's next STEP or CHECKPOINT must name: the oldest one
+  // run with its INPUTS and not yet confirmed, else this round's.
+  const uint64_t due = c.unconfirmed.empty() ? k : c.unconfirmed.front().first;
+  auto out_of_order = [&] {
+    return reject("step index out of order" + name_of(c) + ": expected " + std::to_string(due) + ", got " +
+                      std::to_string(h.step),
+                  kExitLinkLost);
+  };
   switch (h.type) {
     case PCS_MSG_BYE:
       c.bye = true;
@@ -538,74 +548,68 @@ ExitCode CouplingServer::on_round_frame(Client& c, const pcs_header& h, uint64_t
                         ", but this fe_server started afresh: start it with --restart and its checkpoint of that step",
                     kExitInput);
     case PCS_MSG_CHECKPOINT:
-      if (h.step != k || !c.unconfirmed.empty()) break;
+      if (h.step != due || !c.unconfirmed.empty()) return out_of_order();
       c.checkpoint = true;
       return kExitOk;
-    case PCS_MSG_STEP:
-    case PCS_MSG_INPUTS: {
-      // In a session of several FMUs both carry the caller's thread first.
+    case PCS_MSG_INPUTS:
+      if (!split) break;  // one FMU sends its inputs with its STEP
+      [[fallthrough]];
+    case PCS_MSG_STEP: {
+      // Decoded into frame_in_ (no allocation on the per-step path); a
+      // split session's frames carry the importer's thread first.
       const size_t want = c.table->to_fe.size();
-      std::vector<double> values(want);
+      double* values = frame_in_.data();
       double t = 0, dt = 0;
       uint32_t count = 0;
-      pcs_reader r{buf_.data(), h.payload_size, 0, 0};
-      const uint64_t thread = pcs_get_u64(&r);
-      if (r.error ||
-          pcs_decode_values(buf_.data() + r.pos, h.payload_size - r.pos, &t, &dt, values.data(),
-                            static_cast<uint32_t>(want), &count) != SL_OK ||
-          count != want)
+      uint64_t thread = 0;
+      const int rc = split ? pcs_decode_tagged_values(buf_.data(), h.payload_size, &thread, &t, &dt, values,
+                                                      static_cast<uint32_t>(want), &count)
+                           : pcs_decode_values(buf_.data(), h.payload_size, &t, &dt, values,
+                                               static_cast<uint32_t>(want), &count);
+      if (h.type == PCS_MSG_STEP && h.step != due) return out_of_order();
+      if (rc != SL_OK || count != want)
         return reject(std::string(pcs_msg_name(h.type)) + " " + std::to_string(h.step) + name_of(c) + " carries " +
                           std::to_string(count) + " values, expected " + std::to_string(want),
                       kExitLinkLost);
       for (size_t i = 0; i < want; ++i)
         if (!std::isfinite(values[i]))
           return reject(c.table->to_fe[i].name() + " is not finite at step " + std::to_string(h.step), kExitNumerical);
-      const auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
-        return std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+      const auto same = [&](const std::vector<double>& used) {
+        return std::memcmp(values, used.data(), want * sizeof(double)) == 0;
       };
       // The importer changed inputs fe_server has already stepped with.
       auto changed = [&](uint64_t step) {
-        return who + "'s inputs for step " + std::to_string(step) +
-               " changed after fe_server had run that step with the values its importer set before it stepped "
-               "another FMU of the session: an importer that steps its FMUs one after another must set the inputs of "
-               "them all before it steps the first (one that sets and steps each FMU in turn, as Hopsan's sequential "
-               "solver does, cannot run a session split into several FMUs), and step them all by the same "
-               "communication step";
+        return reject("FMU '" + c.table->model_name + "''s inputs for step " + std::to_string(step) +
+                          " changed after fe_server had run that step with the values its importer set before it "
+                          "stepped another FMU of the session: an importer that steps its FMUs one after another "
+                          "must set the inputs of them all before it steps the first (one that sets and steps each "
+                          "FMU in turn, as Hopsan's sequential solver does, cannot run a session split into several "
+                          "FMUs), and step them all by the same communication step",
+                      kExitLinkLost);
       };
       if (h.type == PCS_MSG_INPUTS) {
         if (h.step != c.next_step)
           return reject("INPUTS " + std::to_string(h.step) + name_of(c) + ", expected INPUTS " + std::to_string(c.next_step),
                         kExitLinkLost);
-        if (!c.unconfirmed.empty() && !same(values, c.unconfirmed.back().second))
-          return reject(changed(c.unconfirmed.back().first), kExitLinkLost);
-        c.pushed = std::move(values);
-        c.has_pushed = true;
+        if (!c.unconfirmed.empty() && !same(c.unconfirmed.back().second)) return changed(c.unconfirmed.back().first);
+        c.pushed.assign(values, values + want);
         c.pushed_for = h.step;
         c.push_thread = thread;
-        const int rc = pcs_send_frame(&c.conn, PCS_MSG_INPUTS, h.step, nullptr, 0, deadline_after(timeout_));
-        if (rc != SL_OK) {
-          message = "cannot confirm INPUTS " + std::to_string(h.step) + name_of(c) + ": " + link_error(rc, c.conn);
-          abort_all(k, static_cast<uint32_t>(-rc), message);
+        const int sent = pcs_send_frame(&c.conn, PCS_MSG_INPUTS, h.step, nullptr, 0, deadline_after(timeout_));
+        if (sent != SL_OK) {
+          message = "cannot confirm INPUTS " + std::to_string(h.step) + name_of(c) + ": " + link_error(sent, c.conn);
+          abort_all(k, static_cast<uint32_t>(-sent), message);
           return kExitLinkLost;
         }
         return kExitOk;
       }
       if (!c.unconfirmed.empty()) {  // the STEP of a step already run with its INPUTS
-        const auto& [step, used] = c.unconfirmed.front();
-        if (h.step != step)
-          return reject("step index out of order" + name_of(c) + ": expected " + std::to_string(step) + ", got " +
-                            std::to_string(h.step),
-                        kExitLinkLost);
-        if (!same(values, used)) return reject(changed(step), kExitLinkLost);
+        if (!same(c.unconfirmed.front().second)) return changed(due);
         c.unconfirmed.pop_front();
         ++c.next_step;
         return kExitOk;
       }
-      if (h.step != k)
-        return reject("step index out of order" + name_of(c) + ": expected " + std::to_string(k) + ", got " +
-                          std::to_string(h.step),
-                      kExitLinkLost);
-      std::copy(values.begin(), values.end(), in.begin() + static_cast<std::ptrdiff_t>(c.in_offset));
+      std::copy(values, values + want, in.begin() + static_cast<std::ptrdiff_t>(c.in_offset));
       c.stepped = true;
       c.step_thread = thread;
       c.next_step = k + 1;
@@ -614,9 +618,7 @@ ExitCode CouplingServer::on_round_frame(Client& c, const pcs_header& h, uint64_t
     default:
       break;
   }
-  return reject(std::string("expected STEP") + name_of(c) + ", got " + pcs_msg_name(h.type) + " " +
-                    std::to_string(h.step),
-                kExitLinkLost);
+  return reject(std::string("expected STEP") + name_of(c) + ", got " + pcs_msg_name(h.type), kExitLinkLost);
 }
 
 ExitCode CouplingServer::gather_round(uint64_t k, std::vector<double>& in, size_t& byes, size_t& checkpoints,
@@ -747,7 +749,7 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHis
   uint64_t expected = resume_ ? resume_step_ : 0;
   for (Client& c : clients_) {
     c.next_step = expected;
-    c.has_pushed = false;
+    c.pushed_for = Client::kNoInputs;
     c.unconfirmed.clear();
   }
   History* opened = nullptr;
@@ -772,7 +774,9 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHis
     size_t byes = 0, checkpoints = 0;
     if (clients_.size() > 1) {
       if (const ExitCode code = gather_round(expected, in, byes, checkpoints, message); code != kExitOk) return code;
-    } else for (Client& c : clients_) {
+    } else {
+      Client& c = clients_.front();
+      c.stepped = c.bye = c.checkpoint = false;
       pcs_header h{};
       int rc = receive(c, h, expected, deadline_after(timeout_));
       if (rc == SL_ETIMEDOUT && stopping_ && sl_now_ms() >= stop_deadline_) return stop(expected, no_checkpoint(), message);
@@ -783,49 +787,9 @@ ExitCode CouplingServer::run_steps(Solver& solver, PortMap& ports, const OpenHis
         abort_all(expected, static_cast<uint32_t>(-rc), message);
         return kExitLinkLost;
       }
-      if (h.type == PCS_MSG_BYE) {
-        ++byes;
-        continue;
-      }
-      if (h.type == PCS_MSG_ABORT) {
-        pcs_abort a{};
-        pcs_decode_abort(buf_.data(), h.payload_size, &a);
-        message = "host aborted at step " + std::to_string(expected) + name_of(c) + ": " + a.reason;
-        sl_close(&c.conn);
-        abort_all(expected, SL_EREFUSED_BY_PEER, message);
-        return kExitPeerAbort;
-      }
-      auto reject = [&](const std::string& why, ExitCode code) {
-        message = why;
-        abort_all(h.step, SL_EUNEXPECTED, why);
-        return code;
-      };
-      if (h.type == PCS_MSG_RESUME)
-        return reject("the host resumes from its checkpoint at step " + std::to_string(h.step) + name_of(c) +
-                          ", but this fe_server started afresh: start it with --restart and its checkpoint of that step",
-                      kExitInput);
-      if (h.type == PCS_MSG_CHECKPOINT && h.step == expected) {
-        ++checkpoints;
-        continue;
-      }
-      if (h.type != PCS_MSG_STEP && h.type != PCS_MSG_CHECKPOINT)
-        return reject(std::string("expected STEP") + name_of(c) + ", got " + pcs_msg_name(h.type), kExitLinkLost);
-      if (h.step != expected)
-        return reject("step index out of order" + name_of(c) + ": expected " + std::to_string(expected) + ", got " +
-                          std::to_string(h.step),
-                      kExitLinkLost);
-      const size_t want = c.table->to_fe.size();
-      double t = 0, dt = 0;
-      uint32_t count = 0;
-      if (pcs_decode_values(buf_.data(), h.payload_size, &t, &dt, in.data() + c.in_offset, static_cast<uint32_t>(want),
-                            &count) != SL_OK ||
-          count != want)
-        return reject("STEP " + std::to_string(h.step) + name_of(c) + " carries " + std::to_string(count) +
-                          " values, expected " + std::to_string(want),
-                      kExitLinkLost);
-      for (size_t i = 0; i < want; ++i)
-        if (!std::isfinite(in[c.in_offset + i]))
-          return reject(c.table->to_fe[i].name() + " is not finite at step " + std::to_string(h.step), kExitNumerical);
+      if (const ExitCode code = on_round_frame(c, h, expected, in, message); code != kExitOk) return code;
+      byes = c.bye;
+      checkpoints = c.checkpoint;
     }
     if (byes == clients_.size()) break;
     if (checkpoints == clients_.size()) {

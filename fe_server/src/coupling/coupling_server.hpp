@@ -10,6 +10,7 @@
 // always with the history flushed.
 #pragma once
 
+#include <cstdint>
 #include <deque>
 #include <functional>
 #include <string>
@@ -128,8 +129,8 @@ class CouplingServer {
     // its importer set (INPUTS) since its last STEP, for step `pushed_for`.
     bool bye = false, checkpoint = false;
     uint64_t next_step = 0;  // the index of the next STEP it will send
-    bool has_pushed = false;
-    uint64_t pushed_for = 0;
+    static constexpr uint64_t kNoInputs = UINT64_MAX;
+    uint64_t pushed_for = kNoInputs;
     std::vector<double> pushed;
     // The importer's thread (process and thread id) that set `pushed`, and
     // the one its last STEP came from.
@@ -138,7 +139,7 @@ class CouplingServer {
     // sequential importer stepping another FMU first), oldest first: each
     // STEP that comes must carry the same values.
     std::deque<std::pair<uint64_t, std::vector<double>>> unconfirmed;
-    bool push_valid() const { return has_pushed && pushed_for == next_step; }
+    bool push_valid() const { return pushed_for == next_step; }  // set since its last STEP
   };
   // A session of several FMUs: reads what every client sends until round
   // `k` can run: at least one FMU's STEP k, and from every other one its
@@ -155,8 +156,12 @@ class CouplingServer {
   // run_steps. Returns kExitOk or the session's end (`message` set, the
   // clients told).
   ExitCode gather_round(uint64_t k, std::vector<double>& in, size_t& byes, size_t& checkpoints, std::string& message);
-  // One client's frame in gather_round (h read whole into buf_).
+  // One client's frame of round k (h read whole into buf_), in a session of
+  // one FMU or several: a STEP's values into `in`, BYE or CHECKPOINT noted
+  // on the client, INPUTS kept and answered (several FMUs only), anything
+  // else refused with the session's end.
   ExitCode on_round_frame(Client& c, const pcs_header& h, uint64_t k, std::vector<double>& in, std::string& message);
+  std::vector<double> frame_in_;  // the values of the frame on_round_frame reads
   // Waits for every client until the accept deadline. Up to kMaxPending
   // connections are in their handshake at once; a connection's frame is read
   // only once it has arrived whole, so a silent or slow stranger blocks

@@ -67,7 +67,8 @@ typedef enum {
   PCS_MSG_STOPPING = 12,   /* server → client: got a stop signal, asks for CHECKPOINT soon */
   /* client → server, in a session of several FMUs: the inputs the importer
    * set for step k (time, dt, values, as STEP) before it stepped this FMU;
-   * server → client: received (no payload). docs/protocol.md says when. */
+   * server → client: received (no payload). fe_server's coupling_server.hpp
+   * (gather_round) says when the server takes them for final. */
   PCS_MSG_INPUTS = 13
 } pcs_msg_type;
 
@@ -178,6 +179,14 @@ int pcs_decode_values(const uint8_t *buf, uint32_t len, double *time, double *dt
 
 /* Bytes needed for a values payload of count values. */
 uint32_t pcs_values_size(uint32_t count);
+
+/* A session of several FMUs: STEP and INPUTS carry the importer's thread
+ * (process and thread id as one number) before the values' layout. */
+int pcs_encode_tagged_values(uint64_t thread, double time, double dt, const double *values, uint32_t count,
+                             uint8_t *buf, uint32_t cap);
+int pcs_decode_tagged_values(const uint8_t *buf, uint32_t len, uint64_t *thread, double *time, double *dt,
+                             double *values, uint32_t max_count, uint32_t *count);
+uint32_t pcs_tagged_values_size(uint32_t count);
 
 /* Send an ABORT with a formatted reason; ignores send errors (best effort,
  * the link may already be gone). */

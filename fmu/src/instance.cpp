@@ -229,9 +229,13 @@ void Instance::exit_initialization() {
   inputs_changed_ = false;
 }
 
-void Instance::send_inputs() {
+void Instance::scale_inputs() {
   wire_in_.resize(inputs_.size());
   for (size_t i = 0; i < inputs_.size(); ++i) wire_in_[i] = inputs_[i] * table_.to_fe[i].scale;
+}
+
+void Instance::send_inputs() {
+  scale_inputs();
   try {
     client_->send_inputs(step_, time_, table_.dt, wire_in_);
   } catch (const LinkError& e) {
@@ -269,8 +273,7 @@ void Instance::do_step(double t, double h) {
     throw FmuError(fmi2Error, msg);
   }
   const long n = static_cast<long>(n_real);
-  wire_in_.resize(inputs_.size());
-  for (size_t i = 0; i < inputs_.size(); ++i) wire_in_[i] = inputs_[i] * table_.to_fe[i].scale;
+  scale_inputs();
   for (long k = 0; k < n; ++k) {
     const double tk = t + static_cast<double>(k) * dt;
     try {

@@ -118,6 +118,7 @@ class Instance {
   std::vector<config::FmuVariable> vars_;
   std::vector<double> inputs_;   // host units, to_fe order
   bool inputs_changed_ = false;  // an input was set since the inputs last went out
+  void scale_inputs();  // inputs_ (host units) scaled into wire_in_ (wire units)
   void send_inputs();
   std::vector<double> outputs_;  // host units, to_host order
   std::vector<double> wire_in_, wire_out_;

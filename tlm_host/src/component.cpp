@@ -51,35 +51,38 @@ const Plausible kPlausible[] = {
     {"density", 0.01, 1e5, "kg/m³ (oil: about 870)", {"rho"}},
 };
 
+// The plausibility table's row for a parameter name, or nullptr.
+const Plausible* plausible_range(const std::string& key) {
+  for (const auto& r : kPlausible)
+    for (const char* k : r.keys)
+      if (key == k) return &r;
+  return nullptr;
+}
+
 }  // namespace
 
 double ParameterSet::real(const std::string& key, double fallback, Unit unit) {
-  for (const auto& r : kPlausible)
-    for (const char* k : r.keys)
-      if (key == k && std::string(r.unit).rfind(std::string(unit.text) + " ", 0) != 0 && std::string(r.unit) != unit.text)
-        throw std::logic_error("parameter " + key + " declared in " + unit.text + ", the plausibility table's unit is " +
-                               r.unit);
+  const Plausible* range = plausible_range(key);
+  const std::string table_unit = range ? std::string(range->unit) : "";
+  if (range && table_unit != unit.text && table_unit.rfind(std::string(unit.text) + " ", 0) != 0)
+    throw std::logic_error("parameter " + key + " declared in " + unit.text + ", the plausibility table's unit is " +
+                           table_unit);
   asked_[key] = unit.text;
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
   it->second.used = true;
   const double v = config::parse_real(it->second.value, it->second.where, "parameter " + key);
-  for (const auto& r : kPlausible)
-    for (const char* k : r.keys)
-      if (key == k && !(v >= r.lo && v <= r.hi)) {
-        std::ostringstream s;
-        s << "parameter " << key << " = " << it->second.value << " is outside the plausible range of a " << r.what
-          << ", " << r.lo << " to " << r.hi << " " << r.unit;
-        throw config::InputError(it->second.where, s.str());
-      }
+  if (range && !(v >= range->lo && v <= range->hi)) {
+    std::ostringstream s;
+    s << "parameter " << key << " = " << it->second.value << " is outside the plausible range of a " << range->what
+      << ", " << range->lo << " to " << range->hi << " " << range->unit;
+    throw config::InputError(it->second.where, s.str());
+  }
   return v;
 }
 
 double ParameterSet::real(const std::string& key, Unit unit) {
-  if (!has(key)) {
-    asked_[key] = unit.text;
-    throw config::InputError(where_, "parameter " + key + " [" + unit.text + "] is required");
-  }
+  if (!has(key)) throw config::InputError(where_, "parameter " + key + " [" + unit.text + "] is required");
   return real(key, 0.0, unit);
 }
 

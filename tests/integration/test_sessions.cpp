@@ -184,43 +184,6 @@ TEST(Sessions, AHostWhileAnotherSessionRunsIsToldTheServerIsBusyAndServedAfter) 
       << server.child->output();
 }
 
-// The thesis' split (piston and valve as two FMUs of one session) under an
-// importer that steps its FMUs one after another (FMPy, fmusim and Hopsan
-// do): the first FMU's step waits for a result that needs the second's
-// inputs of the same step, which the importer sends only after. Before,
-// both sides timed out with "no RESULT at step 0 ... SL_ETIMEDOUT" and no
-// hint; now the server tells the waiting FMU why, before its own deadline,
-// and what to change.
-TEST(Sessions, TwoFmusSteppedOneAfterTheOtherAreToldWhyTheyDeadlockBeforeTheirDeadline) {
-  TempDir dir;
-  const std::string hammer = PCS_SCENES_DIR "/hammer", built = PCS_BUILD_SCENES_DIR "/hammer";
-  ChildProcess server({PCS_FE_SERVER_EXE, "--model", built + "/deck.k", "--ports", hammer + "/two_fmus/piston.cfg",
-                       "--ports", hammer + "/two_fmus/valve.cfg", "--listen", "127.0.0.1:0", "--port-file",
-                       dir.file("port"), "--out", dir.file("fe.h5"), "--step-timeout", "2", "--accept-timeout", "20"});
-  const int port = testing_support::read_port_file(dir.file("port"), kHardTimeout);
-  ASSERT_GT(port, 0) << server.output();
-  const config::PortTable piston = config::read_port_table(hammer + "/two_fmus/piston.cfg");
-  const config::PortTable valve = config::read_port_table(hammer + "/two_fmus/valve.cfg");
-  pcs_fmu::CouplingClient a(piston), b(valve);
-  a.connect("127.0.0.1", port, testing_support::session_token(), 10.0);  // its own deadline: 10 s
-  b.connect("127.0.0.1", port, testing_support::session_token(), 10.0);
-  std::vector<double> in(piston.to_fe.size(), 0.0), out;
-  const auto t0 = std::chrono::steady_clock::now();
-  std::string why;
-  try {
-    a.step(0, 0.0, piston.dt, in, out);  // the sequential master: the valve's step would come after
-  } catch (const pcs_fmu::LinkError& e) {
-    why = e.what();
-  }
-  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  EXPECT_NE(why.find("steps its FMUs one after another"), std::string::npos) << why;
-  EXPECT_NE(why.find("FMU '" + valve.model_name + "' sent no STEP 0"), std::string::npos) << why;
-  EXPECT_NE(why.find("Use one FMU for the whole model"), std::string::npos) << why;
-  EXPECT_LT(waited, 5.0) << "told at 0.8 of the server's 2 s step time-out, long before the FMU's own 10 s";
-  EXPECT_EQ(server.wait(kHardTimeout), 6) << server.output();
-  EXPECT_NE(server.output().find("steps its FMUs one after another"), std::string::npos) << server.output();
-}
-
 namespace {
 
 // fe_server on the hammer scene split into its piston's and valve's FMUs,
@@ -234,6 +197,12 @@ struct SplitSession {
                        "--ports", hammer + "/two_fmus/valve.cfg", "--listen", "127.0.0.1:0", "--port-file",
                        dir.file("port"), "--out", dir.file("fe.h5"), "--step-timeout", "2", "--accept-timeout", "20"}};
   int port = testing_support::read_port_file(dir.file("port"), kHardTimeout);
+  // The two FMUs' clients, each with its own deadline of 10 s.
+  pcs_fmu::CouplingClient a{piston}, b{valve};
+  void connect() {
+    a.connect("127.0.0.1", port, testing_support::session_token(), 10.0);
+    b.connect("127.0.0.1", port, testing_support::session_token(), 10.0);
+  }
   // Each FMU's inputs: a wave of 50 bar into every chamber (its impedance a
   // chamber's, 1e11 Pa s/m^3) and no force.
   std::vector<double> inputs(const config::PortTable& t, double wave) const {
@@ -246,6 +215,34 @@ struct SplitSession {
 
 }  // namespace
 
+// The thesis' split (piston and valve as two FMUs of one session) under an
+// importer that steps one FMU before it has set the other's inputs: the
+// first FMU's step waits for a result that needs the second's inputs of the
+// same step, which the importer sends only after. Before, both sides timed
+// out with "no RESULT at step 0 ... SL_ETIMEDOUT" and no hint; now the
+// server tells the waiting FMU why, before its own deadline, and what to
+// change.
+TEST(Sessions, TwoFmusSteppedOneAfterTheOtherAreToldWhyTheyDeadlockBeforeTheirDeadline) {
+  SplitSession s;
+  ASSERT_GT(s.port, 0) << s.server.output();
+  s.connect();
+  std::vector<double> in(s.piston.to_fe.size(), 0.0), out;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string why;
+  try {
+    s.a.step(0, 0.0, s.piston.dt, in, out);  // the sequential master: the valve's step would come after
+  } catch (const pcs_fmu::LinkError& e) {
+    why = e.what();
+  }
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_NE(why.find("steps its FMUs one after another"), std::string::npos) << why;
+  EXPECT_NE(why.find("FMU '" + s.valve.model_name + "' sent no STEP 0"), std::string::npos) << why;
+  EXPECT_NE(why.find("Use one FMU for the whole model"), std::string::npos) << why;
+  EXPECT_LT(waited, 5.0) << "told at 0.8 of the server's 2 s step time-out, long before the FMU's own 10 s";
+  EXPECT_EQ(s.server.wait(kHardTimeout), 6) << s.server.output();
+  EXPECT_NE(s.server.output().find("steps its FMUs one after another"), std::string::npos) << s.server.output();
+}
+
 TEST(Sessions, TwoFmusWhoseInputsAreSetBeforeEitherStepsRunOneAfterTheOther) {
   // The sequential importer's order: both FMUs' inputs set (INPUTS), then
   // the piston's FMU stepped, then the valve's. The piston's FMU steps by
@@ -254,9 +251,8 @@ TEST(Sessions, TwoFmusWhoseInputsAreSetBeforeEitherStepsRunOneAfterTheOther) {
   // for its step.
   SplitSession s;
   ASSERT_GT(s.port, 0) << s.server.output();
-  pcs_fmu::CouplingClient a(s.piston), b(s.valve);
-  a.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
-  b.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  s.connect();
+  pcs_fmu::CouplingClient &a = s.a, &b = s.b;
   ASSERT_TRUE(a.split_session() && b.split_session());
   const std::vector<double> in_a = s.inputs(s.piston, 50e5), in_b = s.inputs(s.valve, 50e5);
   std::vector<double> out_a, out_b0, out_b1;
@@ -280,9 +276,8 @@ TEST(Sessions, InputsChangedAfterAnotherFmuSteppedWithThemAreRefusedWithTheReaso
   // stepped; the importer then sets other values for the valve's step 0.
   SplitSession s;
   ASSERT_GT(s.port, 0) << s.server.output();
-  pcs_fmu::CouplingClient a(s.piston), b(s.valve);
-  a.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
-  b.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  s.connect();
+  pcs_fmu::CouplingClient &a = s.a, &b = s.b;
   std::vector<double> out;
   const double dt = s.piston.dt;
   b.send_inputs(0, 0.0, dt, s.inputs(s.valve, 50e5));
@@ -305,9 +300,8 @@ TEST(Sessions, AStepWhoseValuesDifferFromTheInputsAStepRanWithIsRefused) {
   // by a path that did not tell the FMU, or a faulty FMU).
   SplitSession s;
   ASSERT_GT(s.port, 0) << s.server.output();
-  pcs_fmu::CouplingClient a(s.piston), b(s.valve);
-  a.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
-  b.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  s.connect();
+  pcs_fmu::CouplingClient &a = s.a, &b = s.b;
   std::vector<double> out;
   const double dt = s.piston.dt;
   b.send_inputs(0, 0.0, dt, s.inputs(s.valve, 50e5));
@@ -325,22 +319,17 @@ TEST(Sessions, AStepWhoseValuesDifferFromTheInputsAStepRanWithIsRefused) {
 
 TEST(Sessions, AHostSettingAndSteppingEachFmuInTurnIsToldWhyAndExits) {
   // tlm_host --peers one-by-one: the order of Hopsan's sequential solver.
-  TempDir dir;
-  const std::string hammer = PCS_SCENES_DIR "/hammer", built = PCS_BUILD_SCENES_DIR "/hammer";
-  std::ofstream(dir.file("model.tlm")) << hammer_model_with_two_fmus(hammer, built);
-  ChildProcess server({PCS_FE_SERVER_EXE, "--model", built + "/deck.k", "--ports", hammer + "/two_fmus/piston.cfg",
-                       "--ports", hammer + "/two_fmus/valve.cfg", "--listen", "127.0.0.1:0", "--port-file",
-                       dir.file("port"), "--out", dir.file("fe.h5"), "--step-timeout", "2", "--accept-timeout", "20"});
-  const int port = testing_support::read_port_file(dir.file("port"), kHardTimeout);
-  ASSERT_GT(port, 0) << server.output();
-  ChildProcess host({PCS_TLM_HOST_EXE, dir.file("model.tlm"), "--server", "127.0.0.1:" + std::to_string(port), "--out",
-                     dir.file("host.h5"), "--quiet", "--peers", "one-by-one", "--set", "simulation.timestep=1e-5",
-                     "--set", "simulation.stoptime=0.01"});
+  SplitSession s;
+  ASSERT_GT(s.port, 0) << s.server.output();
+  std::ofstream(s.dir.file("model.tlm")) << hammer_model_with_two_fmus(s.hammer, s.built);
+  ChildProcess host({PCS_TLM_HOST_EXE, s.dir.file("model.tlm"), "--server", "127.0.0.1:" + std::to_string(s.port),
+                     "--out", s.dir.file("host.h5"), "--quiet", "--peers", "one-by-one", "--set",
+                     "simulation.timestep=1e-5", "--set", "simulation.stoptime=0.01"});
   EXPECT_EQ(host.wait(kHardTimeout), 4) << host.output();
   EXPECT_NE(host.output().find("one that sets and steps each FMU in turn (Hopsan's sequential solver) deadlocks here"),
             std::string::npos)
       << host.output();
-  EXPECT_EQ(server.wait(kHardTimeout), 6) << server.output();
+  EXPECT_EQ(s.server.wait(kHardTimeout), 6) << s.server.output();
 }
 
 TEST(Sessions, InputsSetOnAnotherThreadThanTheStepWaitForTheirFmusOwnStep) {
@@ -352,9 +341,8 @@ TEST(Sessions, InputsSetOnAnotherThreadThanTheStepWaitForTheirFmusOwnStep) {
   // step would have run with half the inputs and the second call refused.
   SplitSession s;
   ASSERT_GT(s.port, 0) << s.server.output();
-  pcs_fmu::CouplingClient a(s.piston), b(s.valve);
-  a.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
-  b.connect("127.0.0.1", s.port, testing_support::session_token(), 10.0);
+  s.connect();
+  pcs_fmu::CouplingClient &a = s.a, &b = s.b;
   const double dt = s.piston.dt;
   std::vector<double> first = s.inputs(s.valve, 0.0), second = s.inputs(s.valve, 50e5), out_a, out_b;
   std::promise<void> first_set;
@@ -381,4 +369,28 @@ TEST(Sessions, InputsSetOnAnotherThreadThanTheStepWaitForTheirFmusOwnStep) {
   a.bye();
   b.bye();
   EXPECT_EQ(s.server.wait(kHardTimeout), 0) << s.server.output();
+}
+
+TEST(Sessions, AStopSignalWhileASplitRoundWaitsEndsTheServerAndTellsTheFmuThatWaits) {
+  // The round's own wait (several FMUs' sockets at once): the piston's FMU
+  // has stepped, the valve's never will. SIGINT there stops fe_server at
+  // once (130), its history closed, and the waiting FMU is told why.
+  SplitSession s;
+  ASSERT_GT(s.port, 0) << s.server.output();
+  s.connect();
+  std::string why;
+  std::thread piston([&] {
+    std::vector<double> out;
+    try {
+      s.a.step(0, 0.0, s.piston.dt, s.inputs(s.piston, 50e5), out);
+    } catch (const pcs_fmu::LinkError& e) {
+      why = e.what();
+    }
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // inside the round's wait (0.8 of 2 s)
+  kill(s.server.pid(), SIGINT);
+  piston.join();
+  EXPECT_EQ(s.server.wait(kHardTimeout), 128 + SIGINT) << s.server.output();
+  EXPECT_NE(why.find("fe_server stopped by SIGINT"), std::string::npos) << why;
+  EXPECT_NE(s.server.output().find("kept in"), std::string::npos) << s.server.output();
 }

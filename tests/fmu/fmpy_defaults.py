@@ -25,6 +25,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "support"))
 from fe_server_process import start_fe_server  # noqa: E402
+from fmpy_source import fmpy_source  # noqa: E402
 
 SKIP = 77
 
@@ -38,15 +39,8 @@ def start_server(fe_server, scene, d, tag, extra, env):
 def main():
     fe_server, scene, fmu = sys.argv[1], Path(sys.argv[2]), sys.argv[3]
     fmu3 = sys.argv[4] if len(sys.argv) > 4 else None
-    src = os.environ.get("PCS_FMPY_SRC")
-    if not src or not (Path(src) / "fmpy").is_dir():
-        print("skipped: set PCS_FMPY_SRC to FMPy's source folder (the one holding fmpy/) to run this test")
-        return SKIP
-    sys.path.insert(0, src)
-    try:
-        import fmpy  # noqa: F401
-    except Exception as e:  # a missing lxml or attrs
-        print(f"skipped: FMPy does not import ({e}); Debian: python3-lxml python3-attr")
+    src = fmpy_source()
+    if src is None:
         return SKIP
     env = {**os.environ, "PCS_TOKEN": secrets.token_hex(16), "PYTHONPATH": src}
     failures = []

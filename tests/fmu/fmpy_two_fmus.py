@@ -31,6 +31,10 @@ import tempfile
 import time
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "support"))
+from fe_server_process import start_fe_server  # noqa: E402
+from fmpy_source import fmpy_source  # noqa: E402
+
 SKIP = 77
 STEPS = 400  # 4 ms at the tables' 10 us coupling step: the spool is moving by then
 
@@ -84,35 +88,20 @@ np.save(out, np.array(rows))
 
 def main():
     fe_server, scene, built = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
-    src = os.environ.get("PCS_FMPY_SRC")
-    if not src or not (Path(src) / "fmpy").is_dir():
-        print("skipped: set PCS_FMPY_SRC to FMPy's source folder (the one holding fmpy/) to run this test")
+    src = fmpy_source()
+    if src is None:
         return SKIP
-    sys.path.insert(0, src)
-    try:
-        import fmpy  # noqa: F401
-        import numpy as np
-    except Exception as e:  # a missing lxml or attrs
-        print(f"skipped: FMPy does not import ({e}); Debian: python3-lxml python3-attr")
-        return SKIP
+    import numpy as np
     env = {**os.environ, "PCS_TOKEN": secrets.token_hex(16), "PYTHONPATH": src}
     fmus = [str(built / "hammer_piston.fmu"), str(built / "hammer_valve.fmu")]
     failures, results = [], {}
     with tempfile.TemporaryDirectory() as d:
         d = Path(d)
         for order in ("sequential", "parallel", "one-by-one"):
-            port_file = d / f"port_{order}"
-            server = subprocess.Popen(
-                [fe_server, "--model", str(built / "deck.k"), "--ports", str(scene / "two_fmus/piston.cfg"),
-                 "--ports", str(scene / "two_fmus/valve.cfg"), "--listen", "127.0.0.1:0", "--port-file",
-                 str(port_file), "--accept-timeout", "30", "--step-timeout", "2", "--out", str(d / f"fe_{order}.h5")],
-                env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            server, run_env = start_fe_server(
+                fe_server, built / "deck.k", [scene / "two_fmus/piston.cfg", scene / "two_fmus/valve.cfg"],
+                d / f"port_{order}", ["--step-timeout", "2", "--out", d / f"fe_{order}.h5"], env)
             try:
-                for _ in range(500):  # 10 s at most
-                    if port_file.exists() and port_file.read_text().strip():
-                        break
-                    time.sleep(0.02)
-                run_env = {**env, "PCS_SERVER_HOST": "127.0.0.1", "PCS_SERVER_PORT": port_file.read_text().strip()}
                 t0 = time.monotonic()
                 run = subprocess.run([sys.executable, "-c", DRIVER, order, str(d / f"{order}.npy")] + fmus +
                                      [str(STEPS)], env=run_env, capture_output=True, text=True, timeout=240)

@@ -6,9 +6,13 @@ import time
 
 
 def start_fe_server(fe_server, deck, ports, port_file, extra, env, accept_timeout=30):
-    """fe_server for `deck` and `ports` listening on 127.0.0.1:0; returns the
-    process and `env` with the FMU pointed at it ($PCS_SERVER_HOST/PORT)."""
-    server = subprocess.Popen([str(fe_server), "--model", str(deck), "--ports", str(ports), "--listen", "127.0.0.1:0",
+    """fe_server for `deck` and `ports` (one port table, or a list of them:
+    a session of several FMUs) listening on 127.0.0.1:0; returns the process
+    and `env` with the FMU pointed at it ($PCS_SERVER_HOST/PORT)."""
+    tables = []
+    for table in (ports if isinstance(ports, (list, tuple)) else [ports]):
+        tables += ["--ports", str(table)]
+    server = subprocess.Popen([str(fe_server), "--model", str(deck)] + tables + ["--listen", "127.0.0.1:0",
                                "--port-file", str(port_file), "--accept-timeout", str(accept_timeout), "--quiet"] +
                               [str(a) for a in extra],
                               env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)

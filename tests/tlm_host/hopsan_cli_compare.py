@@ -31,6 +31,7 @@ wrapper as our FmuQ) and one for Hopsan, each with its own results file.
 The same tolerance: both hosts send fe_server the same c and Zc.
 """
 import csv
+import gzip
 import os
 import re
 import secrets
@@ -43,34 +44,52 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from fe_server_process import start_fe_server  # noqa: E402
 
 
+REFERENCE_SAMPLES = 101
+
+
 def read_hopsan_csv(path):
     """Columns by name from a CSV in Hopsan's layout (name, alias, unit lines)."""
-    with open(path, newline="") as f:
+    with (gzip.open(path, "rt", newline="") if path.endswith(".gz") else open(path, newline="")) as f:
         rows = list(csv.reader(f))
     names = rows[0]
     data = [[float(x) for x in r] for r in rows[3:] if r]
     return {n: [r[i] for r in data] for i, n in enumerate(names)}
 
 
-def compare(hopsan, tlm_host, model, tmp, env):
-    """Runs the model in both; prints the comparison; True if within the tolerance."""
+def run_ours(tlm_host, model, tmp, env):
+    """tlm_host's run of the model, logging every step: (columns, None) or (None, the refusal's first line)."""
     name = os.path.splitext(os.path.basename(model))[0]
-    theirs, ours = os.path.join(tmp, name + "_hopsan.csv"), os.path.join(tmp, name + "_ours.csv")
-    # Hopsan logs at most one sample per step; N + 1 samples with N dividing
-    # the steps (every second step at least, at most 10000 samples) put its
-    # samples exactly on the steps.
-    subprocess.run([tlm_host, model, "--set", "simulation.log_every=1", "--out", os.path.join(tmp, name + ".h5"),
-                    "--csv", ours, "--quiet"], check=True, timeout=120, stderr=subprocess.DEVNULL, env=env)
-    b = read_hopsan_csv(ours)
-    steps = len(b["Time"]) - 1
-    dt = b["Time"][1] - b["Time"][0]
-    stride = next(k for k in range(2, steps + 1) if steps % k == 0 and steps // k <= 10000)
-    run = subprocess.run([hopsan, "-m", model, "-s", "hmf", "-l", str(steps // stride + 1), "--resultsFullCSV", theirs,
-                          "--resultsCSVSort", "cols"], capture_output=True, text=True, timeout=120, cwd=tmp, env=env)
-    if run.returncode != 0 or not os.path.exists(theirs):
-        print(f"{name}: hopsancli failed ({run.returncode}):\n{run.stdout}\n{run.stderr}")
-        return False
-    a = read_hopsan_csv(theirs)
+    ours = os.path.join(tmp, name + "_ours.csv")
+    run = subprocess.run([tlm_host, model, "--set", "simulation.log_every=1", "--out", os.path.join(tmp, name + ".h5"),
+                          "--csv", ours, "--quiet"], capture_output=True, text=True, timeout=300, env=env)
+    if run.returncode != 0:
+        lines = [ln for ln in run.stderr.splitlines() if "note:" not in ln] or [f"exit {run.returncode}"]
+        return None, f"exit {run.returncode}: {lines[0]}"
+    return read_hopsan_csv(ours), None
+
+
+def hopsan_samples(ours, at_most):
+    """Samples for Hopsan's log: N + 1 with N dividing our steps (every
+    second step at least, at most `at_most` samples), so that its samples
+    fall exactly on our steps."""
+    steps = len(ours["Time"]) - 1
+    stride = next((k for k in range(2, steps + 1) if steps % k == 0 and steps // k + 1 <= at_most), steps)
+    return steps // stride + 1
+
+
+def run_hopsan(hopsan, model, samples, out_csv, tmp, env):
+    """HopsanCLI's run of the model into out_csv: None, or why it failed."""
+    run = subprocess.run([hopsan, "-m", model, "-s", "hmf", "-l", str(samples), "--resultsFullCSV", out_csv,
+                          "--resultsCSVSort", "cols"], capture_output=True, text=True, timeout=300, cwd=tmp, env=env)
+    if run.returncode != 0 or not os.path.exists(out_csv):
+        tail = (run.stdout + run.stderr).strip().splitlines()[-3:]
+        return f"hopsancli exit {run.returncode}: {' / '.join(tail)}"
+    return None
+
+
+def agreement(a, b, model):
+    """Hopsan's columns a against ours b: (True or False, what was compared or
+    what differs, the largest difference relative to the column's largest value)."""
     # The same columns in the same order, but for Hopsan's Temperature and
     # HeatFlow (the model here is isothermal) and a subsystem's own ports and
     # time (sub#port#…, sub$Time) and a sensor's (the same values are under
@@ -80,34 +99,148 @@ def compare(hopsan, tlm_host, model, tmp, env):
     expected = [n for n in a if not n.endswith("#Temperature") and not n.endswith("#HeatFlow")
                 and n.split("#")[0] not in subsystems | sensors and not n.endswith("$Time")]
     if list(b) != expected:
-        print(f"{name}: columns differ from Hopsan's: ours only {[n for n in b if n not in a]}, "
-              f"Hopsan's only {[n for n in expected if n not in b]}, same order: "
-              f"{[n for n in expected if n in b] == [n for n in b if n in a]}")
-        return False
+        return False, (f"columns differ from Hopsan's: ours only {[n for n in b if n not in a]}, "
+                       f"Hopsan's only {[n for n in expected if n not in b]}, same order: "
+                       f"{[n for n in expected if n in b] == [n for n in b if n in a]}"), float("nan")
     common = [n for n in b if n in a and n != "Time"]
     if len(common) < 4:
-        print(f"{name}: only {len(common)} columns in common")
-        return False
-    worst, where = 0.0, ""
+        return False, f"only {len(common)} columns in common", float("nan")
+    dt = b["Time"][1] - b["Time"][0]
+    worst, where, largest = 0.0, "", 0.0
     for n in common:
         scale = max(abs(v) for v in b[n])
         for t, va in zip(a["Time"], a[n]):
-            vb = b[n][round(t / dt)]
+            vb = b[n][round((t - a["Time"][0]) / dt)]
+            if scale > 0:
+                largest = max(largest, abs(va - vb) / scale)
             excess = abs(va - vb) - (1e-6 * max(abs(va), abs(vb)) + 2e-7 * scale)
             if excess > worst:
                 worst, where = excess, f"{n} at t = {t:g}: Hopsan {va:.7e}, ours {vb:.12e}"
-    print(f"{name}: {len(common)} columns x {len(a['Time'])} times compared"
-          + (f"; beyond the tolerance: {where}" if where else ", all within the tolerance"))
-    return not where
+    what = f"{len(common)} columns x {len(a['Time'])} times compared"
+    return not where, what + (f"; beyond the tolerance: {where}" if where else ", all within the tolerance"), largest
+
+
+def compare(hopsan, tlm_host, model, tmp, env):
+    """Runs the model in both; prints the comparison; True if within the tolerance."""
+    name = os.path.splitext(os.path.basename(model))[0]
+    b, refused = run_ours(tlm_host, model, tmp, env)
+    if refused:
+        print(f"{name}: tlm_host refused it: {refused}")
+        return False
+    theirs = os.path.join(tmp, name + "_hopsan.csv")
+    failed = run_hopsan(hopsan, model, hopsan_samples(b, 10000), theirs, tmp, env)
+    if failed:
+        print(f"{name}: {failed}")
+        return False
+    ok, what, _ = agreement(read_hopsan_csv(theirs), b, model)
+    print(f"{name}: {what}")
+    return ok
+
+
+def against_references(tlm_host, models, refs, tmp, env):
+    """Each model against Hopsan's committed CSV (refs/NAME.csv.gz); the number that failed."""
+    failures = 0
+    for model in models:
+        name = os.path.splitext(os.path.basename(model))[0]
+        ref = os.path.join(refs, name + ".csv.gz")
+        b, refused = run_ours(tlm_host, model, tmp, env)
+        if refused or not os.path.exists(ref):
+            print(f"{name}: " + (f"tlm_host refused it: {refused}" if refused else f"no reference {ref}"))
+            failures += 1
+            continue
+        ok, what, _ = agreement(read_hopsan_csv(ref), b, model)
+        print(f"{name} (Hopsan's committed results): {what}")
+        failures += not ok
+    return failures
+
+
+def write_references(hopsan, tlm_host, models, refs, tmp, env):
+    """Hopsan's results of each model into refs/NAME.csv.gz, REFERENCE_SAMPLES samples."""
+    os.makedirs(refs, exist_ok=True)
+    for model in models:
+        name = os.path.splitext(os.path.basename(model))[0]
+        b, refused = run_ours(tlm_host, model, tmp, env)
+        if refused:
+            print(f"{name}: tlm_host refused it: {refused}")
+            return 1
+        out = os.path.join(tmp, name + "_hopsan.csv")
+        failed = run_hopsan(hopsan, model, hopsan_samples(b, REFERENCE_SAMPLES), out, tmp, env)
+        if failed:
+            print(f"{name}: {failed}")
+            return 1
+        with open(out, "rb") as f, gzip.GzipFile(os.path.join(refs, name + ".csv.gz"), "wb", mtime=0) as g:
+            g.write(f.read())
+        print(f"{name}: written ({len(read_hopsan_csv(out)['Time'])} samples)")
+    return 0
+
+
+def corpus(hopsan, tlm_host, folder, agreed_file, tmp, env):
+    """Every model of a folder of Hopsan's own (.hmf) in both programs: a
+    table (model, Hopsan ran, loaded, agrees, largest difference, why not),
+    the counts; 1 when a model agreed_file lists does not agree."""
+    agreed = [ln.split("#")[0].strip() for ln in open(agreed_file)] if agreed_file else []
+    agreed = [a for a in agreed if a]
+    models = sorted(f for f in os.listdir(folder) if f.endswith(".hmf"))
+    rows, counts = [], {"models": len(models), "Hopsan runs": 0, "loaded": 0, "agree": 0}
+    for f in models:
+        name, model = f[:-4], os.path.join(folder, f)
+        work = os.path.join(tmp, re.sub(r"\W", "_", name))
+        os.makedirs(work, exist_ok=True)
+        shutil.copy(model, work)
+        model = os.path.join(work, f)
+        probe = os.path.join(work, "probe.csv")
+        hopsan_failed = run_hopsan(hopsan, model, 2, probe, work, env)
+        counts["Hopsan runs"] += not hopsan_failed
+        b, refused = run_ours(tlm_host, model, work, env)
+        refused = refused and refused.replace(model, f)
+        if refused:
+            rows.append((name, not hopsan_failed, False, False, float("nan"), refused))
+            continue
+        counts["loaded"] += 1
+        if hopsan_failed:
+            rows.append((name, False, True, False, float("nan"), hopsan_failed))
+            continue
+        theirs = os.path.join(work, "hopsan.csv")
+        failed = run_hopsan(hopsan, model, hopsan_samples(b, 10000), theirs, work, env)
+        ok, what, largest = (False, failed, float("nan")) if failed else agreement(read_hopsan_csv(theirs), b, model)
+        counts["agree"] += ok
+        rows.append((name, True, True, ok, largest, "" if ok else what))
+    print("| model | Hopsan runs | loaded | agrees | largest difference | why not |")
+    print("|---|---|---|---|---|---|")
+    yes = {True: "yes", False: "no"}
+    for name, h, loaded, ok, largest, why in rows:
+        print(f"| {name} | {yes[h]} | {yes[loaded]} | {yes[ok]} | {largest:.1e} | {why.replace('|', '/')} |")
+    print(", ".join(f"{k}: {v}" for k, v in counts.items()))
+    lost = [name for name, _, _, ok, _, _ in rows if name in agreed and not ok]
+    missing = [a for a in agreed if a not in [r[0] for r in rows]]
+    for name in lost:
+        print(f"FAIL {name} agreed with HopsanCLI ({agreed_file}) and does not now")
+    for name in missing:
+        print(f"FAIL {name} ({agreed_file}) is not in {folder}")
+    return 1 if lost or missing else 0
 
 
 def main():
-    hopsan = os.environ.get("PCS_HOPSAN_CLI")
-    if not hopsan:
-        print("skipped: set PCS_HOPSAN_CLI to HopsanCLI's hopsancli (Hopsan built outside the repository)")
-        return 77
     args = sys.argv[1:]
+    hopsan = os.environ.get("PCS_HOPSAN_CLI")
+    env = dict(os.environ)
     with tempfile.TemporaryDirectory() as tmp:
+        if args and args[0] == "--reference":
+            refs, tlm_host, models = args[1], args[2], [os.path.abspath(m) for m in args[3:]]
+            return 1 if against_references(tlm_host, models, refs, tmp, env) else 0
+        if not hopsan:
+            print("skipped: set PCS_HOPSAN_CLI to HopsanCLI's hopsancli (Hopsan built outside the repository)")
+            return 77
+        if args[0] == "--write-reference":
+            refs, tlm_host, models = args[1], args[2], [os.path.abspath(m) for m in args[3:]]
+            return write_references(hopsan, tlm_host, models, refs, tmp, env)
+        if args[0] == "--corpus":
+            folder = os.environ.get("PCS_HOPSAN_MODELS")
+            if not folder:
+                print("skipped: set PCS_HOPSAN_MODELS to Hopsan's 'Models' folder (its source tree)")
+                return 77
+            tlm_host, sub, agreed_file = args[1], args[2], args[3]
+            return corpus(hopsan, tlm_host, os.path.join(folder, sub), agreed_file, tmp, env)
         if args[0] == "--fmu":
             fmu, fe_server, deck, ports, tlm_host, model = args[1:7]
             shutil.copy(fmu, tmp)
@@ -127,7 +260,7 @@ def main():
                     server.kill()
             return 0 if ok else 1
         tlm_host, models = args[0], [os.path.abspath(m) for m in args[1:]]
-        failures = sum(not compare(hopsan, tlm_host, m, tmp, dict(os.environ)) for m in models)
+        failures = sum(not compare(hopsan, tlm_host, m, tmp, env) for m in models)
     return 1 if failures else 0
 
 

@@ -93,9 +93,11 @@ def agreement(a, b, model):
     # The same columns in the same order, but for Hopsan's Temperature and
     # HeatFlow (the model here is isothermal) and a subsystem's own ports and
     # time (sub#port#…, sub$Time) and a sensor's (the same values are under
-    # the names of the components at those nodes).
+    # the names of the components at those nodes) or a scope's.
     subsystems = {n.split("$")[0] for n in a if "$" in n}
-    sensors = set(re.findall(r'typename="Hydraulic\w*Sensor" name="([^"]+)"', open(model).read()))
+    # Sensors, and scopes (SignalSink: Hopsan logs a scope's unconnected input), by their component tags.
+    tags = [dict(re.findall(r'(\w+)="([^"]*)"', t)) for t in re.findall(r"<component [^>]*>", open(model).read())]
+    sensors = {t.get("name") for t in tags if re.fullmatch(r"Hydraulic\w*Sensor|SignalSink", t.get("typename", ""))}
     expected = [n for n in a if not n.endswith("#Temperature") and not n.endswith("#HeatFlow")
                 and n.split("#")[0] not in subsystems | sensors and not n.endswith("$Time")]
     if list(b) != expected:

@@ -682,6 +682,79 @@ TEST(HopsanLoader, DirectionalValvesSteerTheirSpoolsAndConserveFlow) {
   EXPECT_LT(at(0.03), 0.2 * at(0.012)) << "emptied to the tank after closing";
 }
 
+// Hopsan's pressure-controlled valves (PressureControlledValveQ) in
+// pilot_valves.hmf: a SignalRamp drives the pilot sources' p (0 to 12 bar
+// from 2.005 to 10.005 ms), so the pilot node follows it exactly (a C-type
+// source with Zc = 0); the valves draw nothing at the pilot, the 4/2 valve's
+// four flows sum to zero (round-off of the largest), the spools rest at 0
+// below Fs_min = 3 bar and then follow the continuous second-order lag
+// x'' = ω²(u − x) − 2δω·x' (ω = 300 rad/s, δ = 0.9) of their command
+// u = clamp((p_pilot − 3 bar)/(8 − 3 bar), 0, 1)·0.2 mm, integrated here by
+// RK4 at a tenth of the step: within 0.5 % of the travel at every step (the
+// bilinear filter's error is (ω·dt)²/12 ≈ 1e-6; a one-step lag of the
+// command would be 0.25 %, the spool's speed times a step). Fs_max not
+// above Fs_min is refused with the component's name.
+TEST(HopsanLoader, PilotValvesFollowTheirPilotAndConserveFlow) {
+  testing_support::TempDir dir;
+  tlm::HmfModel m = tlm::read_hmf(kDir + "/pilot_valves.hmf");
+  EXPECT_EQ(m.spec.find("closing")->type, "PressureControlledValveQ");
+  EXPECT_EQ(m.spec.find("switching")->type, "PressureControlledValveQ");
+  tlm::System(std::move(m.spec)).run(dir.file("pv.h5"), false);
+  const std::string h5 = dir.file("pv.h5");
+  const auto t = h5io::read_series(h5, "time");
+  const auto pilot = h5io::read_series(h5, "results/pilot2/P1/Pressure");
+  const auto xv1 = h5io::read_series(h5, "results/closing/x_v/Value");
+  const auto xv2 = h5io::read_series(h5, "results/switching/x_v/Value");
+  const auto qc = h5io::read_series(h5, "results/switching/PC/Flow");
+  std::vector<std::vector<double>> q;
+  for (const char* port : {"PP", "PT", "PA", "PB"}) q.push_back(h5io::read_series(h5, std::string("results/switching/") + port + "/Flow"));
+  double scale = 0.0;
+  for (double x : q[2]) scale = std::max(scale, std::abs(x));
+  ASSERT_GT(scale, 1e-5);
+  const double dt = t[1] - t[0];
+  for (size_t i = 0; i < t.size(); ++i) {
+    EXPECT_NEAR(q[0][i] + q[1][i] + q[2][i] + q[3][i], 0.0, 1e-12 * scale) << "t = " << t[i];
+    EXPECT_EQ(qc[i], 0.0) << "t = " << t[i];
+    const double ramp = std::clamp((t[i] - 0.002005) / 0.008, 0.0, 1.0) * 1.2e6;
+    EXPECT_NEAR(pilot[i], ramp, 1.2e6 * dt / 0.008) << "t = " << t[i];  // within one step of the ramp
+    if (t[i] < 0.003) {
+      EXPECT_EQ(xv1[i], 0.0) << "t = " << t[i];
+    }
+  }
+  const double w = 300.0, zeta = 0.9, travel = 2e-4;
+  auto command = [&](double time) {
+    const double p = std::clamp((time - 0.002005) / 0.008, 0.0, 1.0) * 1.2e6;
+    return std::clamp((p - 3e5) / 5e5, 0.0, 1.0) * travel;
+  };
+  auto rate = [&](double time, double x, double v) { return w * w * (command(time) - x) - 2.0 * zeta * w * v; };
+  double x = 0.0, v = 0.0, worst = 0.0;
+  const int sub = 10;
+  for (size_t i = 1; i < t.size(); ++i) {
+    for (int k = 0; k < sub; ++k) {
+      const double h = dt / sub, t0 = t[i - 1] + k * h;
+      const double k1x = v, k1v = rate(t0, x, v);
+      const double k2x = v + 0.5 * h * k1v, k2v = rate(t0 + 0.5 * h, x + 0.5 * h * k1x, v + 0.5 * h * k1v);
+      const double k3x = v + 0.5 * h * k2v, k3v = rate(t0 + 0.5 * h, x + 0.5 * h * k2x, v + 0.5 * h * k2v);
+      const double k4x = v + h * k3v, k4v = rate(t0 + h, x + h * k3x, v + h * k3v);
+      x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+      v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+    }
+    worst = std::max({worst, std::abs(xv1[i] - x), std::abs(xv2[i] - x)});
+  }
+  EXPECT_LT(worst, 0.005 * travel);
+  EXPECT_GT(xv1.back(), 0.9 * travel) << "the spool moved";
+  std::string swapped = replaced(text_of(kDir + "/pilot_valves.hmf"), "value=\"8e5\" type=\"double\" name=\"Fs_max#Value\"",
+                                 "value=\"3e5\" type=\"double\" name=\"Fs_max#Value\"");
+  ASSERT_FALSE(swapped.empty());
+  std::ofstream(dir.file("bad.hmf")) << swapped;
+  try {
+    tlm::System bad(tlm::read_hmf(dir.file("bad.hmf")).spec);
+    ADD_FAILURE() << "Fs_max = Fs_min was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("closing: Fs_max must exceed Fs_min"), std::string::npos) << e.what();
+  }
+}
+
 // Hopsan's pressure relief valve (PressureReliefValveQ): shut below its
 // 100 bar, the volume fills at β·q/V = 1.4e9 Pa/s (to one step's worth);
 // then it opens and, once its 2 ms poppet lag and the hysteresis band

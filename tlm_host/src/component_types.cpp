@@ -13,6 +13,7 @@
 #include "components/hydraulic/LaminarOrificeQ.hpp"
 #include "components/hydraulic/LosslessLineC.hpp"
 #include "components/hydraulic/PistonAccumulatorQ.hpp"
+#include "components/hydraulic/PressureControlledValveQ.hpp"
 #include "components/hydraulic/PressureReliefValveQ.hpp"
 #include "components/hydraulic/PressureSourceC.hpp"
 #include "components/hydraulic/ReliefValveQ.hpp"
@@ -76,6 +77,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"ForceSourceC", make<ForceSourceC>()},
       {"Valve43Q", make<Valve43Q>()},
       {"Valve32Q", make<Valve32Q>()},
+      {"PressureControlledValveQ", make<PressureControlledValveQ>()},
       {"PressureReliefValveQ", make<PressureReliefValveQ>()},
       {"AccumulatorQ", make<AccumulatorQ>()},
       {"PistonAccumulatorQ", make<PistonAccumulatorQ>()},

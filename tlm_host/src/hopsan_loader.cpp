@@ -57,6 +57,30 @@ const char* const kCavitationNote =
     "its oil is conserved when the pressure falls to the vapour pressure (the void is tracked); Hopsan's "
     "volume lets the pressure go below it";
 
+// Hopsan's pressure-controlled valves as PressureControlledValveQ: `ports`
+// 2 or 4 metered ports, normally open or closed, the switching 4/2 valve.
+Mapping pilot_valve(const char* ports, const char* normally_open, const char* switching) {
+  const bool four = ports[0] == '4', cross = switching[0] == '1';
+  Mapping v{"PressureControlledValveQ",
+            {{"Fs_min#Value", "Fs_min", 1e5},
+             {"Fs_max#Value", "Fs_max", 1e6},
+             {"C_q#Value", "C_q", 0.67},
+             {"rho#Value", "rho", 870.0},
+             {"d#Value", "d", 0.01},
+             {"f_pa#Value", "f_pa", 1.0},
+             {"x_vmax#Value", "x_vmax", 0.01},
+             {"omega_h", "omega_h", 100.0},
+             {"delta_h", "delta_h", 1.0}},
+            {{"ports", ports}, {"normally_open", normally_open}, {"switching", switching}},
+            {"x_v#Value"},
+            "",
+            {{"x_v", "xv"}}};
+  if (four) v.params.push_back({"f_bt#Value", "f_bt", 1.0});
+  else v.ignored.insert("f_bt#Value");
+  if (cross) v.params.insert(v.params.end(), {{"f_pb#Value", "f_pb", 1.0}, {"f_at#Value", "f_at", 1.0}});
+  return v;
+}
+
 const std::map<std::string, Mapping>& mappings() {
   static const std::map<std::string, Mapping> m = {
       {"HydraulicVolume",
@@ -233,6 +257,15 @@ const std::map<std::string, Mapping>& mappings() {
          {"xv#Value", "xv0", 0.0}},
         {},
         {"in#Value"}}},
+      // Pressure-controlled valves (PressureControlledValveQ.hpp: Hopsan's
+      // equations); the spool's start value has no effect (Hopsan's filter
+      // starts at 0), nor have f_bt on the 2/2 valves or f_pb, f_at on the
+      // 4/2 valves but the switching one (Hopsan lists and never reads them).
+      {"HydraulicPressureControlled22Valve", pilot_valve("2", "0", "0")},
+      {"HydraulicPressureControlled22Valve2", pilot_valve("2", "1", "0")},
+      {"HydraulicPressureControlled42Valve", pilot_valve("4", "0", "0")},
+      {"HydraulicPressureControlled42Valve2", pilot_valve("4", "1", "0")},
+      {"HydraulicPressureControlled42Valve3", pilot_valve("4", "0", "1")},
       {"SignalFirstOrderFilter",
        {"SignalFirstOrderFilter",
         {{"k", "k", 1.0},

@@ -141,18 +141,11 @@ ModelSpec read_model(const std::string& path) {
 
 System::System(ModelSpec spec) : spec_(std::move(spec)) {
   spec_.check_simulation();
-  double sources = 1e5;    // the highest finite source or start pressure (at least the atmosphere)
-  bool unbounded = false;  // a component that drives its nodes to any pressure
   for (auto& cs : spec_.components) {
     auto comp = component_types().at(cs.type)(cs.name);
     comp->configure(cs.params);
     cs.params.check_all_used(cs.name);
     if (const std::string why = comp->step_mismatch(spec_.dt); !why.empty()) throw InputError(cs.params.where(), why);
-    const double source = comp->source_pressure();
-    if (source >= 1e300)
-      unbounded = true;
-    else
-      sources = std::max(sources, source);
     switch (comp->kind()) {
       case Kind::Signal: signal_.push_back(comp.get()); break;
       case Kind::C: c_type_.push_back(comp.get()); break;
@@ -160,8 +153,6 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
     }
     components_.push_back(std::move(comp));
   }
-  highest_pressure_ = unbounded ? 1e300 : kSourceFactor * sources;
-  lowest_port_pressure_ = kLowestPressure - kUndershoot * sources;
   auto component_of = [&](const std::string& ref, const config::SourceLocation& where) {
     size_t dot = ref.find('.');
     if (dot == std::string::npos) throw InputError(where, "'" + ref + "': expected COMPONENT.PORT");
@@ -226,6 +217,18 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
       if (!p.node)
         throw InputError(spec_.source.empty() ? config::SourceLocation{"model", 0} : config::SourceLocation{spec_.source, 1},
                          "port " + c->name() + "." + p.name + " is not connected (add it to *CONNECT)");
+  // The node guard's bounds, once the signals are connected (a source a signal drives may reach any pressure).
+  double sources = 1e5;    // the highest finite source or start pressure (at least the atmosphere)
+  bool unbounded = false;  // a component that drives its nodes to any pressure
+  for (const auto& comp : components_) {
+    const double source = comp->source_pressure();
+    if (source >= 1e300)
+      unbounded = true;
+    else
+      sources = std::max(sources, source);
+  }
+  highest_pressure_ = unbounded ? 1e300 : kSourceFactor * sources;
+  lowest_port_pressure_ = kLowestPressure - kUndershoot * sources;
   std::set<const HydraulicNode*> fmu_nodes;  // the FMUs' hydraulic port nodes
   for (auto& c : components_)
     if (dynamic_cast<FmuQ*>(c.get()))

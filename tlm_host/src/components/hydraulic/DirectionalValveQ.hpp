@@ -46,7 +46,7 @@ class DirectionalValveQ : public Component {
   void simulate_one_step(double) override {
     xv_ = spool_.update(command());
     const size_t n = ports_.size();
-    std::array<double, 4> c{}, Z{}, q{}, K{};
+    std::array<double, 5> c{}, Z{}, q{}, K{};  // up to 4 metered ports and a pilot
     for (size_t i = 0; i < n; ++i) c[i] = ports_[i].node->c, Z[i] = ports_[i].node->Zc;
     for (size_t k = 0; k < edges_.size(); ++k) K[k] = edges_[k].gain * std::max(opening(edges_[k]), 0.0) * root_;
     auto solve = [&] {
@@ -60,7 +60,7 @@ class DirectionalValveQ : public Component {
     };
     solve();
     bool cavitating = false;
-    for (size_t i = 0; i < n; ++i)
+    for (size_t i = 0; i < std::min(n, metered_ports_); ++i)
       if (c[i] + q[i] * Z[i] < 0.0) c[i] = 0.0, Z[i] = 0.0, cavitating = true;
     if (cavitating) solve();
     for (size_t i = 0; i < n; ++i) {
@@ -94,6 +94,8 @@ class DirectionalValveQ : public Component {
     add_signal_output("xv", &xv_);
   }
   std::vector<Edge> edges_;
+  // The ports an edge meters, first: the cavitation check is theirs (a pilot port after them is not).
+  size_t metered_ports_ = 4;
   double Cq_ = 0, rho_ = 0, d_ = 0, xv_max_ = 0, omega_ = 0, delta_ = 0, xv_ = 0, xv_lo_ = 0, xv_hi_ = 0, root_ = 0;
   const double* in_ = nullptr;
   BilinearSecondOrder spool_;

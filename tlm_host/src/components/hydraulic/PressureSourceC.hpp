@@ -1,5 +1,7 @@
 // Ideal pressure source (C-type): an infinite capacitance holds p whatever
 // the flow, so its boundary characteristic p = c + Zc·q has c = p_set, Zc = 0.
+// p_set is the parameter p, or the signal connected to its input p (as
+// Hopsan's HydraulicPressureSourceC reads its input variable p).
 #pragma once
 
 #include "component.hpp"
@@ -11,26 +13,29 @@ class PressureSourceC : public Component {
   using Component::Component;
   Kind kind() const override { return Kind::C; }
   const char* type_name() const override { return "PressureSourceC"; }
-  double source_pressure() const override { return p_; }
+  // A pressure a signal sets may be any: the node guard cannot bound it from here.
+  double source_pressure() const override { return p_in_ == &p_ ? p_ : 1e300; }
   void state(config::StateIO&) override {}  // a constant pressure: nothing changes
   void configure(ParameterSet& prm) override {
     p_ = prm.real("p", "Pa");
     add_port("P1", Kind::C);
+    add_signal_input("p", &p_in_, &p_);
   }
   void initialize(double) override {
     HydraulicNode& n = *ports_[0].node;
-    n.c = p_;
+    n.c = *p_in_;
     n.Zc = 0.0;
-    n.p = p_;
+    n.p = *p_in_;
     n.q = 0.0;
   }
   void simulate_one_step(double) override {
-    ports_[0].node->c = p_;
+    ports_[0].node->c = *p_in_;
     ports_[0].node->Zc = 0.0;
   }
 
  private:
   double p_ = 0.0;
+  const double* p_in_ = &p_;
 };
 
 }  // namespace tlm

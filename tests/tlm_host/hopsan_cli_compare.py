@@ -69,10 +69,12 @@ def run_ours(tlm_host, model, tmp, env):
 
 
 def hopsan_samples(ours, at_most):
-    """Samples for Hopsan's log: N + 1 with N dividing our steps (every
+    """Samples for Hopsan's log: N + 1 with N dividing our steps from t = 0 (every
     second step at least, at most `at_most` samples), so that its samples
     fall exactly on our steps."""
-    steps = len(ours["Time"]) - 1
+    # Hopsan logs from t = 0 (its log start time) when the run starts before.
+    dt = ours["Time"][1] - ours["Time"][0]
+    steps = sum(1 for t in ours["Time"] if t > -0.5 * dt) - 1
     stride = next((k for k in range(2, steps + 1) if steps % k == 0 and steps // k + 1 <= at_most), steps)
     return steps // stride + 1
 
@@ -108,11 +110,17 @@ def agreement(a, b, model):
     if len(common) < 4:
         return False, f"only {len(common)} columns in common", float("nan")
     dt = b["Time"][1] - b["Time"][0]
+    # Hopsan logs from its log start time (0 unless the file says), ours
+    # from the run's start (which may be before 0): its times within ours,
+    # each matched to our row at the same time.
+    if a["Time"][0] < b["Time"][0] - 0.5 * dt or a["Time"][-1] > b["Time"][-1] + 0.5 * dt:
+        return False, (f"Hopsan's results span t = {a['Time'][0]:g} to {a['Time'][-1]:g}, "
+                       f"ours {b['Time'][0]:g} to {b['Time'][-1]:g}"), float("nan")
     worst, where, largest = 0.0, "", 0.0
     for n in common:
         scale = max(abs(v) for v in b[n])
         for t, va in zip(a["Time"], a[n]):
-            vb = b[n][round((t - a["Time"][0]) / dt)]
+            vb = b[n][round((t - b["Time"][0]) / dt)]
             if scale > 0:
                 largest = max(largest, abs(va - vb) / scale)
             excess = abs(va - vb) - (1e-6 * max(abs(va), abs(vb)) + 2e-7 * scale)

@@ -863,19 +863,19 @@ HmfModel read_hmf(const std::string& path) {
   if (!number(attr(sim, "timestep"), m.dt) || !number(attr(sim, "stop"), m.stop_time) ||
       !number(attr(sim, "start"), start))
     throw InputError(reader.where(sim), "<simulationtime>: start, stop and timestep must be numbers");
-  if (start != 0.0)
-    throw InputError(reader.where(sim), "<simulationtime> start " + attr(sim, "start") + ": runs start at t = 0");
+  m.start_time = start;  // Hopsan's GUI often writes a negative one: the run starts there
   double samples = 0.0;
   // The number of log samples: the system's logsamples (older files) or
   // <simulationlogsettings numsamples> (Hopsan 2.x), the latter first.
   xmlNode* log = child(system, "simulationlogsettings");
   double log_start = 0.0;
-  if (log && number(attr(log, "starttime"), log_start) && log_start > 0.0)
+  if (log && number(attr(log, "starttime"), log_start) && log_start > m.start_time)
     out.notes.push_back(path + ": <simulationlogsettings starttime=" + attr(log, "starttime") +
-                        ">: the results start at t = 0 here (Hopsan's start from that time)");
+                        ">: the results start at the run's start here, t = " + attr(sim, "start") +
+                        " s (Hopsan's from that time)");
   if ((log && number(attr(log, "numsamples"), samples) && samples >= 1.0) ||
       (number(attr(system, "logsamples"), samples) && samples >= 1.0)) {
-    const double steps = std::round(m.stop_time / m.dt);
+    const double steps = std::round((m.stop_time - m.start_time) / m.dt);
     m.log_every = static_cast<int>(std::max(1.0, std::floor(steps / samples)));
   }
   Expressions top;

@@ -1,5 +1,6 @@
 #include "model.hpp"
 
+#include "config/port_table.hpp"
 #include "config/nearest.hpp"
 #include "config/stop_signal.hpp"
 
@@ -43,9 +44,13 @@ static int log_every_in_range(long n, const config::SourceLocation& where) {
 void ModelSpec::check_simulation() const {
   const config::SourceLocation& where = simulation_where;
   if (!(dt > 0.0)) throw config::InputError(where, "*SIMULATION needs 'timestep, SECONDS' > 0");
-  if (!(stop_time > 0.0)) throw config::InputError(where, "*SIMULATION needs 'stoptime, SECONDS' > 0");
-  if (!(stop_time / dt < 1e12))
-    throw config::InputError(where, "stoptime / timestep is " + std::to_string(stop_time / dt) +
+  if (!(stop_time > start_time))
+    throw config::InputError(where, start_time == 0.0 ? std::string("*SIMULATION needs 'stoptime, SECONDS' > 0")
+                                                      : "the stop time (" + config::shortest(stop_time) +
+                                                            " s) must follow the start time (" +
+                                                            config::shortest(start_time) + " s)");
+  if (!((stop_time - start_time) / dt < 1e12))
+    throw config::InputError(where, "stoptime / timestep is " + std::to_string((stop_time - start_time) / dt) +
                                         " steps: more than 10¹² is not a run that ends");
   if (log_every < 1) throw config::InputError(where, "log_every must be at least 1");
 }
@@ -230,6 +235,10 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
   highest_pressure_ = unbounded ? 1e300 : kSourceFactor * sources;
   lowest_port_pressure_ = kLowestPressure - kUndershoot * sources;
   std::set<const HydraulicNode*> fmu_nodes;  // the FMUs' hydraulic port nodes
+  for (auto& c : components_)
+    if (dynamic_cast<FmuQ*>(c.get()) && spec_.start_time != 0.0)
+      throw InputError(spec_.simulation_where, c->name() + ": an FMU's co-simulation starts at t = 0, and this model starts at " +
+                                                   config::shortest(spec_.start_time) + " s: set the start time to 0");
   for (auto& c : components_)
     if (dynamic_cast<FmuQ*>(c.get()))
       for (auto& p : c->ports())
@@ -469,7 +478,8 @@ void System::hopsan_names(h5io::TimeSeriesWriter& out,
 
 void System::run(const std::string& out_path, bool progress) {
   const double dt = spec_.dt;
-  const long steps = std::lround(spec_.stop_time / dt);
+  const long steps = std::lround((spec_.stop_time - spec_.start_time) / dt);
+  const double t0 = spec_.start_time;
   std::vector<FmuQ*> fmus;
   for (auto& c : components_)
     if (auto* f = dynamic_cast<FmuQ*>(c.get())) fmus.push_back(f);
@@ -513,7 +523,7 @@ void System::run(const std::string& out_path, bool progress) {
     for (const auto* order : {&signal_, &c_type_, &q_type_})
       for (Component* c : *order) {
         c->initialize(dt);
-        if (!resume && spec_.find(c->name())->initial_step) c->simulate_one_step(0.0);
+        if (!resume && spec_.find(c->name())->initial_step) c->simulate_one_step(t0);
       }
   } else {
     for (auto& c : components_) c->initialize(dt);
@@ -537,7 +547,7 @@ void System::run(const std::string& out_path, bool progress) {
     for (auto& a : answers) a.get();
   }
 
-  double time = 0.0;
+  double time = t0;
   const std::vector<LoggedSeries> logged = logged_series(&time);
   h5io::TimeSeriesWriter out(out_path, 4096, 1.0, resume);
   out.set_attribute("producer", "tlm_host");
@@ -602,7 +612,7 @@ void System::run(const std::string& out_path, bool progress) {
     }
   };
   if (resume) {
-    time = static_cast<double>(first) * dt;
+    time = t0 + static_cast<double>(first) * dt;
     steps_done_ = first;
     if (progress)
       std::fprintf(stderr, "tlm_host: restarted from %s after step %ld (t = %g s); %s continues after its row %llu\n",
@@ -673,7 +683,7 @@ void System::run(const std::string& out_path, bool progress) {
         if (progress) std::fprintf(stderr, "tlm_host: checkpoint after step %ld in %s\n", k, saved.c_str());
         last_checkpoint = std::chrono::steady_clock::now();
       }
-      const double t = static_cast<double>(k) * dt;
+      const double t = t0 + static_cast<double>(k) * dt;
       for (Component* c : signal_) {
         stepping = c;
         c->simulate_one_step(t);
@@ -700,7 +710,7 @@ void System::run(const std::string& out_path, bool progress) {
       } else if (!fmu_node_index_.empty()) {
         if (const std::string why = check_fmu_nodes(); !why.empty()) throw std::runtime_error(why);
       }
-      time = static_cast<double>(k + 1) * dt;
+      time = t0 + static_cast<double>(k + 1) * dt;
       steps_done_ = k + 1;
       if (row_due) record();
       if (progress && (k & 1023) == 0) {

@@ -40,6 +40,9 @@ struct ModelSpec {
   std::string source;
   double dt = 0.0;
   double stop_time = 0.0;
+  // The clock at the first row: 0 but for Hopsan models, whose GUI often
+  // writes a negative start (the run goes from start_time to stop_time).
+  double start_time = 0.0;
   int log_every = 1;
   std::vector<ComponentSpec> components;
   std::vector<ConnectionSpec> connections;

@@ -544,6 +544,12 @@ TEST(HopsanLoader, ARunStartingBeforeZeroKeepsItsTimeBase) {
   EXPECT_EQ(at(-0.005), 1e5) << "shut before the step";
   EXPECT_NEAR(at(0.0), 1e5 + 2.8e8 * 0.004995, 2.0 * 2.8e8 * 1e-5);
   EXPECT_NEAR(at(0.02) - at(0.0), 2.8e8 * 0.02, 1e-4 * 2.8e8 * 0.02);
+  // Without Hopsan's first step in initialize(), a source's first row is
+  // its value at the start time, -0.01 s (before its step: 0), not at 0.
+  tlm::HmfModel bare = tlm::read_hmf(kDir + "/negative_start.hmf");
+  for (auto& c : bare.spec.components) c.initial_step = false;
+  tlm::System(std::move(bare.spec)).run(dir.file("bare.h5"), false);
+  EXPECT_EQ(h5io::read_series(dir.file("bare.h5"), "results/step/out/Value").front(), 0.0);
 }
 
 // Hopsan evaluates a parameter that is not a number as an expression

@@ -139,8 +139,12 @@ class Component {
   // component that can drive a node to any pressure (a flow source, a pump,
   // an FMU) returns +inf: the run-quality guard then has no upper bound.
   virtual double source_pressure() const { return 0.0; }
+  // The clock at the run's first row (0 but for a Hopsan model starting
+  // before 0), set before initialize(): what a source reads at its start.
+  void set_start_time(double t0) { start_time_ = t0; }
 
  protected:
+  double start_time_ = 0.0;
   Port& add_port(const std::string& port_name, Kind side, bool mechanical = false);
   void add_signal_output(const std::string& signal_name, double* value);
   // `source` is set to the bound output; an optional input starts at `fallback`.

@@ -516,6 +516,7 @@ void System::run(const std::string& out_path, bool progress) {
                                     ", beyond this run's " + std::to_string(steps) + " steps");
     for (FmuQ* f : fmus) f->set_resume_step(first);
   }
+  for (auto& c : components_) c->set_start_time(t0);
   if (spec_.hopsan_results) {
     // As Hopsan starts: signal, C, then Q components, each taking its
     // initial step (ComponentSpec::initial_step) right after its own

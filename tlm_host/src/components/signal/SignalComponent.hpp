@@ -27,7 +27,7 @@ class SignalComponent : public Component {
   Kind kind() const override { return Kind::Signal; }
   void initialize(double dt) override {
     dt_ = dt;
-    y_ = value(0.0);
+    y_ = value(start_time_);
   }
   void simulate_one_step(double t) override { y_ = value(t + dt_); }
   // The output is the whole state (a low-pass filter's memory; the

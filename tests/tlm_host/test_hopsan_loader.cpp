@@ -791,6 +791,43 @@ TEST(HopsanLoader, PilotValvesFollowTheirPilotAndConserveFlow) {
   }
 }
 
+// Hopsan's signal sources and a product (signals.hmf, from -5 ms) against
+// their formulas at every row: the soft step's half cosine,
+// the sine from its start with its time offset, the pulse read at the
+// step's middle, the product of the two; each to round-off (1e-12). A soft
+// step that ends before it starts is refused with its name.
+TEST(HopsanLoader, HopsansSignalSourcesFollowTheirFormulas) {
+  testing_support::TempDir dir;
+  tlm::HmfModel m = tlm::read_hmf(kDir + "/signals.hmf");
+  m.spec.log_every = 1;
+  tlm::System(std::move(m.spec)).run(dir.file("s.h5"), false);
+  const std::string h5 = dir.file("s.h5");
+  const auto t = h5io::read_series(h5, "time");
+  const auto soft = h5io::read_series(h5, "results/soft/out/Value"), sine = h5io::read_series(h5, "results/sine/out/Value");
+  const auto pulse = h5io::read_series(h5, "results/pulse/out/Value"), product = h5io::read_series(h5, "results/product/out/Value");
+  const double dt = t[1] - t[0];
+  for (size_t i = 1; i < t.size(); ++i) {
+    const double s = t[i] < 0.002005 ? 0.0 : t[i] >= 0.008005 ? 1.0 : 0.5 * (1.0 - std::cos(M_PI * (t[i] - 0.002005) / 0.006));
+    const double w = t[i] < 0.001005 ? 0.0 : 0.5 * std::sin(2.0 * M_PI * 150.0 * (t[i] - 0.001005 - 0.0002));
+    const double mid = t[i] + 0.5 * dt, p = mid >= 0.004002 && mid < 0.012002 ? 1.0 : 0.2;
+    EXPECT_NEAR(soft[i], s, 1e-12) << "t = " << t[i];
+    EXPECT_NEAR(sine[i], w, 1e-12) << "t = " << t[i];
+    EXPECT_EQ(pulse[i], p) << "t = " << t[i];
+    EXPECT_NEAR(product[i], soft[i] * sine[i], 1e-15) << "t = " << t[i];
+  }
+  const std::string e = error_of(replaced(text_of(kDir + "/signals.hmf"), "<parameter value=\"0.008005\" name=\"t_end#Value\"/>",
+                                          "<parameter value=\"0.001\" name=\"t_end#Value\"/>"));
+  EXPECT_EQ(e, "") << "the loader reads it; the component refuses it when the model is built";
+  std::ofstream(dir.file("bad.hmf")) << replaced(text_of(kDir + "/signals.hmf"), "<parameter value=\"0.008005\" name=\"t_end#Value\"/>",
+                                                 "<parameter value=\"0.001\" name=\"t_end#Value\"/>");
+  try {
+    tlm::System bad(tlm::read_hmf(dir.file("bad.hmf")).spec);
+    ADD_FAILURE() << "a soft step ending before its start was accepted";
+  } catch (const std::exception& ex) {
+    EXPECT_NE(std::string(ex.what()).find("soft: t1 must follow t0"), std::string::npos) << ex.what();
+  }
+}
+
 // Hopsan's pressure relief valve (PressureReliefValveQ): shut below its
 // 100 bar, the volume fills at β·q/V = 1.4e9 Pa/s (to one step's worth);
 // then it opens and, once its 2 ms poppet lag and the hysteresis band

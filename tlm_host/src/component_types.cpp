@@ -33,6 +33,10 @@
 #include "components/signal/SignalGain.hpp"
 #include "components/signal/SignalLowPass.hpp"
 #include "components/signal/SignalRamp.hpp"
+#include "components/signal/SignalMultiply.hpp"
+#include "components/signal/SignalPulse.hpp"
+#include "components/signal/SignalSineWave.hpp"
+#include "components/signal/SignalSoftStep.hpp"
 #include "components/signal/SignalStep.hpp"
 #include "components/signal/SignalSubtract.hpp"
 #include "components/signal/SignalTable.hpp"
@@ -71,6 +75,10 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"SignalSubtract", make<SignalSubtract>()},
       {"SignalLowPass", make<SignalLowPass>()},
       {"SignalFirstOrderFilter", make<SignalFirstOrderFilter>()},
+      {"SignalSoftStep", make<SignalSoftStep>()},
+      {"SignalSineWave", make<SignalSineWave>()},
+      {"SignalPulse", make<SignalPulse>()},
+      {"SignalMultiply", make<SignalMultiply>()},
       {"TranslationalMassQ", make<TranslationalMassQ>()},
       {"CylinderC", make<CylinderC>()},
       {"CylinderQ", make<CylinderQ>()},

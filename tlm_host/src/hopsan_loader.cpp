@@ -154,8 +154,31 @@ const std::map<std::string, Mapping>& mappings() {
         "",
         {{"out", "y"}},
         {{"y1", {"y_0#Value", "y_A#Value"}}}}},
-      {"SignalGain", {"SignalGain", {{"k#Value", "k", 1.0}}, {}, {}, "", {{"in", "u"}, {"out", "y"}}}},
+      {"SignalGain", {"SignalGain", {{"k#Value", "k", 1.0}}, {}, {"in#Value"}, "", {{"in", "u"}, {"out", "y"}}}},
       {"SignalAdd", {"SignalAdd", {}, {}, {"in1#Value", "in2#Value"}, "", {{"in1", "u1"}, {"in2", "u2"}, {"out", "y"}}}},
+      {"SignalMultiply",
+       {"SignalMultiply", {}, {}, {"in1#Value", "in2#Value"}, "", {{"in1", "u1"}, {"in2", "u2"}, {"out", "y"}}}},
+      {"SignalSoftStep",
+       {"SignalSoftStep",
+        {{"t_start#Value", "t0", 1.0}, {"t_end#Value", "t1", 2.0}, {"y_0#Value", "y0", 0.0}, {"y_A#Value", "amplitude", 1.0}},
+        {},
+        {},
+        "",
+        {{"out", "y"}}}},
+      {"SignalSineWave",
+       {"SignalSineWave",
+        {{"f#Value", "f", 1.0}, {"y_A#Value", "amplitude", 1.0}, {"y_offset#Value", "t_offset", 0.0}, {"t_start#Value", "t0", 0.0}},
+        {},
+        {},
+        "",
+        {{"out", "y"}}}},
+      {"SignalPulse",
+       {"SignalPulse",
+        {{"y_0#Value", "y0", 0.0}, {"y_A#Value", "amplitude", 1.0}, {"t_start#Value", "t0", 1.0}, {"t_end#Value", "t1", 2.0}},
+        {},
+        {},
+        "",
+        {{"out", "y"}}}},
       // Translational mechanics (TranslationalMassQ.hpp: Hopsan's equations).
       {"MechanicTranslationalMass",
        {"TranslationalMassQ",
@@ -292,7 +315,7 @@ constexpr const char* kOwnPrefix = "Pcs";
 // The types whose Hopsan components step once in their initialize()
 // (ComponentSpec::initial_step).
 const std::set<std::string> kStepInInitialize = {"HydraulicTurbulentOrifice", "HydraulicFlowSourceQ",
-                                                 "HydraulicPressureSourceC", "SignalStep", "SignalGain", "SignalAdd",
+                                                 "HydraulicPressureSourceC", "SignalStep", "SignalGain", "SignalAdd", "SignalMultiply",
                                                  "HydraulicAckumulator", "HydraulicPistonAckumulator"};
 
 // Hopsan's sensors read a node; their nodes are logged anyway.

@@ -151,8 +151,9 @@ TEST(HopsanLoader, SignalsDriveAFlowSourceIntoAVolume) {
 // A flow source that draws more than its volume holds (issue 32: flow
 // sources clamp as Hopsan's do, or the docs declare the difference: docs/hopsan.md).
 // Hopsan's HydraulicFlowSourceQ holds its own pressure at 0 and keeps
-// drawing from a volume whose pressure then falls without bound. Ours does
-// not clamp: the volume it draws from cavitates, holding p_vap (5000 Pa)
+// drawing from a volume whose pressure then falls without bound. Ours holds
+// the source's pressure as Hopsan's (flow_draw.hmf), but the volume it
+// draws from cavitates, holding p_vap (5000 Pa)
 // while the vapour volume grows by exactly the oil drawn (docs/hopsan.md, the
 // mapping table). The pump reversed (gain −2) empties the 0.1 l chamber at
 // 2e-5 m³/s: from 1 bar it reaches p_vap 0.34 ms after the step

@@ -133,8 +133,8 @@ const std::map<std::string, Mapping>& mappings() {
         {{"A#Value", "A", 1e-5}, {"C_q#Value", "Cd", 0.67}, {"rho#Value", "rho", 870}},
         {{"hopsan_cavitation", "1"}}}},
       {"HydraulicLaminarOrifice", {"LaminarOrificeQ", {{"Kc#Value", "Kc", 1e-11}}, {{"hopsan_cavitation", "1"}}}},
-      {"HydraulicPressureSourceC", {"PressureSourceC", {{"p#Value", "p", 1e5}}}},
-      {"HydraulicTankC", {"PressureSourceC", {{"p", "p", 1e5}}}},
+      {"HydraulicPressureSourceC", {"PressureSourceC", {{"p#Value", "p", 1e5}, {"P1#Flow", "q0", 0.0}}}},
+      {"HydraulicTankC", {"PressureSourceC", {{"p", "p", 1e5}, {"P1#Flow", "q0", 0.0}}}},
       {"HydraulicFlowSourceQ", {"FlowSourceQ", {{"q#Value", "q", 1e-3}}, {{"hopsan_cavitation", "1"}}}},
       // Signals (Hopsan evaluates them at the step's end time, as ours do).
       {"SignalConstant", {"SignalStep", {{"y#Value", "y0", 1.0}, {"y#Value", "y1", 1.0}}}},  // its port is y, as ours

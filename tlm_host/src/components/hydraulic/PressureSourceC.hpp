@@ -1,7 +1,9 @@
 // Ideal pressure source (C-type): an infinite capacitance holds p whatever
 // the flow, so its boundary characteristic p = c + Zc·q has c = p_set, Zc = 0.
 // p_set is the parameter p, or the signal connected to its input p (as
-// Hopsan's HydraulicPressureSourceC reads its input variable p).
+// Hopsan's HydraulicPressureSourceC reads its input variable p). q0 is the
+// flow its node holds at the start, until the Q side writes its own (a
+// Hopsan model's start flow on P1: Hopsan's node starts with it).
 #pragma once
 
 #include "component.hpp"
@@ -20,13 +22,14 @@ class PressureSourceC : public Component {
     p_ = prm.real("p", "Pa");
     add_port("P1", Kind::C);
     add_signal_input("p", &p_in_, &p_);
+    q0_ = prm.real("q0", 0.0, "m³/s");
   }
   void initialize(double) override {
     HydraulicNode& n = *ports_[0].node;
     n.c = *p_in_;
     n.Zc = 0.0;
     n.p = *p_in_;
-    n.q = 0.0;
+    n.q = q0_;
   }
   void simulate_one_step(double) override {
     ports_[0].node->c = *p_in_;
@@ -34,7 +37,7 @@ class PressureSourceC : public Component {
   }
 
  private:
-  double p_ = 0.0;
+  double p_ = 0.0, q0_ = 0.0;
   const double* p_in_ = &p_;
 };
 

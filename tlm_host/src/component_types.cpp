@@ -18,7 +18,9 @@
 #include "components/hydraulic/PressureSourceC.hpp"
 #include "components/hydraulic/ReliefValveQ.hpp"
 #include "components/hydraulic/SpoolValveQ.hpp"
+#include "components/hydraulic/Valve22Q.hpp"
 #include "components/hydraulic/Valve32Q.hpp"
+#include "components/hydraulic/Valve42Q.hpp"
 #include "components/hydraulic/Valve43Q.hpp"
 #include "components/hydraulic/VariableOrificeQ.hpp"
 #include "components/mechanic/ForceSourceC.hpp"
@@ -36,6 +38,7 @@
 #include "components/signal/SignalMultiply.hpp"
 #include "components/signal/SignalPulse.hpp"
 #include "components/signal/SignalSineWave.hpp"
+#include "components/signal/SignalRateLimiter.hpp"
 #include "components/signal/SignalSoftStep.hpp"
 #include "components/signal/SignalStep.hpp"
 #include "components/signal/SignalSubtract.hpp"
@@ -79,12 +82,15 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"SignalSineWave", make<SignalSineWave>()},
       {"SignalPulse", make<SignalPulse>()},
       {"SignalMultiply", make<SignalMultiply>()},
+      {"SignalRateLimiter", make<SignalRateLimiter>()},
       {"TranslationalMassQ", make<TranslationalMassQ>()},
       {"CylinderC", make<CylinderC>()},
       {"CylinderQ", make<CylinderQ>()},
       {"ForceSourceC", make<ForceSourceC>()},
       {"Valve43Q", make<Valve43Q>()},
       {"Valve32Q", make<Valve32Q>()},
+      {"Valve22Q", make<Valve22Q>()},
+      {"Valve42Q", make<Valve42Q>()},
       {"PressureControlledValveQ", make<PressureControlledValveQ>()},
       {"PressureReliefValveQ", make<PressureReliefValveQ>()},
       {"AccumulatorQ", make<AccumulatorQ>()},

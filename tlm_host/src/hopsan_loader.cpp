@@ -81,6 +81,15 @@ Mapping pilot_valve(const char* ports, const char* normally_open, const char* sw
   return v;
 }
 
+// Hopsan's multiport pressure source and tank as PressureSourceC with one
+// port per connection (its `p` an input variable on the source, a constant
+// on the tank).
+Mapping multiport_source(const char* pressure) {
+  Mapping v{"PressureSourceC", {{pressure, "p", 1e5}, {"MP#Flow", "q0", 0.0}}};
+  v.multiport = "MP";
+  return v;
+}
+
 const std::map<std::string, Mapping>& mappings() {
   static const std::map<std::string, Mapping> m = {
       {"HydraulicVolume",
@@ -135,6 +144,8 @@ const std::map<std::string, Mapping>& mappings() {
       {"HydraulicLaminarOrifice", {"LaminarOrificeQ", {{"Kc#Value", "Kc", 1e-11}}, {{"hopsan_cavitation", "1"}}}},
       {"HydraulicPressureSourceC", {"PressureSourceC", {{"p#Value", "p", 1e5}, {"P1#Flow", "q0", 0.0}}}},
       {"HydraulicTankC", {"PressureSourceC", {{"p", "p", 1e5}, {"P1#Flow", "q0", 0.0}}}},
+      {"HydraulicMultiPressureSourceC", multiport_source("p#Value")},
+      {"HydraulicMultiTankC", multiport_source("p")},
       {"HydraulicFlowSourceQ", {"FlowSourceQ", {{"q#Value", "q", 1e-3}}, {{"hopsan_cavitation", "1"}}}},
       // Signals (Hopsan evaluates them at the step's end time, as ours do).
       {"SignalConstant", {"SignalStep", {{"y#Value", "y0", 1.0}, {"y#Value", "y1", 1.0}}}},  // its port is y, as ours
@@ -158,6 +169,13 @@ const std::map<std::string, Mapping>& mappings() {
       {"SignalAdd", {"SignalAdd", {}, {}, {"in1#Value", "in2#Value"}, "", {{"in1", "u1"}, {"in2", "u2"}, {"out", "y"}}}},
       {"SignalMultiply",
        {"SignalMultiply", {}, {}, {"in1#Value", "in2#Value"}, "", {{"in1", "u1"}, {"in2", "u2"}, {"out", "y"}}}},
+      {"SignalRateLimiter",
+       {"SignalRateLimiter",
+        {{"c_up#Value", "rate_up", 1.0}, {"c_down#Value", "rate_down", -1.0}},
+        {},
+        {"in#Value", "in_bottom#Value"},  // read from what it connects to; in_bottom: an older file's port
+        "",
+        {{"in", "u"}, {"out", "y"}}}},
       {"SignalSoftStep",
        {"SignalSoftStep",
         {{"t_start#Value", "t0", 1.0}, {"t_end#Value", "t1", 2.0}, {"y_0#Value", "y0", 0.0}, {"y_A#Value", "amplitude", 1.0}},
@@ -268,6 +286,33 @@ const std::map<std::string, Mapping>& mappings() {
          {"xv#Value", "xv0", 0.0}},
         {},
         {"in#Value"}}},  // the command's default: read from what it connects to
+      {"Hydraulic22DirectionalValve",
+       {"Valve22Q",
+        {{"C_q#Value", "C_q", 0.67},
+         {"rho#Value", "rho", 870.0},
+         {"d#Value", "d", 0.01},
+         {"f#Value", "f", 1.0},
+         {"x_vmax#Value", "x_vmax", 0.01},
+         {"omega_h", "omega_h", 100.0},
+         {"delta_h", "delta_h", 1.0},
+         {"xv#Value", "xv0", 0.0}},
+        {},
+        {"in#Value"}}},
+      {"Hydraulic42DirectionalValve",
+       {"Valve42Q",
+        {{"C_q#Value", "C_q", 0.67},
+         {"rho#Value", "rho", 870.0},
+         {"d#Value", "d", 0.01},
+         {"f_pa#Value", "f_pa", 1.0},
+         {"f_pb#Value", "f_pb", 1.0},
+         {"f_at#Value", "f_at", 1.0},
+         {"f_bt#Value", "f_bt", 1.0},
+         {"x_vmax#Value", "x_vmax", 0.01},
+         {"omega_h", "omega_h", 100.0},
+         {"delta_h", "delta_h", 1.0},
+         {"xv#Value", "xv0", 0.0}},  // the output's start; the spool starts at the command's first value
+        {},
+        {"in#Value"}}},
       {"Hydraulic32DirectionalValve",
        {"Valve32Q",
         {{"C_q#Value", "C_q", 0.67},
@@ -316,6 +361,7 @@ constexpr const char* kOwnPrefix = "Pcs";
 // (ComponentSpec::initial_step).
 const std::set<std::string> kStepInInitialize = {"HydraulicTurbulentOrifice", "HydraulicFlowSourceQ",
                                                  "HydraulicPressureSourceC", "SignalStep", "SignalGain", "SignalAdd", "SignalMultiply",
+                                                 "Hydraulic22DirectionalValve",
                                                  "HydraulicAckumulator", "HydraulicPistonAckumulator"};
 
 // Hopsan's sensors read a node; their nodes are logged anyway.

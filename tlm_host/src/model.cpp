@@ -177,6 +177,7 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
     if (p->node) throw InputError(where, "port " + ref + " is connected twice");
     return {c, p};
   };
+  std::vector<std::pair<Component*, Component*>> signal_edges;  // (from, to) of each signal connection
   for (const auto& con : spec_.connections) {
     // A signal connection: one output, one input.
     auto [ca0, na] = component_of(con.a, con.where);
@@ -191,6 +192,7 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
       if (bound_.count(in)) throw InputError(con.where, "signal input " + (sa->output ? con.b : con.a) + " is connected twice");
       *in->source = out->value;
       bound_.insert(in);
+      signal_edges.emplace_back(sa->output ? ca0 : cb0, sa->output ? cb0 : ca0);
       continue;
     }
     auto [ca, pa] = resolve(con.a, con.where);
@@ -222,6 +224,7 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
       if (!p.node)
         throw InputError(spec_.source.empty() ? config::SourceLocation{"model", 0} : config::SourceLocation{spec_.source, 1},
                          "port " + c->name() + "." + p.name + " is not connected (add it to *CONNECT)");
+  if (spec_.hopsan_results) order_signals_as_hopsan(signal_edges);
   // The node guard's bounds, once the signals are connected (a source a signal drives may reach any pressure).
   double sources = 1e5;    // the highest finite source or start pressure (at least the atmosphere)
   bool unbounded = false;  // a component that drives its nodes to any pressure
@@ -255,6 +258,36 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
     const double t = 0.0;
     logged_series(&t);
   }
+}
+
+// Hopsan steps its signal components in the order of their connections,
+// each after those feeding it (ours step in the model's order): the same
+// order here, by Kahn's algorithm, ties in the model's order. Components in
+// a loop (an algebraic loop, which Hopsan warns of) keep the model's order
+// after the others.
+void System::order_signals_as_hopsan(const std::vector<std::pair<Component*, Component*>>& edges) {
+  std::map<Component*, int> waiting;  // inputs from signal components not yet placed
+  for (Component* c : signal_) waiting[c] = 0;
+  for (const auto& [from, to] : edges)
+    if (waiting.count(from) && waiting.count(to)) ++waiting[to];
+  std::vector<Component*> ordered;
+  std::set<Component*> placed;
+  while (ordered.size() < signal_.size()) {
+    Component* next = nullptr;
+    for (Component* c : signal_)
+      if (!placed.count(c) && waiting[c] == 0) {
+        next = c;
+        break;
+      }
+    if (!next) break;  // the rest are in a loop
+    ordered.push_back(next);
+    placed.insert(next);
+    for (const auto& [from, to] : edges)
+      if (from == next && waiting.count(to)) --waiting[to];
+  }
+  for (Component* c : signal_)
+    if (!placed.count(c)) ordered.push_back(c);
+  signal_ = ordered;
 }
 
 System::~System() = default;

@@ -125,6 +125,7 @@ class System {
   std::vector<std::unique_ptr<Component>> components_;
   std::vector<std::unique_ptr<HydraulicNode>> nodes_;
   std::vector<Component*> signal_, c_type_, q_type_;
+  void order_signals_as_hopsan(const std::vector<std::pair<Component*, Component*>>& edges);
   // Two or more FMUs: stepped together at the first one's place in q_type_,
   // which then holds only that first one of them.
   std::unique_ptr<PeerGroup> peers_;

@@ -17,6 +17,11 @@
 // Valve32Q (Hydraulic32DirectionalValve): ports PP, PT, PA; the spool goes to
 // x_vmax when `in` > 0.5 and to 0 otherwise; P→A opens with xv,
 // A→T with x_vmax − xv.
+// Valve22Q (Hydraulic22DirectionalValve): ports P1, P2, on/off as Valve32Q;
+// P1→P2 opens with xv.
+// Valve42Q (Hydraulic42DirectionalValve): ports PP, PT, PA, PB, on/off;
+// P→A and B→T open with xv, P→B and A→T with x_vmax − xv; the spool starts
+// at its command's first value (within its travel), as Hopsan's.
 #pragma once
 
 #include <algorithm>
@@ -38,8 +43,11 @@ class DirectionalValveQ : public Component {
     const double num[3] = {1.0, 0.0, 0.0}, den[3] = {1.0, 2.0 * delta_ / omega_, 1.0 / (omega_ * omega_)};
     spool_.limits(xv_lo_, xv_hi_);
     spool_.set(dt, num, den);
-    spool_.reset(xv_, xv_);
-    xv_ = spool_.value();
+    const double x0 = initial_spool();
+    spool_.reset(x0, x0);
+    // The output shows the spool's start value until the first step (where a
+    // valve starts its spool elsewhere, as Hopsan's 4/2 valve, that differs).
+    xv_ = std::clamp(xv_, xv_lo_, xv_hi_);
     for (Edge& e : edges_) e.gain = Cq_ * e.f * M_PI * d_;  // K = gain·opening·√(2/ρ), in Hopsan's order
     root_ = std::sqrt(2.0 / rho_);
   }
@@ -82,6 +90,8 @@ class DirectionalValveQ : public Component {
     double gain = 0;  // C_q·f·π·d
   };
   virtual double command() const = 0;
+  // Where the spool starts: xv0 (the start value), unless the valve starts otherwise.
+  virtual double initial_spool() const { return xv_; }
   double opening(const Edge& e) const { return e.sign == 0 ? xv_max_ - xv_ : e.sign * xv_ - e.overlap; }
   void configure_common(ParameterSet& prm) {
     Cq_ = prm.real("C_q", 0.67, "1");

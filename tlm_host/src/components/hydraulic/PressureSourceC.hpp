@@ -6,6 +6,8 @@
 // Hopsan model's start flow on P1: Hopsan's node starts with it).
 #pragma once
 
+#include <string>
+
 #include "component.hpp"
 
 namespace tlm {
@@ -20,20 +22,25 @@ class PressureSourceC : public Component {
   void state(config::StateIO&) override {}  // a constant pressure: nothing changes
   void configure(ParameterSet& prm) override {
     p_ = prm.real("p", "Pa");
-    add_port("P1", Kind::C);
+    const int ports = prm.integer("ports", 1, 1, 1000);
+    for (int k = 1; k <= ports; ++k) add_port("P" + std::to_string(k), Kind::C);
     add_signal_input("p", &p_in_, &p_);
     q0_ = prm.real("q0", 0.0, "m³/s");
   }
   void initialize(double) override {
-    HydraulicNode& n = *ports_[0].node;
-    n.c = *p_in_;
-    n.Zc = 0.0;
-    n.p = *p_in_;
-    n.q = q0_;
+    for (Port& port : ports_) {
+      HydraulicNode& n = *port.node;
+      n.c = *p_in_;
+      n.Zc = 0.0;
+      n.p = *p_in_;
+      n.q = q0_;
+    }
   }
   void simulate_one_step(double) override {
-    ports_[0].node->c = *p_in_;
-    ports_[0].node->Zc = 0.0;
+    for (Port& port : ports_) {
+      port.node->c = *p_in_;
+      port.node->Zc = 0.0;
+    }
   }
 
  private:

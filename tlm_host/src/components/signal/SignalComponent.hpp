@@ -13,7 +13,9 @@
 //   SignalSineWave  0 before t0, A·sin(2π·f·(t − t0 − t_offset)) after
 //   SignalPulse     y0 + A while t + Δt/2 is in [t0, t1), y0 outside
 //   SignalMultiply  y = u1·u2
-// The last four carry Hopsan's equations (mapped from Hopsan models,
+//   SignalRateLimiter  y toward u by at most rate_up·Δt (rising) or
+//                   rate_down·Δt (falling) a step; starts at u
+// The last five carry Hopsan's equations (mapped from Hopsan models,
 // hopsan_loader.cpp), each with its own first value, as Hopsan's starts it.
 // The time a signal sees is the end of the coming step, t + Δt, so a step at
 // t_step acts on the step that ends there.

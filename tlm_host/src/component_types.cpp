@@ -35,6 +35,7 @@
 #include "components/signal/SignalGain.hpp"
 #include "components/signal/SignalLowPass.hpp"
 #include "components/signal/SignalRamp.hpp"
+#include "components/signal/SignalIntegrator.hpp"
 #include "components/signal/SignalMultiply.hpp"
 #include "components/signal/SignalPulse.hpp"
 #include "components/signal/SignalSineWave.hpp"
@@ -83,6 +84,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"SignalPulse", make<SignalPulse>()},
       {"SignalMultiply", make<SignalMultiply>()},
       {"SignalRateLimiter", make<SignalRateLimiter>()},
+      {"SignalIntegrator", make<SignalIntegrator>()},
       {"TranslationalMassQ", make<TranslationalMassQ>()},
       {"CylinderC", make<CylinderC>()},
       {"CylinderQ", make<CylinderQ>()},

@@ -169,6 +169,8 @@ const std::map<std::string, Mapping>& mappings() {
       {"SignalAdd", {"SignalAdd", {}, {}, {"in1#Value", "in2#Value"}, "", {{"in1", "u1"}, {"in2", "u2"}, {"out", "y"}}}},
       {"SignalMultiply",
        {"SignalMultiply", {}, {}, {"in1#Value", "in2#Value"}, "", {{"in1", "u1"}, {"in2", "u2"}, {"out", "y"}}}},
+      {"SignalIntegrator2",
+       {"SignalIntegrator", {{"out#Value", "y0", 0.0}}, {}, {"in#Value"}, "", {{"in", "u"}, {"out", "y"}}}},
       {"SignalRateLimiter",
        {"SignalRateLimiter",
         {{"c_up#Value", "rate_up", 1.0}, {"c_down#Value", "rate_down", -1.0}},

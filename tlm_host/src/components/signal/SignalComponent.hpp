@@ -15,7 +15,8 @@
 //   SignalMultiply  y = u1·u2
 //   SignalRateLimiter  y toward u by at most rate_up·Δt (rising) or
 //                   rate_down·Δt (falling) a step; starts at u
-// The last five carry Hopsan's equations (mapped from Hopsan models,
+//   SignalIntegrator   y ← y + Δt/2·(u + u_previous) (trapezoidal), from y0
+// The last six carry Hopsan's equations (mapped from Hopsan models,
 // hopsan_loader.cpp), each with its own first value, as Hopsan's starts it.
 // The time a signal sees is the end of the coming step, t + Δt, so a step at
 // t_step acts on the step that ends there.

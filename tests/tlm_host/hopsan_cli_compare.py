@@ -99,7 +99,7 @@ def agreement(a, b, model):
     subsystems = {n.split("$")[0] for n in a if "$" in n}
     # Sensors, and scopes (SignalSink: Hopsan logs a scope's unconnected input), by their component tags.
     tags = [dict(re.findall(r'(\w+)="([^"]*)"', t)) for t in re.findall(r"<component [^>]*>", open(model).read())]
-    sensors = {t.get("name") for t in tags if re.fullmatch(r"Hydraulic\w*Sensor|SignalSink", t.get("typename", ""))}
+    sensors = {t.get("name") for t in tags if re.fullmatch(r"(Hydraulic|Mechanic)\w*Sensor|SignalSink", t.get("typename", ""))}
     expected = [n for n in a if not n.endswith("#Temperature") and not n.endswith("#HeatFlow")
                 and n.split("#")[0] not in subsystems | sensors and not n.endswith("$Time")]
     if list(b) != expected:

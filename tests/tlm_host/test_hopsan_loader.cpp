@@ -833,6 +833,34 @@ TEST(HopsanLoader, HopsansSignalSourcesFollowTheirFormulas) {
   }
 }
 
+// Hopsan's translational sensors read a mechanical node as its hydraulic
+// sensors read a hydraulic one: left out where nothing uses their signal
+// (the node is logged), the run unchanged bit for bit; refused with the
+// sensor's name where a component reads it.
+TEST(HopsanLoader, MechanicalSensorsAreReadAsTheHydraulicOnes) {
+  testing_support::TempDir dir;
+  const std::string hmf = text_of(kDir + "/cylinder.hmf");
+  const std::string with = replaced(
+      replaced(hmf, "<component typename=\"MechanicForceTransformer\" name=\"load\">",
+               "<component typename=\"MechanicPositionSensor\" name=\"x\"/>\n"
+               "      <component typename=\"MechanicSpeedSensor\" name=\"v\"/>\n"
+               "      <component typename=\"MechanicForceTransformer\" name=\"load\">"),
+      "<connect startcomponent=\"mass\" startport=\"P2\" endcomponent=\"load\" endport=\"P1\"/>",
+      "<connect startcomponent=\"mass\" startport=\"P2\" endcomponent=\"load\" endport=\"P1\"/>\n"
+      "      <connect startcomponent=\"x\" startport=\"P1\" endcomponent=\"mass\" endport=\"P2\"/>\n"
+      "      <connect startcomponent=\"v\" startport=\"P1\" endcomponent=\"mass\" endport=\"P1\"/>");
+  ASSERT_FALSE(with.empty());
+  std::ofstream(dir.file("with.hmf")) << with;
+  tlm::System(tlm::read_hmf(dir.file("with.hmf")).spec).run(dir.file("with.h5"), false);
+  tlm::System(tlm::read_hmf(kDir + "/cylinder.hmf").spec).run(dir.file("without.h5"), false);
+  expect_same_series(dir.file("with.h5"), dir.file("without.h5"), 20);
+  const std::string used = replaced(with, "<connect startcomponent=\"x\" startport=\"P1\"",
+                                    "<connect startcomponent=\"x\" startport=\"out\" endcomponent=\"load\" endport=\"F\"/>\n"
+                                    "      <connect startcomponent=\"x\" startport=\"P1\"");
+  const std::string e = error_of(used);
+  EXPECT_NE(e.find("sensor x: its signal 'out' is used"), std::string::npos) << e;
+}
+
 // Hopsan's pressure relief valve (PressureReliefValveQ): shut below its
 // 100 bar, the volume fills at β·q/V = 1.4e9 Pa/s (to one step's worth);
 // then it opens and, once its 2 ms poppet lag and the hysteresis band

@@ -366,8 +366,9 @@ const std::set<std::string> kStepInInitialize = {"HydraulicTurbulentOrifice", "H
                                                  "Hydraulic22DirectionalValve",
                                                  "HydraulicAckumulator", "HydraulicPistonAckumulator"};
 
-// Hopsan's sensors read a node; their nodes are logged anyway.
-const std::set<std::string> kSensors = {"HydraulicPressureSensor", "HydraulicFlowSensor", "HydraulicNodeSensor"};
+// Hopsan's sensors read a node (hydraulic or translational); their nodes are logged anyway.
+const std::set<std::string> kSensors = {"HydraulicPressureSensor", "HydraulicFlowSensor", "HydraulicNodeSensor",
+                                        "MechanicPositionSensor", "MechanicSpeedSensor", "MechanicForceSensor"};
 // Scopes: a sink only displays the signals wired to it in Hopsan's GUI (and
 // logs them, as our results log every signal's source), so it is left out
 // with its connections.

@@ -18,6 +18,7 @@
 #include "components/hydraulic/PressureSourceC.hpp"
 #include "components/hydraulic/ReliefValveQ.hpp"
 #include "components/hydraulic/SpoolValveQ.hpp"
+#include "components/hydraulic/Valve22ProportionalQ.hpp"
 #include "components/hydraulic/Valve22Q.hpp"
 #include "components/hydraulic/Valve32Q.hpp"
 #include "components/hydraulic/Valve42Q.hpp"
@@ -92,6 +93,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"Valve43Q", make<Valve43Q>()},
       {"Valve32Q", make<Valve32Q>()},
       {"Valve22Q", make<Valve22Q>()},
+      {"Valve22ProportionalQ", make<Valve22ProportionalQ>()},
       {"Valve42Q", make<Valve42Q>()},
       {"PressureControlledValveQ", make<PressureControlledValveQ>()},
       {"PressureReliefValveQ", make<PressureReliefValveQ>()},

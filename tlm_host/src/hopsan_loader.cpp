@@ -300,6 +300,18 @@ const std::map<std::string, Mapping>& mappings() {
          {"xv#Value", "xv0", 0.0}},
         {},
         {"in#Value"}}},
+      {"Hydraulic22Valve",
+       {"Valve22ProportionalQ",
+        {{"C_q#Value", "C_q", 0.67},
+         {"rho#Value", "rho", 870.0},
+         {"d#Value", "d", 0.01},
+         {"f#Value", "f", 1.0},
+         {"x_vmax#Value", "x_vmax", 0.01},
+         {"omega_h", "omega_h", 100.0},
+         {"delta_h", "delta_h", 1.0},
+         {"xv#Value", "xv0", 0.0}},
+        {},
+        {"in#Value"}}},
       {"Hydraulic42DirectionalValve",
        {"Valve42Q",
         {{"C_q#Value", "C_q", 0.67},
@@ -363,7 +375,7 @@ constexpr const char* kOwnPrefix = "Pcs";
 // (ComponentSpec::initial_step).
 const std::set<std::string> kStepInInitialize = {"HydraulicTurbulentOrifice", "HydraulicFlowSourceQ",
                                                  "HydraulicPressureSourceC", "SignalStep", "SignalGain", "SignalAdd", "SignalMultiply",
-                                                 "Hydraulic22DirectionalValve",
+                                                 "Hydraulic22DirectionalValve", "Hydraulic22Valve",
                                                  "HydraulicAckumulator", "HydraulicPistonAckumulator"};
 
 // Hopsan's sensors read a node (hydraulic or translational); their nodes are logged anyway.

@@ -19,6 +19,8 @@
 // A→T with x_vmax − xv.
 // Valve22Q (Hydraulic22DirectionalValve): ports P1, P2, on/off as Valve32Q;
 // P1→P2 opens with xv.
+// Valve22ProportionalQ (Hydraulic22Valve): ports PP, PA; the spool follows
+// its command `in` held within [0, x_vmax]; P→A opens with xv.
 // Valve42Q (Hydraulic42DirectionalValve): ports PP, PT, PA, PB, on/off;
 // P→A and B→T open with xv, P→B and A→T with x_vmax − xv; the spool starts
 // at its command's first value (within its travel), as Hopsan's.

@@ -21,6 +21,7 @@
 #include "components/hydraulic/Valve22ProportionalQ.hpp"
 #include "components/hydraulic/Valve22Q.hpp"
 #include "components/hydraulic/Valve32Q.hpp"
+#include "components/hydraulic/Valve33Q.hpp"
 #include "components/hydraulic/Valve42Q.hpp"
 #include "components/hydraulic/Valve43Q.hpp"
 #include "components/hydraulic/VariableOrificeQ.hpp"
@@ -92,6 +93,7 @@ const std::map<std::string, ComponentFactory>& component_types() {
       {"ForceSourceC", make<ForceSourceC>()},
       {"Valve43Q", make<Valve43Q>()},
       {"Valve32Q", make<Valve32Q>()},
+      {"Valve33Q", make<Valve33Q>()},
       {"Valve22Q", make<Valve22Q>()},
       {"Valve22ProportionalQ", make<Valve22ProportionalQ>()},
       {"Valve42Q", make<Valve42Q>()},

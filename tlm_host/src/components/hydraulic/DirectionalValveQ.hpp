@@ -19,6 +19,9 @@
 // A→T with x_vmax − xv.
 // Valve22Q (Hydraulic22DirectionalValve): ports P1, P2, on/off as Valve32Q;
 // P1→P2 opens with xv.
+// Valve33Q (Hydraulic33Valve): ports PP, PT, PA; the spool follows `in`
+// within ±x_vmax; P→A opens for xv > x_pa, A→T for −xv > x_at; on
+// cavitation only the spool's side's edge is solved again (Hopsan's).
 // Valve22ProportionalQ (Hydraulic22Valve): ports PP, PA; the spool follows
 // its command `in` held within [0, x_vmax]; P→A opens with xv.
 // Valve42Q (Hydraulic42DirectionalValve): ports PP, PT, PA, PB, on/off;
@@ -59,20 +62,21 @@ class DirectionalValveQ : public Component {
     std::array<double, 5> c{}, Z{}, q{}, K{};  // up to 4 metered ports and a pilot
     for (size_t i = 0; i < n; ++i) c[i] = ports_[i].node->c, Z[i] = ports_[i].node->Zc;
     for (size_t k = 0; k < edges_.size(); ++k) K[k] = edges_[k].gain * std::max(opening(edges_[k]), 0.0) * root_;
-    auto solve = [&] {
+    auto solve = [&](bool cavitating) {
       q.fill(0.0);
       for (size_t k = 0; k < edges_.size(); ++k) {
         const Edge& e = edges_[k];
+        if (cavitating && cavitation_side_only_ && (xv_ >= 0.0) != (e.sign > 0)) continue;
         const double flow = turbulent_orifice_flow(c[e.from], c[e.to], Z[e.from], Z[e.to], K[k]);
         q[e.from] -= flow;
         q[e.to] += flow;
       }
     };
-    solve();
+    solve(false);
     bool cavitating = false;
     for (size_t i = 0; i < std::min(n, metered_ports_); ++i)
       if (c[i] + q[i] * Z[i] < 0.0) c[i] = 0.0, Z[i] = 0.0, cavitating = true;
-    if (cavitating) solve();
+    if (cavitating) solve(true);
     for (size_t i = 0; i < n; ++i) {
       ports_[i].node->q = q[i];
       ports_[i].node->p = c[i] + q[i] * Z[i];
@@ -106,6 +110,8 @@ class DirectionalValveQ : public Component {
     add_signal_output("xv", &xv_);
   }
   std::vector<Edge> edges_;
+  // Solved again on cavitation with only the edges of the spool's side (xv ≥ 0: those opening with +xv), as Hopsan's 3/3 valve.
+  bool cavitation_side_only_ = false;
   // The ports an edge meters, first: the cavitation check is theirs (a pilot port after them is not).
   size_t metered_ports_ = 4;
   double Cq_ = 0, rho_ = 0, d_ = 0, xv_max_ = 0, omega_ = 0, delta_ = 0, xv_ = 0, xv_lo_ = 0, xv_hi_ = 0, root_ = 0;

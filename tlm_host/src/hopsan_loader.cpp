@@ -169,6 +169,8 @@ const std::map<std::string, Mapping>& mappings() {
       {"SignalAdd", {"SignalAdd", {}, {}, {"in1#Value", "in2#Value"}, "", {{"in1", "u1"}, {"in2", "u2"}, {"out", "y"}}}},
       {"SignalMultiply",
        {"SignalMultiply", {}, {}, {"in1#Value", "in2#Value"}, "", {{"in1", "u1"}, {"in2", "u2"}, {"out", "y"}}}},
+      {"SignalSubtract",
+       {"SignalSubtract", {}, {}, {"in1#Value", "in2#Value"}, "", {{"in1", "u1"}, {"in2", "u2"}, {"out", "y"}}}},
       {"SignalIntegrator2",
        {"SignalIntegrator", {{"out#Value", "y0", 0.0}}, {}, {"in#Value"}, "", {{"in", "u"}, {"out", "y"}}}},
       {"SignalRateLimiter",
@@ -389,7 +391,7 @@ constexpr const char* kOwnPrefix = "Pcs";
 // The types whose Hopsan components step once in their initialize()
 // (ComponentSpec::initial_step).
 const std::set<std::string> kStepInInitialize = {"HydraulicTurbulentOrifice", "HydraulicFlowSourceQ",
-                                                 "HydraulicPressureSourceC", "SignalStep", "SignalGain", "SignalAdd", "SignalMultiply",
+                                                 "HydraulicPressureSourceC", "SignalStep", "SignalGain", "SignalAdd", "SignalMultiply", "SignalSubtract",
                                                  "Hydraulic22DirectionalValve", "Hydraulic22Valve",
                                                  "HydraulicAckumulator", "HydraulicPistonAckumulator"};
 

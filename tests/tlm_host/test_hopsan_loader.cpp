@@ -795,7 +795,7 @@ TEST(HopsanLoader, PilotValvesFollowTheirPilotAndConserveFlow) {
 // Hopsan's signal sources and a product (signals.hmf, from -5 ms) against
 // their formulas at every row: the soft step's half cosine,
 // the sine from its start with its time offset, the pulse read at the
-// step's middle, the product of the two, the integral of the sine by the
+// step's middle, the product of the two, the pulse less the soft step, the integral of the sine by the
 // trapezoidal rule from its start value; each to round-off (1e-12). A soft
 // step that ends before it starts is refused with its name.
 TEST(HopsanLoader, HopsansSignalSourcesFollowTheirFormulas) {
@@ -808,6 +808,7 @@ TEST(HopsanLoader, HopsansSignalSourcesFollowTheirFormulas) {
   const auto soft = h5io::read_series(h5, "results/soft/out/Value"), sine = h5io::read_series(h5, "results/sine/out/Value");
   const auto pulse = h5io::read_series(h5, "results/pulse/out/Value"), product = h5io::read_series(h5, "results/product/out/Value");
   const auto integral = h5io::read_series(h5, "results/integral/out/Value");
+  const auto difference = h5io::read_series(h5, "results/difference/out/Value");
   const double dt = t[1] - t[0];
   for (size_t i = 1; i < t.size(); ++i) {
     const double s = t[i] < 0.002005 ? 0.0 : t[i] >= 0.008005 ? 1.0 : 0.5 * (1.0 - std::cos(M_PI * (t[i] - 0.002005) / 0.006));
@@ -817,6 +818,7 @@ TEST(HopsanLoader, HopsansSignalSourcesFollowTheirFormulas) {
     EXPECT_NEAR(sine[i], w, 1e-12) << "t = " << t[i];
     EXPECT_EQ(pulse[i], p) << "t = " << t[i];
     EXPECT_NEAR(product[i], soft[i] * sine[i], 1e-15) << "t = " << t[i];
+    EXPECT_EQ(difference[i], pulse[i] - soft[i]) << "t = " << t[i];
     EXPECT_NEAR(integral[i], integral[i - 1] + 0.5 * dt * (sine[i] + sine[i - 1]), 1e-15) << "t = " << t[i];
   }
   EXPECT_EQ(integral.front(), 0.001) << "its start value";

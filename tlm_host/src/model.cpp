@@ -239,13 +239,13 @@ System::System(ModelSpec spec) : spec_(std::move(spec)) {
   lowest_port_pressure_ = kLowestPressure - kUndershoot * sources;
   std::set<const HydraulicNode*> fmu_nodes;  // the FMUs' hydraulic port nodes
   for (auto& c : components_)
-    if (dynamic_cast<FmuQ*>(c.get()) && spec_.start_time != 0.0)
-      throw InputError(spec_.simulation_where, c->name() + ": an FMU's co-simulation starts at t = 0, and this model starts at " +
-                                                   config::shortest(spec_.start_time) + " s: set the start time to 0");
-  for (auto& c : components_)
-    if (dynamic_cast<FmuQ*>(c.get()))
+    if (dynamic_cast<FmuQ*>(c.get())) {
+      if (spec_.start_time != 0.0)
+        throw InputError(spec_.simulation_where, c->name() + ": an FMU's co-simulation starts at t = 0, and this model starts at " +
+                                                     config::shortest(spec_.start_time) + " s: set the start time to 0");
       for (auto& p : c->ports())
         if (!p.node->mechanical) fmu_nodes.insert(p.node);
+    }
   const double inf = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const HydraulicNode* n = nodes_[i].get();
